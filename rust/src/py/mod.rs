@@ -1,0 +1,17 @@
+//! The binding layer: the only code that knows about Python. Each function extracts NumPy
+//! input under the GIL, releases the GIL (`py.detach`) while the core works, and hands the
+//! core's vectors to NumPy without copying. Core errors become exceptions in `errors`.
+
+mod convert;
+mod errors;
+mod fit;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(fit::fit_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::crlb, m)?)?;
+    Ok(())
+}
