@@ -12,7 +12,12 @@ use std::f64::consts::{PI, TAU};
 /// ```
 #[inline]
 pub fn wrap(angle: f64) -> f64 {
-    angle - TAU * ((angle - PI) / TAU).ceil()
+    // Residuals are nearly always already in range: skip the division on that path.
+    if angle > -PI && angle <= PI {
+        angle
+    } else {
+        angle - TAU * ((angle - PI) / TAU).ceil()
+    }
 }
 
 #[cfg(test)]

@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn bearing_lines_intersect() {
-        let target = [4000.0, 9000.0];
+        let target: [f64; 2] = [4000.0, 9000.0];
         let (sa, sb) = ([0.0, 0.0], [10_000.0, 0.0]);
         let ta = (target[1] - sa[1]).atan2(target[0] - sa[0]);
         let tb = (target[1] - sb[1]).atan2(target[0] - sb[0]);

@@ -5,8 +5,8 @@
 
 use rayon::prelude::*;
 
-use super::gauss_newton::fit;
-use super::{FitOptions, FitOutcome, Termination};
+use super::gauss_newton::{fit_into, FitSlots, FitSummary};
+use super::{FitOptions, Termination};
 use crate::data::{Measurements, Sensors};
 use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::los::pseudo_linear_state;
@@ -97,53 +97,39 @@ pub fn fit_batch(
 ) -> CoreResult<BatchOutcome> {
     let dim = layout.dim();
     problems.validate(measurements.len(), layout.space.angles(), dim)?;
-    let outcomes: Vec<FitOutcome> = (0..problems.len())
-        .into_par_iter()
-        .map(|p| {
-            let obs: Vec<Observation> = problems
-                .rows(p)
-                .iter()
-                .map(|&m| measurements.observation(sensors, m as usize))
-                .collect();
-            let start = match problems.initial {
-                Some(initial) => Some(initial[p * dim..(p + 1) * dim].to_vec()),
-                None => pseudo_linear_state(layout, &obs).map(|s| s[..dim].to_vec()),
-            };
-            match start {
-                Some(start) => fit(layout, &obs, &start, options),
-                None => singular(dim),
+    let n = problems.len();
+    let mut estimates = vec![0.0; n * dim];
+    let mut covariances = vec![0.0; n * dim * dim];
+    // Each problem writes only its own output chunks, so no result depends on scheduling.
+    let summaries: Vec<FitSummary> = estimates
+        .par_chunks_mut(dim)
+        .zip(covariances.par_chunks_mut(dim * dim))
+        .enumerate()
+        .map_init(Vec::new, |obs: &mut Vec<Observation>, (p, (estimate, covariance))| {
+            obs.clear();
+            obs.extend(problems.rows(p).iter().map(|&m| measurements.observation(sensors, m as usize)));
+            let slots = FitSlots { estimate, covariance };
+            match problems.initial {
+                Some(initial) => fit_into(layout, obs, &initial[p * dim..(p + 1) * dim], options, slots),
+                None => match pseudo_linear_state(layout, obs) {
+                    Some(start) => fit_into(layout, obs, &start[..dim], options, slots),
+                    None => singular(slots),
+                },
             }
         })
         .collect();
-    Ok(columnar(dim, outcomes))
-}
-
-fn singular(dim: usize) -> FitOutcome {
-    FitOutcome {
-        estimate: vec![f64::NAN; dim],
-        covariance: vec![f64::NAN; dim * dim],
-        chi2: f64::NAN,
-        iterations: 0,
-        termination: Termination::Singular,
-    }
-}
-
-fn columnar(dim: usize, outcomes: Vec<FitOutcome>) -> BatchOutcome {
-    let n = outcomes.len();
-    let mut out = BatchOutcome {
+    Ok(BatchOutcome {
         dim,
-        estimates: Vec::with_capacity(n * dim),
-        covariances: Vec::with_capacity(n * dim * dim),
-        chi2: Vec::with_capacity(n),
-        iterations: Vec::with_capacity(n),
-        termination: Vec::with_capacity(n),
-    };
-    for o in outcomes {
-        out.estimates.extend_from_slice(&o.estimate);
-        out.covariances.extend_from_slice(&o.covariance);
-        out.chi2.push(o.chi2);
-        out.iterations.push(o.iterations as u32);
-        out.termination.push(o.termination as u8);
-    }
-    out
+        estimates,
+        covariances,
+        chi2: summaries.iter().map(|s| s.chi2).collect(),
+        iterations: summaries.iter().map(|s| s.iterations as u32).collect(),
+        termination: summaries.iter().map(|s| s.termination as u8).collect(),
+    })
+}
+
+fn singular(slots: FitSlots<'_>) -> FitSummary {
+    slots.estimate.fill(f64::NAN);
+    slots.covariance.fill(f64::NAN);
+    FitSummary { chi2: f64::NAN, iterations: 0, termination: Termination::Singular }
 }

@@ -7,7 +7,8 @@ use nalgebra::{SMatrix, SVector};
 use super::{FitOptions, FitOutcome, Termination};
 use crate::model::{residual_rows, Observation, StateLayout, MAX_DIM};
 
-/// Normal equations `H = Σ gᵀg`, `b = Σ gᵀr` and `χ² = Σ r²` over the residual rows at `x`.
+/// Normal equations `H = Σ gᵀg` (lower triangle only: Cholesky reads no more), `b = Σ gᵀr`
+/// and `χ² = Σ r²` over the residual rows at one state.
 struct Normal<const D: usize> {
     information: SMatrix<f64, D, D>,
     gradient: SVector<f64, D>,
@@ -24,7 +25,11 @@ fn accumulate<const D: usize>(layout: &StateLayout, x: &SVector<f64, D>, obs: &[
         let rows = residual_rows(layout, x.as_slice(), o)?;
         for c in 0..rows.count {
             let g = SVector::<f64, D>::from_fn(|k, _| rows.gradient[c][k]);
-            normal.information += g * g.transpose();
+            for a in 0..D {
+                for b in 0..=a {
+                    normal.information[(a, b)] += g[a] * g[b];
+                }
+            }
             normal.gradient += g * rows.residual[c];
             normal.chi2 += rows.residual[c] * rows.residual[c];
         }
@@ -32,7 +37,7 @@ fn accumulate<const D: usize>(layout: &StateLayout, x: &SVector<f64, D>, obs: &[
     normal.chi2.is_finite().then_some(normal)
 }
 
-/// χ² alone (for the line search), or `None` where the model is undefined.
+/// χ² alone, or `None` where the model is undefined.
 pub fn chi2(layout: &StateLayout, x: &[f64], obs: &[Observation]) -> Option<f64> {
     let mut total = 0.0;
     for o in obs {
@@ -42,47 +47,103 @@ pub fn chi2(layout: &StateLayout, x: &[f64], obs: &[Observation]) -> Option<f64>
     total.is_finite().then_some(total)
 }
 
+/// Where one fit writes its result: `estimate` (dim) and row-major `covariance` (dim²).
+pub struct FitSlots<'a> {
+    pub estimate: &'a mut [f64],
+    pub covariance: &'a mut [f64],
+}
+
+/// What a fit reports besides the slots.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitSummary {
+    pub chi2: f64,
+    pub iterations: usize,
+    pub termination: Termination,
+}
+
 /// Fits `layout`'s state to `obs` from `initial` (length ≥ `layout.dim()`).
 pub fn fit(layout: &StateLayout, obs: &[Observation], initial: &[f64], options: &FitOptions) -> FitOutcome {
-    match layout.dim() {
-        2 => fit_fixed::<2>(layout, obs, initial, options),
-        3 => fit_fixed::<3>(layout, obs, initial, options),
-        4 => fit_fixed::<4>(layout, obs, initial, options),
-        _ => fit_fixed::<MAX_DIM>(layout, obs, initial, options),
+    let dim = layout.dim();
+    let (mut estimate, mut covariance) = (vec![0.0; dim], vec![0.0; dim * dim]);
+    let summary = fit_into(layout, obs, initial, options, FitSlots { estimate: &mut estimate, covariance: &mut covariance });
+    FitOutcome {
+        estimate,
+        covariance,
+        chi2: summary.chi2,
+        iterations: summary.iterations,
+        termination: summary.termination,
     }
 }
 
-fn fit_fixed<const D: usize>(layout: &StateLayout, obs: &[Observation], initial: &[f64], options: &FitOptions) -> FitOutcome {
+/// [`fit`] writing into caller-provided slots (no allocation: the batch driver's hot path).
+pub fn fit_into(layout: &StateLayout, obs: &[Observation], initial: &[f64], options: &FitOptions, slots: FitSlots<'_>) -> FitSummary {
+    match layout.dim() {
+        2 => fit_fixed::<2>(layout, obs, initial, options, slots),
+        3 => fit_fixed::<3>(layout, obs, initial, options, slots),
+        4 => fit_fixed::<4>(layout, obs, initial, options, slots),
+        _ => fit_fixed::<MAX_DIM>(layout, obs, initial, options, slots),
+    }
+}
+
+fn fit_fixed<const D: usize>(
+    layout: &StateLayout,
+    obs: &[Observation],
+    initial: &[f64],
+    options: &FitOptions,
+    slots: FitSlots<'_>,
+) -> FitSummary {
     let mut x = SVector::<f64, D>::from_fn(|k, _| initial[k]);
+    let Some(mut normal) = accumulate(layout, &x, obs) else {
+        return write_failure(slots, 0, Termination::NonFinite);
+    };
     let mut iterations = 0;
     let termination = loop {
-        let Some(normal) = accumulate(layout, &x, obs) else {
-            break Termination::NonFinite;
-        };
         if iterations == options.max_iter() {
             break Termination::MaxIterations;
         }
         let Some(cholesky) = normal.information.cholesky() else {
-            break Termination::Singular;
+            return write_failure(slots, iterations, Termination::Singular);
         };
         iterations += 1;
         let step = cholesky.solve(&normal.gradient);
+        // Converged when the step is negligible relative to the state, or statistically: its
+        // Mahalanobis length sqrt(δᵀHδ) = sqrt(δᵀb) is below `step_sigmas` standard deviations.
+        // The second test ends the zig-zag along the flat valleys of barely-determined
+        // problems (4 measurements, 6 unknowns), where χ² has stopped changing.
+        let tiny = step.norm() <= options.xtol() * (x.norm() + options.xtol())
+            || step.dot(&normal.gradient) <= options.step_sigmas().powi(2);
         match line_search(layout, obs, &x, &step, normal.chi2, options) {
-            Some(next) => {
-                let small = (next - x).norm() <= options.xtol() * (x.norm() + options.xtol());
+            // The trial's normal equations are the next iteration's: computed once.
+            Some((next, next_normal)) => {
                 x = next;
-                if small {
+                normal = next_normal;
+                if tiny {
                     break Termination::Converged;
                 }
             }
-            None if step.norm() <= options.xtol() * (x.norm() + options.xtol()) => break Termination::Converged,
+            None if tiny => break Termination::Converged,
             None => break Termination::Stalled,
         }
     };
-    finish(layout, obs, x, iterations, termination)
+    match normal.information.cholesky() {
+        Some(cholesky) => {
+            slots.estimate.copy_from_slice(x.as_slice());
+            // Symmetric, so column-major storage reads as row-major too.
+            slots.covariance.copy_from_slice(cholesky.inverse().as_slice());
+            FitSummary { chi2: normal.chi2, iterations, termination }
+        }
+        None => write_failure(slots, iterations, Termination::Singular),
+    }
 }
 
-/// The full step, halved until χ² does not rise; `None` if no tried length lowers it.
+fn write_failure(slots: FitSlots<'_>, iterations: usize, termination: Termination) -> FitSummary {
+    slots.estimate.fill(f64::NAN);
+    slots.covariance.fill(f64::NAN);
+    FitSummary { chi2: f64::NAN, iterations, termination }
+}
+
+/// The full step, halved until χ² does not rise; returns the accepted state with its normal
+/// equations, or `None` if no tried length lowers χ².
 fn line_search<const D: usize>(
     layout: &StateLayout,
     obs: &[Observation],
@@ -90,47 +151,18 @@ fn line_search<const D: usize>(
     step: &SVector<f64, D>,
     chi2_now: f64,
     options: &FitOptions,
-) -> Option<SVector<f64, D>> {
+) -> Option<(SVector<f64, D>, Normal<D>)> {
     let mut length = 1.0;
     for _ in 0..=options.max_halvings() {
         let candidate = x + step * length;
-        if let Some(c) = chi2(layout, candidate.as_slice(), obs) {
-            if c <= chi2_now {
-                return Some(candidate);
+        if let Some(normal) = accumulate(layout, &candidate, obs) {
+            if normal.chi2 <= chi2_now {
+                return Some((candidate, normal));
             }
         }
         length *= 0.5;
     }
     None
-}
-
-/// Covariance and χ² at the final estimate.
-fn finish<const D: usize>(
-    layout: &StateLayout,
-    obs: &[Observation],
-    x: SVector<f64, D>,
-    iterations: usize,
-    termination: Termination,
-) -> FitOutcome {
-    let nan = |n| vec![f64::NAN; n];
-    let inverse = accumulate(layout, &x, obs).and_then(|n| Some((n.information.cholesky()?.inverse(), n.chi2)));
-    match (termination, inverse) {
-        (Termination::Singular | Termination::NonFinite, _) | (_, None) => FitOutcome {
-            estimate: nan(D),
-            covariance: nan(D * D),
-            chi2: f64::NAN,
-            iterations,
-            termination: if termination == Termination::NonFinite { termination } else { Termination::Singular },
-        },
-        (_, Some((covariance, chi2))) => FitOutcome {
-            estimate: x.as_slice().to_vec(),
-            // Symmetric, so column-major storage reads as row-major too.
-            covariance: covariance.as_slice().to_vec(),
-            chi2,
-            iterations,
-            termination,
-        },
-    }
 }
 
 #[cfg(test)]

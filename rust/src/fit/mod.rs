@@ -11,7 +11,8 @@ use crate::error::{CoreError, CoreResult};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Termination {
-    /// The step became smaller than `xtol` relative to the state.
+    /// The step became smaller than `xtol` relative to the state, or than `step_sigmas`
+    /// standard deviations of the estimate.
     Converged = 0,
     /// `max_iter` iterations without convergence; the estimate is the last iterate.
     MaxIterations = 1,
@@ -37,6 +38,7 @@ pub enum Termination {
 pub struct FitOptions {
     max_iter: usize,
     xtol: f64,
+    step_sigmas: f64,
     max_halvings: usize,
 }
 
@@ -45,6 +47,7 @@ impl Default for FitOptions {
         Self {
             max_iter: 50,
             xtol: 1e-10,
+            step_sigmas: 1e-6,
             max_halvings: 30,
         }
     }
@@ -68,6 +71,16 @@ impl FitOptions {
         Ok(self)
     }
 
+    /// Convergence when the Gauss-Newton step is shorter than this many standard deviations
+    /// of the estimate (`sqrt(δᵀHδ)`, H the information matrix).
+    pub fn with_step_sigmas(mut self, step_sigmas: f64) -> CoreResult<Self> {
+        if !(step_sigmas.is_finite() && step_sigmas >= 0.0) {
+            return Err(CoreError::out_of_range("step_sigmas", format!("{step_sigmas} must be finite and >= 0")));
+        }
+        self.step_sigmas = step_sigmas;
+        Ok(self)
+    }
+
     /// How many times a step that raises χ² is halved before the fit is declared stalled.
     pub fn with_max_halvings(mut self, max_halvings: usize) -> CoreResult<Self> {
         if max_halvings > 200 {
@@ -83,6 +96,10 @@ impl FitOptions {
 
     pub fn xtol(&self) -> f64 {
         self.xtol
+    }
+
+    pub fn step_sigmas(&self) -> f64 {
+        self.step_sigmas
     }
 
     pub fn max_halvings(&self) -> usize {

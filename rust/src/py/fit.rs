@@ -18,7 +18,7 @@ type FitArrays<'py> = (F64Array<'py>, F64Array<'py>, F64Array<'py>, Bound<'py, P
 #[pyo3(signature = (
     sensor, time, azimuth, elevation, sensor_positions, sigma_azimuth, sigma_elevation,
     indices, offsets, initial=None, *, ndim, motion, t0=0.0, max_iter=50, xtol=1e-10,
-    max_halvings=30, n_threads=None
+    step_sigmas=1e-6, max_halvings=30, n_threads=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_batch<'py>(
@@ -38,6 +38,7 @@ pub fn fit_batch<'py>(
     t0: f64,
     max_iter: usize,
     xtol: f64,
+    step_sigmas: f64,
     max_halvings: usize,
     n_threads: Option<usize>,
 ) -> PyResult<FitArrays<'py>> {
@@ -45,6 +46,7 @@ pub fn fit_batch<'py>(
     let options = FitOptions::default()
         .with_max_iter(max_iter)?
         .with_xtol(xtol)?
+        .with_step_sigmas(step_sigmas)?
         .with_max_halvings(max_halvings)?;
     let sensors_arrays = SensorArrays { positions: sensor_positions, sigma_azimuth, sigma_elevation };
     let sensors = sensors_arrays.view(layout.space)?;

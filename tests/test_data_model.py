@@ -1,0 +1,319 @@
+"""Tests of the argument helpers, SensorNetwork and MeasurementTable."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from passive_assoc._validation import (
+    as_float_array,
+    as_float_scalar,
+    as_int_array,
+    require_finite,
+    require_positive,
+)
+from passive_assoc.measurements import MeasurementTable
+from passive_assoc.sensors import SensorNetwork
+
+# --------------------------------------------------------------------------- helpers
+
+
+@pytest.mark.parametrize(
+    "value", ["abc", ["1.0", "2.0"], [1.0, None], np.array([1 + 2j]), [True, False]]
+)
+def test_as_float_array_rejects_non_real_types(value: object) -> None:
+    with pytest.raises(TypeError, match=r"^x: expected real numbers"):
+        as_float_array("x", value)
+
+
+def test_as_float_array_shape_and_copy() -> None:
+    src = np.arange(6, dtype=np.int32).reshape(2, 3)
+    out = as_float_array("pos", src, shape=(None, 3))
+    assert out.dtype == np.float64 and out.flags.c_contiguous
+    out[0, 0] = 99.0
+    assert src[0, 0] == 0  # a copy, never a view
+    with pytest.raises(ValueError, match=r"^pos: expected shape \(\*, 2\), got \(2, 3\)"):
+        as_float_array("pos", src, shape=(None, 2))
+    with pytest.raises(ValueError, match=r"^pos: expected a 1-dimensional array"):
+        as_float_array("pos", src, ndim=1)
+    with pytest.raises(ValueError, match=r"^pos: cannot be converted"):
+        as_float_array("pos", [[1.0, 2.0], [3.0]])
+    with pytest.raises(TypeError, match=r"^pos: .*None"):
+        as_float_array("pos", None)
+
+
+def test_as_int_array_accepts_integral_floats_only() -> None:
+    assert as_int_array("s", [0.0, 2.0]).tolist() == [0, 2]
+    assert as_int_array("s", np.array([3], dtype=np.uint8)).dtype == np.int64
+    with pytest.raises(ValueError, match=r"^s\[1\] = 1\.5 is not an integer"):
+        as_int_array("s", [0.0, 1.5])
+    with pytest.raises(ValueError, match=r"^s\[0\] = nan is not an integer"):
+        as_int_array("s", [np.nan])
+    with pytest.raises(TypeError, match=r"^s: expected integers"):
+        as_int_array("s", ["0"])
+
+
+def test_require_finite_and_positive_name_the_element() -> None:
+    with pytest.raises(ValueError, match=r"^a\[1, 0\] = nan; all values must be finite"):
+        require_finite("a", np.array([[1.0, 2.0], [np.nan, np.inf]]))
+    with pytest.raises(ValueError, match=r"^b\[2\] = -1\.0; must be > 0"):
+        require_positive("b", np.array([1.0, 2.0, -1.0, 0.0]))
+    with pytest.raises(ValueError, match=r"^b\[0\] = nan; must be > 0"):
+        require_positive("b", np.array([np.nan]))
+    with pytest.raises(TypeError, match=r"^t: expected a scalar"):
+        as_float_scalar("t", [1.0])
+    assert as_float_scalar("t", np.float32(2.5)) == 2.5
+
+
+# --------------------------------------------------------------------------- sensors
+
+
+def test_planar_network() -> None:
+    net = SensorNetwork.planar([[0.0, 0.0], [1000.0, 0.0], [0.0, 500.0]], 0.01)
+    assert net.ndim == 2 and net.n_sensors == 3
+    assert net.positions.shape == (3, 3) and np.all(net.positions[:, 2] == 0.0)
+    assert np.all(net.sigma_azimuth == 0.01) and np.all(np.isnan(net.sigma_elevation))
+    with pytest.raises(ValueError, match="read-only"):
+        net.positions[0, 0] = 1.0
+    per_sensor = SensorNetwork.planar([[0.0, 0.0], [1.0, 0.0]], [0.1, 0.2])
+    assert per_sensor.sigma_azimuth.tolist() == [0.1, 0.2]
+
+
+def test_spatial_network_and_position_at() -> None:
+    pos = [[0.0, 0.0, 0.0], [20000.0, 0.0, 10.0]]
+    net = SensorNetwork.spatial(pos, 5e-3, [1e-3, 2e-3])
+    assert net.ndim == 3 and net.sigma_elevation.tolist() == [1e-3, 2e-3]
+    assert net.position_at(1, 3.0).tolist() == [20000.0, 0.0, 10.0]
+    out = net.position_at([0, 1, 1], [0.0, 1.0, 2.0])
+    assert out.shape == (3, 3) and out[2].tolist() == pos[1]
+    assert net.position_at(np.array([0, 1]), 7.0).shape == (2, 3)  # time broadcasts
+    with pytest.raises(ValueError, match=r"^sensor_index: 2 is not a sensor"):
+        net.position_at(2, 0.0)
+    with pytest.raises(ValueError, match=r"^time = nan"):
+        net.position_at(0, np.nan)
+    assert net == SensorNetwork.spatial(pos, 5e-3, [1e-3, 2e-3])
+    assert net != SensorNetwork.spatial(pos, 5e-3, 5e-3)
+
+
+def test_direct_construction_infers_ndim() -> None:
+    pos = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    assert SensorNetwork(pos, 0.1).ndim == 2
+    assert SensorNetwork(pos, 0.1, 0.2).ndim == 3
+    assert SensorNetwork(pos, 0.1, np.nan).ndim == 2
+
+
+P = SensorNetwork.planar
+Z = np.zeros((1, 3))
+_BAD_NETWORKS = [
+    (lambda: P(np.zeros((0, 2)), 0.1), ValueError, r"^positions: .*at least 1"),
+    (lambda: P([[0.0, 0.0, 0.0]], 0.1), ValueError, r"^positions_xy: expected shape"),
+    (lambda: SensorNetwork.spatial([[0.0, 0.0]], 0.1, 0.1), ValueError,
+     r"^positions_xyz: expected shape"),
+    (lambda: P([[0.0, np.nan]], 0.1), ValueError, r"^positions\[0, 1\] = nan"),
+    (lambda: P([[0.0, 0.0]], 0.0), ValueError, r"^sigma_bearing\[0\] = 0\.0; must be > 0"),
+    (lambda: P([[0, 0], [1, 0]], [0.1, -0.1]), ValueError, r"^sigma_bearing\[1\] = -0\.1"),
+    (lambda: P([[0, 0], [1, 0]], [0.1, 0.1, 0.1]), ValueError,
+     r"^sigma_bearing: expected a scalar or shape \(2,\)"),
+    (lambda: P([[0, 0]], np.inf), ValueError, r"^sigma_bearing\[0\] = inf"),
+    (lambda: P([[0, 0]], "0.1"), TypeError, r"^sigma_bearing: expected real numbers"),
+    (lambda: SensorNetwork.spatial([[0, 0, 0]], 0.1, 0.0), ValueError,
+     r"^sigma_elevation\[0\] = 0\.0"),
+    (lambda: SensorNetwork(Z, 0.1, None, 3), ValueError, r"^sigma_elevation: required"),
+    (lambda: SensorNetwork(Z, 0.1, 0.1, 2), ValueError, r"^sigma_elevation: must be omitted"),
+    (lambda: SensorNetwork(np.array([[0, 0, 5.0]]), 0.1, None, 2), ValueError,
+     r"^positions\[0, 2\] = 5\.0; a 2-D network"),
+    (lambda: SensorNetwork(Z, 0.1, 0.1, 4), ValueError, r"^ndim: expected 2 or 3, got 4"),
+    (lambda: SensorNetwork(Z, 0.1, 0.1, "3"), TypeError, r"^ndim: expected 2 or 3"),
+]
+
+
+@pytest.mark.parametrize(("call", "exc", "pattern"), _BAD_NETWORKS)
+def test_network_rejects_bad_input(call, exc, pattern) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(exc, match=pattern):
+        call()
+
+
+def test_network_rejects_coincident_sensors_naming_both() -> None:
+    pos = [[0.0, 0.0], [5.0, 5.0], [1.0, 2.0], [5.0, 5.0 + 1e-12]]
+    with pytest.raises(ValueError, match=r"^positions: sensors 1 and 3 are coincident"):
+        SensorNetwork.planar(pos, 0.1)
+    SensorNetwork.planar([[0.0, 0.0], [1e-6, 0.0]], 0.1)  # close but distinct is fine
+
+
+# --------------------------------------------------------------------------- measurements
+
+
+def _table(n: int = 5, truth: bool = True, elevation: bool = True) -> MeasurementTable:
+    rng = np.random.default_rng(0)
+    return MeasurementTable.from_arrays(
+        sensor=rng.integers(0, 2, n),
+        time=rng.uniform(0, 100, n),
+        azimuth=rng.uniform(-np.pi, np.pi, n),
+        elevation=rng.uniform(0, 1, n) if elevation else None,
+        attributes={"rf": rng.normal(4000, 10, n), "pw": rng.normal(5, 0.2, n)},
+        truth=rng.integers(-1, 3, n) if truth else None,
+    )
+
+
+def _bitwise_equal(a: MeasurementTable, b: MeasurementTable) -> bool:
+    x, y = a.to_arrays(), b.to_arrays()
+    return x.keys() == y.keys() and all(
+        x[k].dtype == y[k].dtype and x[k].tobytes() == y[k].tobytes() for k in x
+    )
+
+
+def test_table_basics() -> None:
+    t = _table()
+    assert len(t) == 5 and t.ndim == 3
+    assert t.sensor.dtype == np.int64 and t.truth is not None and t.truth.dtype == np.int64
+    with pytest.raises(ValueError, match="read-only"):
+        t.azimuth[0] = 0.0
+    with pytest.raises(TypeError):
+        t.attributes["new"] = np.zeros(5)  # type: ignore[index]
+    arrays = t.to_arrays()
+    assert set(arrays) == {
+        "sensor", "time", "azimuth", "elevation", "truth", "attr_rf", "attr_pw"
+    }
+    arrays["time"][0] = -1.0  # writable copies, the table is unchanged
+    assert t.time[0] != -1.0
+    assert MeasurementTable.from_columns(t.to_arrays()) == t
+    planar = _table(elevation=False)
+    assert planar.ndim == 2 and np.all(np.isnan(planar.elevation))
+    empty = MeasurementTable.from_arrays([], [], [])
+    assert len(empty) == 0 and empty.ndim == 2
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "pattern"),
+    [
+        ({"time": [0.0, 1.0]}, ValueError, r"^time: has length 2 but sensor has length 3"),
+        ({"azimuth": [0.0, np.inf, 0.0]}, ValueError, r"^azimuth\[1\] = inf"),
+        ({"time": [0.0, 1.0, np.nan]}, ValueError, r"^time\[2\] = nan"),
+        ({"sensor": [0, -1, 0]}, ValueError, r"^sensor\[1\] = -1; sensor indices must be >= 0"),
+        ({"sensor": [0, 0.5, 0]}, ValueError, r"^sensor\[1\] = 0\.5 is not an integer"),
+        ({"sensor": ["a", "b", "c"]}, TypeError, r"^sensor: expected integers"),
+        ({"elevation": [0.1, np.nan, 0.2]}, ValueError, r"^elevation\[1\] = nan; .*all finite"),
+        ({"elevation": [np.nan, 0.3, np.nan]}, ValueError, r"^elevation\[1\] = 0\.3"),
+        ({"elevation": [0.1, -np.inf, 0.2]}, ValueError, r"^elevation\[1\] = -inf"),
+        ({"truth": [0, -2, 1]}, ValueError, r"^truth\[1\] = -2"),
+        ({"truth": [0, 1]}, ValueError, r"^truth: has length 2"),
+        ({"attributes": {"rf": [1.0, 2.0]}}, ValueError, r"^attributes\['rf'\]: has length 2"),
+        ({"attributes": {"rf": [1.0, np.nan, 2.0]}}, ValueError,
+         r"^attributes\['rf'\]\[1\] = nan"),
+        ({"attributes": {"a,b": [1.0, 2.0, 3.0]}}, ValueError, r"^attributes: invalid name"),
+        ({"attributes": {3: [1.0, 2.0, 3.0]}}, TypeError, r"^attributes: names must be str"),
+        ({"azimuth": [[0.0, 1.0, 2.0]]}, ValueError, r"^azimuth: expected a 1-dimensional"),
+    ],
+)
+def test_table_rejects_bad_input(kwargs, exc, pattern) -> None:  # type: ignore[no-untyped-def]
+    base = {"sensor": [0, 1, 0], "time": [0.0, 1.0, 2.0], "azimuth": [0.1, 0.2, 0.3]}
+    with pytest.raises(exc, match=pattern):
+        MeasurementTable.from_arrays(**{**base, **kwargs})
+
+
+@pytest.mark.parametrize("truth", [True, False])
+@pytest.mark.parametrize("elevation", [True, False])
+def test_csv_round_trip_exact(tmp_path: Path, truth: bool, elevation: bool) -> None:
+    t = _table(50, truth=truth, elevation=elevation)
+    path = tmp_path / "m.csv"
+    t.to_csv(path)
+    header = path.read_text().splitlines()[0].split(",")
+    assert header[:4] == ["sensor", "time", "azimuth", "elevation"]
+    assert ("truth" in header) == truth and "attr_rf" in header
+    back = MeasurementTable.from_csv(path)
+    assert _bitwise_equal(t, back) and back == t
+
+
+finite = st.floats(allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 2**40), finite, finite, finite), max_size=20))
+def test_csv_round_trip_any_double(  # type: ignore[no-untyped-def]
+    tmp_path_factory: pytest.TempPathFactory, rows
+) -> None:
+    s, t, a, e = (list(c) for c in zip(*rows, strict=True)) if rows else ([], [], [], [])
+    table = MeasurementTable.from_arrays(s, t, a, e if rows else None)
+    path = tmp_path_factory.mktemp("csv") / "t.csv"
+    table.to_csv(path)
+    assert _bitwise_equal(table, MeasurementTable.from_csv(path))
+
+
+def test_from_csv_reports_bad_content(tmp_path: Path) -> None:
+    path = tmp_path / "bad.csv"
+    path.write_text("sensor,time,azimuth,elevation\n0,1.0,x,0.1\n")
+    with pytest.raises(ValueError, match=r"^azimuth: line 2 has 'x', not a number"):
+        MeasurementTable.from_csv(path)
+    path.write_text("sensor,time,azimuth,bogus\n0,1.0,0.5,0.1\n")
+    with pytest.raises(ValueError, match=r"^columns: unknown column 'bogus'"):
+        MeasurementTable.from_csv(path)
+    path.write_text("sensor,azimuth\n0,0.5\n")
+    with pytest.raises(ValueError, match=r"^columns: missing required column 'time'"):
+        MeasurementTable.from_csv(path)
+    path.write_text("sensor,time,azimuth\n0,1.0\n")
+    with pytest.raises(ValueError, match=r"^path: line 2 has 2 fields"):
+        MeasurementTable.from_csv(path)
+
+
+def test_pandas_round_trip() -> None:
+    pytest.importorskip("pandas")
+    t = _table(30)
+    df = t.to_pandas()
+    assert list(df.columns)[:5] == ["sensor", "time", "azimuth", "elevation", "truth"]
+    assert _bitwise_equal(MeasurementTable.from_pandas(df), t)
+    with pytest.raises(TypeError, match=r"^df: expected a pandas.DataFrame"):
+        MeasurementTable.from_pandas({"sensor": [0]})
+
+
+def test_pandas_missing_gives_install_hint(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "pandas", None)  # makes `import pandas` fail
+    with pytest.raises(ImportError, match=r"pip install passive-assoc\[pandas\]"):
+        _table().to_pandas()
+    with pytest.raises(ImportError, match=r"pip install passive-assoc\[pandas\]"):
+        MeasurementTable.from_pandas(object())
+
+
+def test_select_and_sort() -> None:
+    t = MeasurementTable.from_arrays(
+        [0, 1, 0, 1], [3.0, 1.0, 1.0, 2.0], [0.1, 0.2, 0.3, 0.4], truth=[0, 1, 2, -1],
+        attributes={"rf": [10.0, 20.0, 30.0, 40.0]},
+    )
+    sub = t.select([3, 0])
+    assert sub.azimuth.tolist() == [0.4, 0.1] and sub.truth.tolist() == [-1, 0]
+    assert sub.attributes["rf"].tolist() == [40.0, 10.0]
+    assert t.select(np.array([True, False, False, True])) == sub.select([1, 0])
+    assert len(t.select([])) == 0
+    with pytest.raises(ValueError, match=r"^indices\[1\] = 4 is out of range"):
+        t.select([0, 4])
+    with pytest.raises(ValueError, match=r"^indices\[0\] = -1 is out of range"):
+        t.select([-1])
+    with pytest.raises(ValueError, match=r"^indices: boolean mask has shape \(2,\)"):
+        t.select([True, False])
+    s = t.sorted_by_time()
+    assert s.time.tolist() == [1.0, 1.0, 2.0, 3.0]
+    assert s.azimuth.tolist() == [0.2, 0.3, 0.4, 0.1]  # stable: the tie keeps row order
+    assert t.time_order().tolist() == [1, 2, 3, 0]
+
+
+def test_validate_against() -> None:
+    net3 = SensorNetwork.spatial([[0, 0, 0], [1, 0, 0]], 0.01, 0.01)
+    net2 = SensorNetwork.planar([[0, 0], [1, 0]], 0.01)
+    t3 = MeasurementTable.from_arrays([0, 1, 1], [0.0, 0.0, 1.0], [0.1, 0.2, 0.3], [0.1] * 3)
+    t3.validate_against(net3)
+    with pytest.raises(ValueError, match=r"^measurements are 3-D .* network is 2-D"):
+        t3.validate_against(net2)
+    t2 = MeasurementTable.from_arrays([0, 1], [0.0, 0.0], [0.1, 0.2])
+    t2.validate_against(net2)
+    with pytest.raises(ValueError, match=r"^measurements are 2-D .* network is 3-D"):
+        t2.validate_against(net3)
+    bad = MeasurementTable.from_arrays([0, 1, 2, 5], [0.0] * 4, [0.1] * 4)
+    with pytest.raises(ValueError, match=r"^sensor\[2\] = 2 \(row 2\) is not a sensor"):
+        bad.validate_against(net2)
+    MeasurementTable.from_arrays([], [], []).validate_against(net3)  # empty is fine
+    with pytest.raises(TypeError, match=r"^sensors: expected a SensorNetwork"):
+        t2.validate_against("net")  # type: ignore[arg-type]
