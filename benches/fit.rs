@@ -22,10 +22,24 @@ struct Batch {
     initial: Vec<f64>,
 }
 
-fn make_batch(layout: &StateLayout, positions: &[[f64; 3]], times: &[(usize, f64)], n: usize, sigma: f64) -> Batch {
+fn make_batch(
+    layout: &StateLayout,
+    positions: &[[f64; 3]],
+    times: &[(usize, f64)],
+    n: usize,
+    sigma: f64,
+) -> Batch {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let dim = layout.dim();
-    let mut b = Batch { sensor: vec![], time: vec![], azimuth: vec![], elevation: vec![], indices: vec![], offsets: vec![0], initial: vec![] };
+    let mut b = Batch {
+        sensor: vec![],
+        time: vec![],
+        azimuth: vec![],
+        elevation: vec![],
+        indices: vec![],
+        offsets: vec![0],
+        initial: vec![],
+    };
     for _ in 0..n {
         let mut truth = [0.0; 6];
         truth[0] = rng.random_range(-5e3..25e3);
@@ -47,37 +61,72 @@ fn make_batch(layout: &StateLayout, positions: &[[f64; 3]], times: &[(usize, f64
             b.elevation.push(e + sigma * rng.random_range(-1.7..1.7));
         }
         b.offsets.push(b.indices.len() as i64);
-        b.initial.extend(truth[..dim].iter().map(|v| v * 1.01 + 20.0));
+        b.initial
+            .extend(truth[..dim].iter().map(|v| v * 1.01 + 20.0));
     }
     b
 }
 
-fn bench_batch(c: &mut Criterion, name: &str, layout: StateLayout, positions: &[[f64; 3]], times: &[(usize, f64)]) {
+fn bench_batch(
+    c: &mut Criterion,
+    name: &str,
+    layout: StateLayout,
+    positions: &[[f64; 3]],
+    times: &[(usize, f64)],
+) {
     let flat: Vec<f64> = positions.iter().flatten().copied().collect();
     let sigmas = vec![5e-3; positions.len()];
     let sensors = Sensors::new(layout.space, &flat, &sigmas, &sigmas).expect("valid sensors");
     let b = make_batch(&layout, positions, times, 10_000, 5e-3);
-    let table = Measurements::new(&sensors, &b.sensor, &b.time, &b.azimuth, &b.elevation).expect("valid table");
-    let problems = Problems { indices: &b.indices, offsets: &b.offsets, initial: Some(&b.initial) };
+    let table = Measurements::new(&sensors, &b.sensor, &b.time, &b.azimuth, &b.elevation)
+        .expect("valid table");
+    let problems = Problems {
+        indices: &b.indices,
+        offsets: &b.offsets,
+        initial: Some(&b.initial),
+    };
     let options = FitOptions::default();
     for threads in [1usize, 2] {
-        c.bench_function(&format!("{name}/10000 problems/{threads} thread(s)"), |bencher| {
-            bencher.iter_batched(
-                || (),
-                |_| with_threads(Some(threads), || fit_batch(&table, &sensors, &layout, &problems, &options)),
-                BatchSize::SmallInput,
-            )
-        });
+        c.bench_function(
+            &format!("{name}/10000 problems/{threads} thread(s)"),
+            |bencher| {
+                bencher.iter_batched(
+                    || (),
+                    |_| {
+                        with_threads(Some(threads), || {
+                            fit_batch(&table, &sensors, &layout, &problems, &options)
+                        })
+                    },
+                    BatchSize::SmallInput,
+                )
+            },
+        );
     }
 }
 
 fn fits(c: &mut Criterion) {
     let cv3 = StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 });
     let pair = [[0.0, 0.0, 0.0], [20_000.0, 0.0, 0.0]];
-    bench_batch(c, "cv_6d_4_azel", cv3, &pair, &[(0, 0.0), (1, 5.0), (0, 105.0), (1, 110.0)]);
+    bench_batch(
+        c,
+        "cv_6d_4_azel",
+        cv3,
+        &pair,
+        &[(0, 0.0), (1, 5.0), (0, 105.0), (1, 110.0)],
+    );
     let static2 = StateLayout::new(Space::Planar, Motion::Static);
-    let trio = [[-15_000.0, 0.0, 0.0], [0.0, -5_000.0, 0.0], [15_000.0, 0.0, 0.0]];
-    bench_batch(c, "static_2d_3_bearings", static2, &trio, &[(0, 0.0), (1, 0.0), (2, 0.0)]);
+    let trio = [
+        [-15_000.0, 0.0, 0.0],
+        [0.0, -5_000.0, 0.0],
+        [15_000.0, 0.0, 0.0],
+    ];
+    bench_batch(
+        c,
+        "static_2d_3_bearings",
+        static2,
+        &trio,
+        &[(0, 0.0), (1, 0.0), (2, 0.0)],
+    );
 }
 
 criterion_group! {

@@ -7,6 +7,7 @@ Angles are radians, positions metres, times seconds (METHODS §0).
 from __future__ import annotations
 
 from ._core import __version__
+from .assignment import SdAssignment, assign_sd, linear_assignment
 from .fitting import TERMINATION_NAMES, FitResult, crlb, fisher_and_crlb, fit_ml
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
@@ -20,6 +21,9 @@ from .simulate import (
 )
 
 __all__ = [
+    "SdAssignment",
+    "assign_sd",
+    "linear_assignment",
     "__version__",
     "TERMINATION_NAMES",
     "FitResult",

@@ -41,7 +41,10 @@ impl<'a> Sensors<'a> {
             if sigma_elevation.len() != n {
                 return Err(CoreError::shape(
                     "sigma_elevation",
-                    format!("expected {n} values (one per sensor), got {}", sigma_elevation.len()),
+                    format!(
+                        "expected {n} values (one per sensor), got {}",
+                        sigma_elevation.len()
+                    ),
                 ));
             }
             check_stds("sigma_elevation", sigma_elevation)?;
@@ -101,7 +104,11 @@ fn check_not_coincident(positions: &[f64]) -> CoreResult<()> {
     let rows: Vec<&[f64]> = positions.chunks_exact(3).collect();
     for (a, pa) in rows.iter().enumerate() {
         for (b, pb) in rows.iter().enumerate().skip(a + 1) {
-            let d2: f64 = pa.iter().zip(pb.iter()).map(|(u, v)| (u - v) * (u - v)).sum();
+            let d2: f64 = pa
+                .iter()
+                .zip(pb.iter())
+                .map(|(u, v)| (u - v) * (u - v))
+                .sum();
             if d2.sqrt() < COINCIDENT_SENSORS_M {
                 return Err(CoreError::ill_posed(
                     "sensor_positions",
@@ -134,7 +141,10 @@ impl<'a> Measurements<'a> {
         let n = sensor.len();
         for (arg, len) in [("time", time.len()), ("azimuth", azimuth.len())] {
             if len != n {
-                return Err(CoreError::shape(arg, format!("has {len} rows, sensor has {n}")));
+                return Err(CoreError::shape(
+                    arg,
+                    format!("has {len} rows, sensor has {n}"),
+                ));
             }
         }
         ensure_finite("time", time)?;
@@ -152,7 +162,10 @@ impl<'a> Measurements<'a> {
         if let Some(row) = sensor.iter().position(|&j| j < 0 || j >= s) {
             return Err(CoreError::out_of_range(
                 "sensor",
-                format!("row {row} names sensor {} but the network has {s} sensors", sensor[row]),
+                format!(
+                    "row {row} names sensor {} but the network has {s} sensors",
+                    sensor[row]
+                ),
             ));
         }
         Ok(Self {

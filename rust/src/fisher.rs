@@ -36,7 +36,10 @@ pub fn crlb(
             sigma: sensors.sigma(j as usize),
         };
         let rows = residual_rows(layout, truth, &obs).ok_or_else(|| {
-            CoreError::ill_posed("truth", format!("the target is on sensor {j}'s vertical axis at time {time}"))
+            CoreError::ill_posed(
+                "truth",
+                format!("the target is on sensor {j}'s vertical axis at time {time}"),
+            )
         })?;
         for c in 0..rows.count {
             let g = &rows.gradient[c][..dim];
@@ -47,24 +50,44 @@ pub fn crlb(
             }
         }
     }
-    let inverse = fisher.clone().cholesky().map(|c| c.inverse()).ok_or_else(|| {
-        CoreError::ill_posed("times", "the measurements do not determine the state (singular Fisher information)")
-    })?;
+    let inverse = fisher
+        .clone()
+        .cholesky()
+        .map(|c| c.inverse())
+        .ok_or_else(|| {
+            CoreError::ill_posed(
+                "times",
+                "the measurements do not determine the state (singular Fisher information)",
+            )
+        })?;
     Ok(Bound {
         fisher: fisher.transpose().as_slice().to_vec(),
         crlb: inverse.transpose().as_slice().to_vec(),
     })
 }
 
-fn validate(sensors: &Sensors<'_>, sensor_index: &[i64], times: &[f64], truth: &[f64], dim: usize) -> CoreResult<()> {
+fn validate(
+    sensors: &Sensors<'_>,
+    sensor_index: &[i64],
+    times: &[f64],
+    truth: &[f64],
+    dim: usize,
+) -> CoreResult<()> {
     if truth.len() != dim {
-        return Err(CoreError::shape("truth", format!("expected {dim} values, got {}", truth.len())));
+        return Err(CoreError::shape(
+            "truth",
+            format!("expected {dim} values, got {}", truth.len()),
+        ));
     }
     ensure_finite("truth", truth)?;
     if times.len() != sensor_index.len() {
         return Err(CoreError::shape(
             "times",
-            format!("has {} entries, sensor_index has {}", times.len(), sensor_index.len()),
+            format!(
+                "has {} entries, sensor_index has {}",
+                times.len(),
+                sensor_index.len()
+            ),
         ));
     }
     ensure_finite("times", times)?;
@@ -72,12 +95,18 @@ fn validate(sensors: &Sensors<'_>, sensor_index: &[i64], times: &[f64], truth: &
     if let Some(k) = sensor_index.iter().position(|&j| j < 0 || j >= s) {
         return Err(CoreError::out_of_range(
             "sensor_index",
-            format!("entry {k} is {} but the network has {s} sensors", sensor_index[k]),
+            format!(
+                "entry {k} is {} but the network has {s} sensors",
+                sensor_index[k]
+            ),
         ));
     }
     let scalars = sensor_index.len() * sensors.space().angles();
     if scalars < dim {
-        return Err(CoreError::ill_posed("times", format!("{scalars} scalar measurements for {dim} unknowns")));
+        return Err(CoreError::ill_posed(
+            "times",
+            format!("{scalars} scalar measurements for {dim} unknowns"),
+        ));
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! sensor networks. Everything here is plain Rust; the Python bindings live in [`py`] alone.
 
 pub mod angles;
+pub mod assign;
 pub mod data;
 pub mod error;
 pub mod fisher;

@@ -39,7 +39,12 @@ impl RayMeeting {
 
 /// Closest points of two lines of sight with unit directions `ua`, `ub`; `None` when they are
 /// parallel (no unique closest pair).
-pub fn closest_points(oa: &[f64; 3], ua: &[f64; 3], ob: &[f64; 3], ub: &[f64; 3]) -> Option<RayMeeting> {
+pub fn closest_points(
+    oa: &[f64; 3],
+    ua: &[f64; 3],
+    ob: &[f64; 3],
+    ub: &[f64; 3],
+) -> Option<RayMeeting> {
     let dot = |p: &[f64; 3], q: &[f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
     let w: [f64; 3] = std::array::from_fn(|k| oa[k] - ob[k]);
     let b = dot(ua, ub);
@@ -52,7 +57,10 @@ pub fn closest_points(oa: &[f64; 3], ua: &[f64; 3], ob: &[f64; 3], ub: &[f64; 3]
     let range_b = (e - b * d) / denom;
     let point_a: [f64; 3] = std::array::from_fn(|k| oa[k] + range_a * ua[k]);
     let point_b: [f64; 3] = std::array::from_fn(|k| ob[k] + range_b * ub[k]);
-    let distance = (0..3).map(|k| (point_a[k] - point_b[k]).powi(2)).sum::<f64>().sqrt();
+    let distance = (0..3)
+        .map(|k| (point_a[k] - point_b[k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
     Some(RayMeeting {
         point_a,
         point_b,
@@ -64,7 +72,12 @@ pub fn closest_points(oa: &[f64; 3], ua: &[f64; 3], ob: &[f64; 3], ub: &[f64; 3]
 
 /// Intersection of two 2-D bearing lines from `sa` (bearing `ta`) and `sb` (bearing `tb`), with
 /// the ranges along each line; `None` for parallel lines.
-pub fn intersect_bearings(sa: &[f64; 2], ta: f64, sb: &[f64; 2], tb: f64) -> Option<([f64; 2], f64, f64)> {
+pub fn intersect_bearings(
+    sa: &[f64; 2],
+    ta: f64,
+    sb: &[f64; 2],
+    tb: f64,
+) -> Option<([f64; 2], f64, f64)> {
     let (ua, ub) = ([ta.cos(), ta.sin()], [tb.cos(), tb.sin()]);
     let cross = ua[0] * ub[1] - ua[1] * ub[0];
     if cross.abs() <= 1e-12 {
@@ -73,7 +86,11 @@ pub fn intersect_bearings(sa: &[f64; 2], ta: f64, sb: &[f64; 2], tb: f64) -> Opt
     let w = [sb[0] - sa[0], sb[1] - sa[1]];
     let range_a = (w[0] * ub[1] - w[1] * ub[0]) / cross;
     let range_b = (w[0] * ua[1] - w[1] * ua[0]) / cross;
-    Some(([sa[0] + range_a * ua[0], sa[1] + range_a * ua[1]], range_a, range_b))
+    Some((
+        [sa[0] + range_a * ua[0], sa[1] + range_a * ua[1]],
+        range_a,
+        range_b,
+    ))
 }
 
 /// Linear least-squares ("pseudo-linear") estimate of a state from lines of sight: each
@@ -81,7 +98,10 @@ pub fn intersect_bearings(sa: &[f64; 2], ta: f64, sb: &[f64; 2], tb: f64) -> Opt
 /// `n·(position(t) − sensor) = 0`, which is linear in the state for both motions. Rows are
 /// scaled by 1/σ. Biased with noise, exact without; used only as a starting point.
 /// Returns `None` when the rays do not determine the state (too few, or degenerate geometry).
-pub fn pseudo_linear_state(layout: &StateLayout, observations: &[Observation]) -> Option<[f64; MAX_DIM]> {
+pub fn pseudo_linear_state(
+    layout: &StateLayout,
+    observations: &[Observation],
+) -> Option<[f64; MAX_DIM]> {
     match layout.dim() {
         2 => solve_pseudo_linear::<2>(layout, observations),
         3 => solve_pseudo_linear::<3>(layout, observations),
@@ -90,7 +110,10 @@ pub fn pseudo_linear_state(layout: &StateLayout, observations: &[Observation]) -
     }
 }
 
-fn solve_pseudo_linear<const D: usize>(layout: &StateLayout, observations: &[Observation]) -> Option<[f64; MAX_DIM]> {
+fn solve_pseudo_linear<const D: usize>(
+    layout: &StateLayout,
+    observations: &[Observation],
+) -> Option<[f64; MAX_DIM]> {
     let mut normal = SMatrix::<f64, D, D>::zeros();
     let mut rhs = SVector::<f64, D>::zeros();
     for obs in observations {
@@ -137,7 +160,8 @@ mod tests {
         let (oa, ob) = ([0.0, 0.0, 0.0], [20_000.0, 0.0, 10.0]);
         let [a1, e1] = predict(Space::Spatial, &oa, &target);
         let [a2, e2] = predict(Space::Spatial, &ob, &target);
-        let m = closest_points(&oa, &direction(a1, e1), &ob, &direction(a2, e2)).expect("not parallel");
+        let m =
+            closest_points(&oa, &direction(a1, e1), &ob, &direction(a2, e2)).expect("not parallel");
         assert!(m.distance < 1e-6 && m.in_front());
         for k in 0..3 {
             assert!((m.midpoint()[k] - target[k]).abs() < 1e-6);
@@ -148,7 +172,8 @@ mod tests {
     fn target_behind_one_sensor_is_flagged() {
         let (oa, ob) = ([0.0, 0.0, 0.0], [10.0, 0.0, 0.0]);
         // Ray a points away from where ray b crosses it.
-        let m = closest_points(&oa, &[0.0, -1.0, 0.0], &ob, &direction(2.0, 0.0)).expect("not parallel");
+        let m = closest_points(&oa, &[0.0, -1.0, 0.0], &ob, &direction(2.0, 0.0))
+            .expect("not parallel");
         assert!(!m.in_front());
     }
 
@@ -174,13 +199,22 @@ mod tests {
                 sensors.iter().enumerate().map(move |(j, s)| {
                     let time = 15.0 * k as f64 + 5.0 * j as f64;
                     let p = layout.position(&truth, time);
-                    Observation { sensor: *s, time, angles: predict(Space::Spatial, s, &p), sigma: [5e-3, 5e-3] }
+                    Observation {
+                        sensor: *s,
+                        time,
+                        angles: predict(Space::Spatial, s, &p),
+                        sigma: [5e-3, 5e-3],
+                    }
                 })
             })
             .collect();
         let est = pseudo_linear_state(&layout, &obs).expect("well posed");
         for k in 0..6 {
-            assert!((est[k] - truth[k]).abs() < 1e-5 * truth[k].abs().max(1.0), "{k}: {}", est[k]);
+            assert!(
+                (est[k] - truth[k]).abs() < 1e-5 * truth[k].abs().max(1.0),
+                "{k}: {}",
+                est[k]
+            );
         }
     }
 }

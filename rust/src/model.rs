@@ -163,7 +163,11 @@ pub struct Observation {
 
 /// Residual rows of `obs` at `state`, or `None` at a non-differentiable geometry.
 #[inline]
-pub fn residual_rows(layout: &StateLayout, state: &[f64], obs: &Observation) -> Option<ResidualRows> {
+pub fn residual_rows(
+    layout: &StateLayout,
+    state: &[f64],
+    obs: &Observation,
+) -> Option<ResidualRows> {
     let target = layout.position(state, obs.time);
     let (predicted, position_gradient) = predict_with_gradient(layout.space, &obs.sensor, &target)?;
     let count = layout.space.angles();

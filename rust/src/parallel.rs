@@ -5,15 +5,23 @@
 use crate::error::{CoreError, CoreResult};
 
 /// Runs `work` on `threads` threads (`None` = rayon's global pool, sized to the machine).
-pub fn with_threads<R: Send>(threads: Option<usize>, work: impl FnOnce() -> R + Send) -> CoreResult<R> {
+pub fn with_threads<R: Send>(
+    threads: Option<usize>,
+    work: impl FnOnce() -> R + Send,
+) -> CoreResult<R> {
     match threads {
         None => Ok(work()),
-        Some(0) => Err(CoreError::out_of_range("n_threads", "must be at least 1 (or None for all cores)")),
+        Some(0) => Err(CoreError::out_of_range(
+            "n_threads",
+            "must be at least 1 (or None for all cores)",
+        )),
         Some(n) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
                 .build()
-                .map_err(|e| CoreError::out_of_range("n_threads", format!("cannot start {n} threads: {e}")))?;
+                .map_err(|e| {
+                    CoreError::out_of_range("n_threads", format!("cannot start {n} threads: {e}"))
+                })?;
             Ok(pool.install(work))
         }
     }

@@ -50,18 +50,30 @@ impl Problems<'_> {
     pub fn validate(&self, n_rows: usize, angles_per_row: usize, dim: usize) -> CoreResult<()> {
         let (offsets, indices) = (self.offsets, self.indices);
         if offsets.first() != Some(&0) {
-            return Err(CoreError::shape("offsets", "must start with 0 and have one entry per problem plus one"));
+            return Err(CoreError::shape(
+                "offsets",
+                "must start with 0 and have one entry per problem plus one",
+            ));
         }
         if let Some(p) = offsets.windows(2).position(|w| w[1] < w[0]) {
-            return Err(CoreError::out_of_range("offsets", format!("decreases between entries {p} and {}", p + 1)));
+            return Err(CoreError::out_of_range(
+                "offsets",
+                format!("decreases between entries {p} and {}", p + 1),
+            ));
         }
         if offsets.last().copied() != Some(indices.len() as i64) {
-            return Err(CoreError::shape("offsets", format!("last entry must equal len(indices) = {}", indices.len())));
+            return Err(CoreError::shape(
+                "offsets",
+                format!("last entry must equal len(indices) = {}", indices.len()),
+            ));
         }
         if let Some(k) = indices.iter().position(|&m| m < 0 || m as usize >= n_rows) {
             return Err(CoreError::out_of_range(
                 "indices",
-                format!("entry {k} is {} but the table has {n_rows} measurements", indices[k]),
+                format!(
+                    "entry {k} is {} but the table has {n_rows} measurements",
+                    indices[k]
+                ),
             ));
         }
         for p in 0..self.len() {
@@ -77,7 +89,11 @@ impl Problems<'_> {
             if initial.len() != self.len() * dim {
                 return Err(CoreError::shape(
                     "initial",
-                    format!("expected shape ({}, {dim}), got {} values", self.len(), initial.len()),
+                    format!(
+                        "expected shape ({}, {dim}), got {} values",
+                        self.len(),
+                        initial.len()
+                    ),
                 ));
             }
             ensure_finite("initial", initial)?;
@@ -105,18 +121,35 @@ pub fn fit_batch(
         .par_chunks_mut(dim)
         .zip(covariances.par_chunks_mut(dim * dim))
         .enumerate()
-        .map_init(Vec::new, |obs: &mut Vec<Observation>, (p, (estimate, covariance))| {
-            obs.clear();
-            obs.extend(problems.rows(p).iter().map(|&m| measurements.observation(sensors, m as usize)));
-            let slots = FitSlots { estimate, covariance };
-            match problems.initial {
-                Some(initial) => fit_into(layout, obs, &initial[p * dim..(p + 1) * dim], options, slots),
-                None => match pseudo_linear_state(layout, obs) {
-                    Some(start) => fit_into(layout, obs, &start[..dim], options, slots),
-                    None => singular(slots),
-                },
-            }
-        })
+        .map_init(
+            Vec::new,
+            |obs: &mut Vec<Observation>, (p, (estimate, covariance))| {
+                obs.clear();
+                obs.extend(
+                    problems
+                        .rows(p)
+                        .iter()
+                        .map(|&m| measurements.observation(sensors, m as usize)),
+                );
+                let slots = FitSlots {
+                    estimate,
+                    covariance,
+                };
+                match problems.initial {
+                    Some(initial) => fit_into(
+                        layout,
+                        obs,
+                        &initial[p * dim..(p + 1) * dim],
+                        options,
+                        slots,
+                    ),
+                    None => match pseudo_linear_state(layout, obs) {
+                        Some(start) => fit_into(layout, obs, &start[..dim], options, slots),
+                        None => singular(slots),
+                    },
+                }
+            },
+        )
         .collect();
     Ok(BatchOutcome {
         dim,
@@ -131,5 +164,9 @@ pub fn fit_batch(
 fn singular(slots: FitSlots<'_>) -> FitSummary {
     slots.estimate.fill(f64::NAN);
     slots.covariance.fill(f64::NAN);
-    FitSummary { chi2: f64::NAN, iterations: 0, termination: Termination::Singular }
+    FitSummary {
+        chi2: f64::NAN,
+        iterations: 0,
+        termination: Termination::Singular,
+    }
 }

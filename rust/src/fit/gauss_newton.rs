@@ -15,7 +15,11 @@ struct Normal<const D: usize> {
     chi2: f64,
 }
 
-fn accumulate<const D: usize>(layout: &StateLayout, x: &SVector<f64, D>, obs: &[Observation]) -> Option<Normal<D>> {
+fn accumulate<const D: usize>(
+    layout: &StateLayout,
+    x: &SVector<f64, D>,
+    obs: &[Observation],
+) -> Option<Normal<D>> {
     let mut normal = Normal {
         information: SMatrix::zeros(),
         gradient: SVector::zeros(),
@@ -42,7 +46,10 @@ pub fn chi2(layout: &StateLayout, x: &[f64], obs: &[Observation]) -> Option<f64>
     let mut total = 0.0;
     for o in obs {
         let rows = residual_rows(layout, x, o)?;
-        total += rows.residual[..rows.count].iter().map(|r| r * r).sum::<f64>();
+        total += rows.residual[..rows.count]
+            .iter()
+            .map(|r| r * r)
+            .sum::<f64>();
     }
     total.is_finite().then_some(total)
 }
@@ -62,10 +69,24 @@ pub struct FitSummary {
 }
 
 /// Fits `layout`'s state to `obs` from `initial` (length ≥ `layout.dim()`).
-pub fn fit(layout: &StateLayout, obs: &[Observation], initial: &[f64], options: &FitOptions) -> FitOutcome {
+pub fn fit(
+    layout: &StateLayout,
+    obs: &[Observation],
+    initial: &[f64],
+    options: &FitOptions,
+) -> FitOutcome {
     let dim = layout.dim();
     let (mut estimate, mut covariance) = (vec![0.0; dim], vec![0.0; dim * dim]);
-    let summary = fit_into(layout, obs, initial, options, FitSlots { estimate: &mut estimate, covariance: &mut covariance });
+    let summary = fit_into(
+        layout,
+        obs,
+        initial,
+        options,
+        FitSlots {
+            estimate: &mut estimate,
+            covariance: &mut covariance,
+        },
+    );
     FitOutcome {
         estimate,
         covariance,
@@ -76,7 +97,13 @@ pub fn fit(layout: &StateLayout, obs: &[Observation], initial: &[f64], options: 
 }
 
 /// [`fit`] writing into caller-provided slots (no allocation: the batch driver's hot path).
-pub fn fit_into(layout: &StateLayout, obs: &[Observation], initial: &[f64], options: &FitOptions, slots: FitSlots<'_>) -> FitSummary {
+pub fn fit_into(
+    layout: &StateLayout,
+    obs: &[Observation],
+    initial: &[f64],
+    options: &FitOptions,
+    slots: FitSlots<'_>,
+) -> FitSummary {
     match layout.dim() {
         2 => fit_fixed::<2>(layout, obs, initial, options, slots),
         3 => fit_fixed::<3>(layout, obs, initial, options, slots),
@@ -129,8 +156,14 @@ fn fit_fixed<const D: usize>(
         Some(cholesky) => {
             slots.estimate.copy_from_slice(x.as_slice());
             // Symmetric, so column-major storage reads as row-major too.
-            slots.covariance.copy_from_slice(cholesky.inverse().as_slice());
-            FitSummary { chi2: normal.chi2, iterations, termination }
+            slots
+                .covariance
+                .copy_from_slice(cholesky.inverse().as_slice());
+            FitSummary {
+                chi2: normal.chi2,
+                iterations,
+                termination,
+            }
         }
         None => write_failure(slots, iterations, Termination::Singular),
     }
@@ -139,7 +172,11 @@ fn fit_fixed<const D: usize>(
 fn write_failure(slots: FitSlots<'_>, iterations: usize, termination: Termination) -> FitSummary {
     slots.estimate.fill(f64::NAN);
     slots.covariance.fill(f64::NAN);
-    FitSummary { chi2: f64::NAN, iterations, termination }
+    FitSummary {
+        chi2: f64::NAN,
+        iterations,
+        termination,
+    }
 }
 
 /// The full step, halved until χ² does not rise; returns the accepted state with its normal
@@ -175,7 +212,9 @@ mod tests {
         let mut k = 0u64;
         let mut jitter = || {
             // Deterministic pseudo-noise, enough to make the fit non-trivial.
-            k = k.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            k = k
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             noise * (((k >> 11) as f64 / (1u64 << 53) as f64) - 0.5)
         };
         let mut out = Vec::new();
@@ -184,7 +223,12 @@ mod tests {
                 let time = 15.0 * scan as f64 + 5.0 * j as f64;
                 let p = layout.position(truth, time);
                 let [a, e] = predict(layout.space, s, &p);
-                out.push(Observation { sensor: *s, time, angles: [a + jitter(), e + jitter()], sigma: [5e-3, 5e-3] });
+                out.push(Observation {
+                    sensor: *s,
+                    time,
+                    angles: [a + jitter(), e + jitter()],
+                    sigma: [5e-3, 5e-3],
+                });
             }
         }
         out
@@ -199,7 +243,10 @@ mod tests {
         let out = fit(&layout, &obs, &start, &FitOptions::default());
         assert_eq!(out.termination, Termination::Converged);
         for k in 0..6 {
-            assert!((out.estimate[k] - truth[k]).abs() <= 1e-8 * truth[k].abs().max(1.0), "{k}");
+            assert!(
+                (out.estimate[k] - truth[k]).abs() <= 1e-8 * truth[k].abs().max(1.0),
+                "{k}"
+            );
         }
         assert!(out.chi2 < 1e-12);
     }
@@ -207,8 +254,21 @@ mod tests {
     #[test]
     fn single_sensor_static_fit_is_singular_not_a_panic() {
         let layout = StateLayout::new(Space::Spatial, Motion::Static);
-        let obs = vec![Observation { sensor: [0.0; 3], time: 0.0, angles: [0.3, 0.1], sigma: [1e-3, 1e-3] }; 3];
-        let out = fit(&layout, &obs, &[1000.0, 300.0, 100.0], &FitOptions::default());
+        let obs = vec![
+            Observation {
+                sensor: [0.0; 3],
+                time: 0.0,
+                angles: [0.3, 0.1],
+                sigma: [1e-3, 1e-3]
+            };
+            3
+        ];
+        let out = fit(
+            &layout,
+            &obs,
+            &[1000.0, 300.0, 100.0],
+            &FitOptions::default(),
+        );
         assert_eq!(out.termination, Termination::Singular);
         assert!(out.estimate.iter().all(|v| v.is_nan()));
     }

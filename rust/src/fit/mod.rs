@@ -65,7 +65,10 @@ impl FitOptions {
     /// Convergence when `‖δ‖ ≤ xtol·(‖x‖ + xtol)`.
     pub fn with_xtol(mut self, xtol: f64) -> CoreResult<Self> {
         if !(xtol.is_finite() && xtol > 0.0) {
-            return Err(CoreError::out_of_range("xtol", format!("{xtol} must be finite and > 0")));
+            return Err(CoreError::out_of_range(
+                "xtol",
+                format!("{xtol} must be finite and > 0"),
+            ));
         }
         self.xtol = xtol;
         Ok(self)
@@ -75,7 +78,10 @@ impl FitOptions {
     /// of the estimate (`sqrt(δᵀHδ)`, H the information matrix).
     pub fn with_step_sigmas(mut self, step_sigmas: f64) -> CoreResult<Self> {
         if !(step_sigmas.is_finite() && step_sigmas >= 0.0) {
-            return Err(CoreError::out_of_range("step_sigmas", format!("{step_sigmas} must be finite and >= 0")));
+            return Err(CoreError::out_of_range(
+                "step_sigmas",
+                format!("{step_sigmas} must be finite and >= 0"),
+            ));
         }
         self.step_sigmas = step_sigmas;
         Ok(self)
@@ -84,7 +90,10 @@ impl FitOptions {
     /// How many times a step that raises χ² is halved before the fit is declared stalled.
     pub fn with_max_halvings(mut self, max_halvings: usize) -> CoreResult<Self> {
         if max_halvings > 200 {
-            return Err(CoreError::out_of_range("max_halvings", "at most 200 (2^-200 is below any useful step)"));
+            return Err(CoreError::out_of_range(
+                "max_halvings",
+                "at most 200 (2^-200 is below any useful step)",
+            ));
         }
         self.max_halvings = max_halvings;
         Ok(self)

@@ -1,7 +1,9 @@
 //! NumPy → core views (borrowed, no copy) and core vectors → NumPy arrays (moved, no copy).
 
 use numpy::ndarray::{Array, Dimension, IxDyn};
-use numpy::{Element, IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    Element, IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -16,7 +18,11 @@ pub fn slice1<'a, T: Element>(name: &str, array: &'a PyReadonlyArray1<'_, T>) ->
 }
 
 /// A contiguous row-major view of a 2-D array with `cols` columns.
-pub fn slice2<'a, T: Element>(name: &str, array: &'a PyReadonlyArray2<'_, T>, cols: usize) -> PyResult<&'a [T]> {
+pub fn slice2<'a, T: Element>(
+    name: &str,
+    array: &'a PyReadonlyArray2<'_, T>,
+    cols: usize,
+) -> PyResult<&'a [T]> {
     let shape = array.shape();
     if shape[1] != cols {
         return Err(PyValueError::new_err(format!(
@@ -34,7 +40,9 @@ pub fn space(ndim: u8) -> PyResult<Space> {
     match ndim {
         2 => Ok(Space::Planar),
         3 => Ok(Space::Spatial),
-        other => Err(PyValueError::new_err(format!("ndim: must be 2 or 3, got {other}"))),
+        other => Err(PyValueError::new_err(format!(
+            "ndim: must be 2 or 3, got {other}"
+        ))),
     }
 }
 
@@ -43,7 +51,11 @@ pub fn layout(ndim: u8, motion: &str, t0: f64) -> PyResult<StateLayout> {
     let motion = match motion {
         "static" => Motion::Static,
         "cv" if t0.is_finite() => Motion::ConstantVelocity { t0 },
-        "cv" => return Err(PyValueError::new_err(format!("t0: must be finite, got {t0}"))),
+        "cv" => {
+            return Err(PyValueError::new_err(format!(
+                "t0: must be finite, got {t0}"
+            )))
+        }
         other => {
             return Err(PyValueError::new_err(format!(
                 "motion: must be 'static' or 'cv', got {other:?}"
@@ -92,9 +104,16 @@ impl MeasurementArrays<'_> {
 }
 
 /// Moves `data` into a NumPy array of `shape` without copying the buffer.
-pub fn to_numpy<'py, T: Element>(py: Python<'py>, data: Vec<T>, shape: &[usize]) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+pub fn to_numpy<'py, T: Element>(
+    py: Python<'py>,
+    data: Vec<T>,
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
     let array = Array::from_shape_vec(IxDyn(shape), data).map_err(|e| {
-        PyValueError::new_err(format!("internal: result of {} values does not fit shape {shape:?}: {e}", IxDyn(shape).size()))
+        PyValueError::new_err(format!(
+            "internal: result of {} values does not fit shape {shape:?}: {e}",
+            IxDyn(shape).size()
+        ))
     })?;
     Ok(array.into_pyarray(py))
 }

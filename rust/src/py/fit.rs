@@ -11,7 +11,13 @@ use crate::fit::FitOptions;
 use crate::parallel::with_threads;
 
 type F64Array<'py> = Bound<'py, PyArrayDyn<f64>>;
-type FitArrays<'py> = (F64Array<'py>, F64Array<'py>, F64Array<'py>, Bound<'py, PyArrayDyn<u32>>, Bound<'py, PyArrayDyn<u8>>);
+type FitArrays<'py> = (
+    F64Array<'py>,
+    F64Array<'py>,
+    F64Array<'py>,
+    Bound<'py, PyArrayDyn<u32>>,
+    Bound<'py, PyArrayDyn<u8>>,
+);
 
 /// Batched ML fit; returns (estimates, covariances, chi2, iterations, termination).
 #[pyfunction]
@@ -48,17 +54,34 @@ pub fn fit_batch<'py>(
         .with_xtol(xtol)?
         .with_step_sigmas(step_sigmas)?
         .with_max_halvings(max_halvings)?;
-    let sensors_arrays = SensorArrays { positions: sensor_positions, sigma_azimuth, sigma_elevation };
+    let sensors_arrays = SensorArrays {
+        positions: sensor_positions,
+        sigma_azimuth,
+        sigma_elevation,
+    };
     let sensors = sensors_arrays.view(layout.space)?;
-    let table = MeasurementArrays { sensor, time, azimuth, elevation };
+    let table = MeasurementArrays {
+        sensor,
+        time,
+        azimuth,
+        elevation,
+    };
     let measurements = table.view(&sensors)?;
     let initial_slice = match &initial {
-        Some(a) => Some(a.as_slice().map_err(|_| pyo3::exceptions::PyValueError::new_err("initial: array must be C-contiguous"))?),
+        Some(a) => Some(a.as_slice().map_err(|_| {
+            pyo3::exceptions::PyValueError::new_err("initial: array must be C-contiguous")
+        })?),
         None => None,
     };
-    let problems = Problems { indices: slice1("indices", &indices)?, offsets: slice1("offsets", &offsets)?, initial: initial_slice };
+    let problems = Problems {
+        indices: slice1("indices", &indices)?,
+        offsets: slice1("offsets", &offsets)?,
+        initial: initial_slice,
+    };
     let outcome = py.detach(|| {
-        with_threads(n_threads, || core_fit_batch(&measurements, &sensors, &layout, &problems, &options))
+        with_threads(n_threads, || {
+            core_fit_batch(&measurements, &sensors, &layout, &problems, &options)
+        })
     })??;
     let (p, d) = (outcome.chi2.len(), outcome.dim);
     Ok((
@@ -87,10 +110,21 @@ pub fn crlb<'py>(
     t0: f64,
 ) -> PyResult<(F64Array<'py>, F64Array<'py>)> {
     let layout = layout(ndim, motion, t0)?;
-    let sensors_arrays = SensorArrays { positions: sensor_positions, sigma_azimuth, sigma_elevation };
+    let sensors_arrays = SensorArrays {
+        positions: sensor_positions,
+        sigma_azimuth,
+        sigma_elevation,
+    };
     let sensors = sensors_arrays.view(layout.space)?;
-    let (sensor_index, times, truth) = (slice1("sensor_index", &sensor_index)?, slice1("times", &times)?, slice1("truth", &truth)?);
+    let (sensor_index, times, truth) = (
+        slice1("sensor_index", &sensor_index)?,
+        slice1("times", &times)?,
+        slice1("truth", &truth)?,
+    );
     let bound = py.detach(|| fisher::crlb(&layout, &sensors, sensor_index, times, truth))?;
     let d = layout.dim();
-    Ok((to_numpy(py, bound.fisher, &[d, d])?, to_numpy(py, bound.crlb, &[d, d])?))
+    Ok((
+        to_numpy(py, bound.fisher, &[d, d])?,
+        to_numpy(py, bound.crlb, &[d, d])?,
+    ))
 }

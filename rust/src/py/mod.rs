@@ -2,6 +2,7 @@
 //! input under the GIL, releases the GIL (`py.detach`) while the core works, and hands the
 //! core's vectors to NumPy without copying. Core errors become exceptions in `errors`.
 
+mod assign;
 mod convert;
 mod errors;
 mod fit;
@@ -13,5 +14,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(fit::fit_batch, m)?)?;
     m.add_function(wrap_pyfunction!(fit::crlb, m)?)?;
+    m.add_function(wrap_pyfunction!(assign::assign_sd, m)?)?;
+    m.add_function(wrap_pyfunction!(assign::assign_2d, m)?)?;
     Ok(())
 }

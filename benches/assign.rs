@@ -1,0 +1,89 @@
+//! Benchmarks of the assignment solvers (METHODS.md §2).
+//!
+//! * dense LAP on uniform [0, 1) costs, 100×100 and 1000×1000 — the target is at most 1.5×
+//!   `scipy.optimize.linear_sum_assignment` on the same sizes;
+//! * the S-D Lagrangian on S = 3 scans with ~18 and ~100 reports per sensor and a sparse,
+//!   gated-looking tuple set (each report in a handful of tuples).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use passive_assoc::assign::lagrangian::{self, LagrangianOptions};
+use passive_assoc::assign::lap::solve_dense;
+use passive_assoc::assign::SdProblem;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::hint::black_box;
+
+fn dense_lap(c: &mut Criterion) {
+    let mut group = c.benchmark_group("lap_dense_uniform");
+    for n in [100usize, 1000] {
+        let mut rng = ChaCha8Rng::seed_from_u64(n as u64);
+        let costs: Vec<f64> = (0..n * n).map(|_| rng.random::<f64>()).collect();
+        if n == 1000 {
+            group.sample_size(10);
+        }
+        group.bench_with_input(BenchmarkId::from_parameter(n), &costs, |b, costs| {
+            b.iter(|| solve_dense(n, n, black_box(costs)))
+        });
+    }
+    group.finish();
+}
+
+/// A synthetic S = 3 scan: `n` reports per sensor, ~90 % of them from `n` targets (sensor s
+/// reports target t as report `perm_s[t]`), the rest clutter. Tuples: every target's full
+/// triple (strongly negative cost) plus, per report, a few random "ghost" tuples through
+/// neighbouring reports with weaker costs, and the intensity-2 sub-tuples — so each report
+/// appears in a handful of tuples, as after gating.
+fn sd_scan(n: usize, seed: u64) -> SdProblem {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let perms: Vec<Vec<usize>> = (0..3)
+        .map(|_| {
+            let mut p: Vec<usize> = (1..=n).collect();
+            for i in (1..n).rev() {
+                p.swap(i, rng.random_range(0..=i));
+            }
+            p
+        })
+        .collect();
+    let (mut tuples, mut costs) = (Vec::new(), Vec::new());
+    let mut push = |t: [usize; 3], c: f64| {
+        tuples.extend_from_slice(&t);
+        costs.push(c);
+    };
+    for t in 0..n {
+        let full = [perms[0][t], perms[1][t], perms[2][t]];
+        let c: f64 = rng.random_range(-25.0..-12.0);
+        push(full, c);
+        for drop in 0..3 {
+            let mut sub = full;
+            sub[drop] = 0;
+            push(sub, c * rng.random_range(0.4..0.7));
+        }
+        for _ in 0..3 {
+            // A ghost: shares one or two reports with target t, the rest from nearby targets.
+            let mut g = full;
+            for s in 0..3 {
+                if rng.random_bool(0.5) {
+                    let near = (t + rng.random_range(1..4)) % n;
+                    g[s] = perms[s][near];
+                }
+            }
+            push(g, rng.random_range(-14.0..-2.0));
+        }
+    }
+    SdProblem::new(tuples, 3, costs, vec![n; 3]).expect("the generator builds valid input")
+}
+
+fn sd_lagrangian(c: &mut Criterion) {
+    let mut group = c.benchmark_group("sd_lagrangian_s3");
+    let options = LagrangianOptions::default();
+    for n in [18usize, 100] {
+        let problem = sd_scan(n, 42);
+        group.bench_with_input(BenchmarkId::from_parameter(n), &problem, |b, p| {
+            b.iter(|| lagrangian::solve(black_box(p), &options))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, dense_lap, sd_lagrangian);
+criterion_main!(benches);

@@ -1,0 +1,455 @@
+//! Baseline A of METHODS.md §2: S-D assignment by Lagrangian relaxation (Pattipati et al.
+//! 1992, Deb et al. 1997).
+//!
+//! The "at most once" constraints of sensors 3..S (indices `2..S` here) move into the
+//! objective with multipliers `u_s[i] <= 0` (the dummy report 0 has none):
+//! `L(u) = min Σ_k (c_k − Σ_{s≥2} u_s[i_s(k)]) x_k + Σ_{s≥2} Σ_i u_s[i]` subject to the
+//! constraints of sensors 0 and 1 only. That is a sparse 2-D assignment between the reports of
+//! sensors 0 and 1 (each pair keeps its best tuple; tuples missing sensor 0 or 1 become the
+//! "unassigned" costs), solved exactly by [`lap`](super::lap), so `L(u)` is a valid lower bound.
+//! The bound is raised by projected subgradient ascent with a Polyak step aimed at the best
+//! primal; a feasible solution is recovered each iteration by successive 2-D assignments.
+
+use super::lap::{sparse_core, SparseCosts};
+use super::recovery;
+use super::{closes_gap, relative_gap, SdProblem, SdSolution, Termination};
+use crate::error::{CoreError, CoreResult};
+
+/// Options of [`solve`], built with validated `with_*` setters.
+///
+/// ```
+/// use passive_assoc::assign::lagrangian::LagrangianOptions;
+/// let o = LagrangianOptions::default().with_max_iter(50).unwrap().with_gap_tol(1e-2).unwrap();
+/// assert_eq!(o.max_iter(), 50);
+/// assert!(LagrangianOptions::default().with_gap_tol(-1.0).is_err());
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct LagrangianOptions {
+    max_iter: usize,
+    gap_tol: f64,
+    step_scale: f64,
+    stall_iters: usize,
+}
+
+impl Default for LagrangianOptions {
+    /// `max_iter = 200`, `gap_tol = 1e-3` (0.1 %, tight enough that the recovered solution is
+    /// usually the optimum, see the tests), `step_scale = 1`, `stall_iters = 10`.
+    fn default() -> Self {
+        Self {
+            max_iter: 200,
+            gap_tol: 1e-3,
+            step_scale: 1.0,
+            stall_iters: 10,
+        }
+    }
+}
+
+/// The step parameter floor: below it the multipliers no longer move usefully.
+const MIN_STEP_SCALE: f64 = 1e-4;
+
+impl LagrangianOptions {
+    /// Subgradient iterations, at least 1.
+    pub fn with_max_iter(mut self, max_iter: usize) -> CoreResult<Self> {
+        if max_iter == 0 {
+            return Err(CoreError::out_of_range(
+                "max_iter",
+                "must be at least 1, got 0",
+            ));
+        }
+        self.max_iter = max_iter;
+        Ok(self)
+    }
+
+    /// Stop when the relative gap `(primal − dual) / max(1, |primal|)` is at most this
+    /// (finite, `>= 0`; 0 means "only a proven optimum stops early").
+    pub fn with_gap_tol(mut self, gap_tol: f64) -> CoreResult<Self> {
+        if !(gap_tol.is_finite() && gap_tol >= 0.0) {
+            return Err(CoreError::out_of_range(
+                "gap_tol",
+                format!("must be finite and >= 0, got {gap_tol}"),
+            ));
+        }
+        self.gap_tol = gap_tol;
+        Ok(self)
+    }
+
+    /// Initial Polyak step parameter α in `(0, 2]`; it is halved whenever the dual bound has
+    /// not improved for `stall_iters` iterations.
+    pub fn with_step_scale(mut self, step_scale: f64) -> CoreResult<Self> {
+        if !(step_scale > 0.0 && step_scale <= 2.0) {
+            return Err(CoreError::out_of_range(
+                "step_scale",
+                format!("must be in (0, 2], got {step_scale}"),
+            ));
+        }
+        self.step_scale = step_scale;
+        Ok(self)
+    }
+
+    /// Iterations without dual improvement before the step parameter is halved, at least 1.
+    pub fn with_stall_iters(mut self, stall_iters: usize) -> CoreResult<Self> {
+        if stall_iters == 0 {
+            return Err(CoreError::out_of_range(
+                "stall_iters",
+                "must be at least 1, got 0",
+            ));
+        }
+        self.stall_iters = stall_iters;
+        Ok(self)
+    }
+
+    pub fn max_iter(&self) -> usize {
+        self.max_iter
+    }
+
+    pub fn gap_tol(&self) -> f64 {
+        self.gap_tol
+    }
+
+    pub fn step_scale(&self) -> f64 {
+        self.step_scale
+    }
+
+    pub fn stall_iters(&self) -> usize {
+        self.stall_iters
+    }
+}
+
+/// Solves the S-D problem approximately, with a proven lower bound. Deterministic.
+///
+/// For S = 2 the relaxation is the problem itself, so one exact sparse 2-D assignment answers
+/// it (`Termination::Optimal`). For S >= 3 each iteration evaluates `L(u)`, recovers a feasible
+/// solution, and stops on a closed gap (`Optimal`), `gap <= gap_tol` (`GapReached`), a vanished
+/// step (`Stalled`) or `max_iter` (`MaxIterations`). The primal never exceeds 0: choosing
+/// nothing is feasible.
+///
+/// ```
+/// use passive_assoc::assign::{lagrangian, SdProblem};
+/// let p = SdProblem::new(vec![1, 1, 1, 1, 1, 0, 0, 0, 1], 3, vec![-5.0, -3.0, -1.0], vec![1, 1, 1]).unwrap();
+/// let s = lagrangian::solve(&p, &Default::default());
+/// assert_eq!(s.chosen, vec![0]);
+/// assert!(s.dual_bound <= s.primal_cost + 1e-12);
+/// ```
+pub fn solve(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
+    let relax = Relaxation::new(problem);
+    let by_cost = recovery::by_cost(problem);
+    let mut mult: Vec<Vec<f64>> = problem.sizes().iter().map(|&n| vec![0.0; n + 1]).collect();
+    let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
+    let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale, 0);
+    let (mut iterations, mut termination) = (0, Termination::MaxIterations);
+    while iterations < options.max_iter {
+        iterations += 1;
+        let (dual, relaxed) = relax.evaluate(problem, &mult);
+        if dual > dual_bound {
+            dual_bound = dual;
+            since = 0;
+        } else {
+            since += 1;
+        }
+        let cand = recovery::primal(problem, &by_cost, &mult, &relaxed);
+        if cand.1 < best.1 {
+            best = cand;
+        }
+        if problem.n_sensors() == 2 || closes_gap(best.1, dual_bound) {
+            termination = Termination::Optimal;
+            break;
+        }
+        if relative_gap(best.1, dual_bound) <= options.gap_tol {
+            termination = Termination::GapReached;
+            break;
+        }
+        if since >= options.stall_iters {
+            (alpha, since) = (alpha / 2.0, 0);
+        }
+        if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, alpha * (best.1 - dual)) {
+            termination = Termination::Stalled;
+            break;
+        }
+    }
+    finish(
+        problem,
+        best.0,
+        dual_bound.min(best.1),
+        iterations,
+        termination,
+    )
+}
+
+fn finish(
+    problem: &SdProblem,
+    mut chosen: Vec<usize>,
+    dual: f64,
+    iterations: usize,
+    termination: Termination,
+) -> SdSolution {
+    chosen.sort_unstable();
+    let primal_cost = chosen.iter().map(|&k| problem.costs()[k]).sum();
+    // An empty problem never iterates; its bound is trivially 0.
+    let dual_bound = if dual.is_finite() { dual } else { primal_cost };
+    let gap = relative_gap(primal_cost, dual_bound);
+    SdSolution {
+        chosen,
+        primal_cost,
+        dual_bound,
+        gap,
+        iterations,
+        termination,
+    }
+}
+
+/// One projected subgradient step `u ← min(0, u + t·g / |g|²)` with `g_s[i] = 1 − uses`;
+/// `numerator` is `α·(best primal − L(u))`. Returns false when `g` vanishes (nothing to do).
+fn step(problem: &SdProblem, mult: &mut [Vec<f64>], relaxed: &[usize], numerator: f64) -> bool {
+    let mut g: Vec<Vec<f64>> = mult.iter().map(|m| vec![1.0; m.len()]).collect();
+    for &k in relaxed {
+        for (s, &i) in problem.tuple(k).iter().enumerate().skip(2) {
+            g[s][i] -= 1.0;
+        }
+    }
+    let mut norm2 = 0.0;
+    for s in 2..mult.len() {
+        g[s][0] = 0.0;
+        for (gi, ui) in g[s].iter_mut().zip(&mult[s]) {
+            // Projected: a zero multiplier cannot rise, so that component does not count.
+            if *ui >= 0.0 && *gi > 0.0 {
+                *gi = 0.0;
+            }
+            norm2 += *gi * *gi;
+        }
+    }
+    if norm2 == 0.0 || numerator <= 0.0 {
+        return false;
+    }
+    let t = numerator / norm2;
+    for s in 2..mult.len() {
+        for (ui, gi) in mult[s].iter_mut().zip(&g[s]) {
+            *ui = (*ui + t * gi).min(0.0);
+        }
+    }
+    true
+}
+
+/// Tuple cost minus the multipliers of sensors `from..S`.
+pub(super) fn modified(problem: &SdProblem, mult: &[Vec<f64>], k: usize, from: usize) -> f64 {
+    let t = problem.tuple(k);
+    problem.costs()[k] - (from..t.len()).map(|s| mult[s][t[s]]).sum::<f64>()
+}
+
+/// Keeps the cheaper `(cost, tuple)`; ties go to the lower tuple index (determinism).
+pub(super) fn keep_min(slot: &mut (f64, usize), cand: (f64, usize)) {
+    if cand.0 < slot.0 || (cand.0 == slot.0 && cand.1 < slot.1) {
+        *slot = cand;
+    }
+}
+
+pub(super) const EMPTY: (f64, usize) = (f64::INFINITY, usize::MAX);
+
+/// The fixed structure of the relaxed 2-D problem, built once per solve.
+struct Relaxation {
+    /// Unique (sensor 0, sensor 1) report pairs, rows = sensor 0 reports − 1.
+    pairs: SparseCosts,
+    /// Tuples of each pair (CSR over pair index).
+    pair_offs: Vec<usize>,
+    members: Vec<usize>,
+    /// Tuples `(i0 > 0, 0, …)`, `(0, i1 > 0, …)` and `(0, 0, …)`.
+    row_only: Vec<usize>,
+    col_only: Vec<usize>,
+    free: Vec<usize>,
+}
+
+impl Relaxation {
+    fn new(problem: &SdProblem) -> Self {
+        let key = |k: usize| (problem.tuple(k)[0], problem.tuple(k)[1]);
+        let mut both: Vec<usize> = problem
+            .active()
+            .iter()
+            .copied()
+            .filter(|&k| key(k).0 > 0 && key(k).1 > 0)
+            .collect();
+        both.sort_by_key(|&k| key(k)); // stable: members stay in index order
+        let (n0, n1) = (problem.sizes()[0], problem.sizes()[1]);
+        let (mut row_offs, mut cols, mut pair_offs) = (vec![0; n0 + 1], Vec::new(), Vec::new());
+        for (at, &k) in both.iter().enumerate() {
+            if at == 0 || key(both[at - 1]) != key(k) {
+                row_offs[key(k).0] += 1;
+                cols.push(key(k).1 - 1);
+                pair_offs.push(at);
+            }
+        }
+        pair_offs.push(both.len()); // one start per pair, then the end
+        for r in 0..n0 {
+            row_offs[r + 1] += row_offs[r];
+        }
+        let values = vec![0.0; cols.len()];
+        let pick = |f: &dyn Fn((usize, usize)) -> bool| {
+            problem
+                .active()
+                .iter()
+                .copied()
+                .filter(|&k| f(key(k)))
+                .collect()
+        };
+        Self {
+            pairs: SparseCosts::from_csr_unchecked(n0, n1, row_offs, cols, values),
+            pair_offs,
+            members: both,
+            row_only: pick(&|(a, b)| a > 0 && b == 0),
+            col_only: pick(&|(a, b)| a == 0 && b > 0),
+            free: pick(&|(a, b)| a == 0 && b == 0),
+        }
+    }
+
+    /// `L(u)` and the tuples chosen by the relaxed problem.
+    fn evaluate(&self, problem: &SdProblem, mult: &[Vec<f64>]) -> (f64, Vec<usize>) {
+        let m = |k| modified(problem, mult, k, 2);
+        let mut pairs = self.pairs.clone();
+        let mut arg = vec![usize::MAX; self.pair_offs.len() - 1];
+        for (p, v) in pairs.values_mut().iter_mut().enumerate() {
+            let mut b = EMPTY;
+            for &k in &self.members[self.pair_offs[p]..self.pair_offs[p + 1]] {
+                keep_min(&mut b, (m(k), k));
+            }
+            (*v, arg[p]) = b;
+        }
+        let (mut rows, mut cols) = (
+            vec![EMPTY; problem.sizes()[0]],
+            vec![EMPTY; problem.sizes()[1]],
+        );
+        for &k in &self.row_only {
+            keep_min(&mut rows[problem.tuple(k)[0] - 1], (m(k), k));
+        }
+        for &k in &self.col_only {
+            keep_min(&mut cols[problem.tuple(k)[1] - 1], (m(k), k));
+        }
+        let a: Vec<f64> = rows.iter().map(|r| r.0.min(0.0)).collect();
+        let b: Vec<f64> = cols.iter().map(|c| c.0.min(0.0)).collect();
+        let sol = sparse_core(&pairs, &a, &b);
+        let mut chosen = Vec::new();
+        for (r, c) in sol.row_to_col.iter().enumerate() {
+            match c {
+                Some(c) => chosen.extend(
+                    pairs
+                        .span(r)
+                        .find(|&p| pairs.col_indices()[p] == *c)
+                        .map(|p| arg[p]),
+                ),
+                None if a[r] < 0.0 => chosen.push(rows[r].1),
+                None => {}
+            }
+        }
+        chosen.extend(
+            (0..b.len())
+                .filter(|&c| sol.col_to_row[c].is_none() && b[c] < 0.0)
+                .map(|c| cols[c].1),
+        );
+        let mut dual = sol.cost;
+        for &k in &self.free {
+            if m(k) < 0.0 {
+                dual += m(k);
+                chosen.push(k);
+            }
+        }
+        dual += mult.iter().skip(2).flatten().sum::<f64>();
+        (dual, chosen)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assign::test_support::{brute_force, random_problem};
+
+    #[test]
+    fn bounds_bracket_the_optimum_and_usually_hit_it() {
+        let opts = LagrangianOptions::default();
+        let (mut hits, n) = (0, 150);
+        for seed in 0..n {
+            let s = 2 + seed as usize % 3;
+            let p = random_problem(seed, s, 4, 3, 8);
+            let opt = brute_force(&p);
+            let sol = solve(&p, &opts);
+            let scale = opt.abs().max(1.0);
+            assert_eq!(p.evaluate(&sol.chosen), Ok(sol.primal_cost), "seed {seed}");
+            assert!(
+                sol.primal_cost >= opt - 1e-9 * scale,
+                "seed {seed}: primal below optimum"
+            );
+            assert!(
+                sol.dual_bound <= opt + 1e-9 * scale,
+                "seed {seed}: bound above optimum"
+            );
+            assert_eq!(sol.gap, relative_gap(sol.primal_cost, sol.dual_bound));
+            assert!(sol.primal_cost - opt <= sol.gap * sol.primal_cost.abs().max(1.0) + 1e-9);
+            match sol.termination {
+                Termination::Optimal => {
+                    assert!((sol.primal_cost - opt).abs() <= 1e-9 * scale, "seed {seed}")
+                }
+                Termination::GapReached => assert!(sol.gap <= opts.gap_tol()),
+                _ => {}
+            }
+            if s == 2 {
+                assert_eq!(
+                    sol.termination,
+                    Termination::Optimal,
+                    "seed {seed}: S = 2 is exact"
+                );
+            }
+            hits += usize::from((sol.primal_cost - opt).abs() <= 1e-9 * scale);
+        }
+        assert!(
+            hits * 10 >= n as usize * 9,
+            "optimum found in only {hits} of {n}"
+        );
+    }
+
+    #[test]
+    fn is_deterministic_and_respects_max_iter() {
+        let p = random_problem(3, 4, 6, 4, 30);
+        let opts = LagrangianOptions::default()
+            .with_max_iter(3)
+            .unwrap()
+            .with_gap_tol(0.0)
+            .unwrap();
+        let a = solve(&p, &opts);
+        assert_eq!(a, solve(&p, &opts));
+        assert!(a.iterations <= 3);
+    }
+
+    #[test]
+    fn empty_problem_is_optimal_at_zero() {
+        let p = SdProblem::new(vec![0, 0, 0, 1, 1, 1], 3, vec![-1.0, 4.0], vec![1, 1, 1]).unwrap();
+        let s = solve(&p, &LagrangianOptions::default());
+        assert_eq!((s.chosen.len(), s.primal_cost, s.dual_bound), (0, 0.0, 0.0));
+        assert_eq!(s.termination, Termination::Optimal);
+    }
+
+    #[test]
+    fn options_reject_out_of_range_values() {
+        let d = LagrangianOptions::default();
+        assert!(matches!(
+            d.clone().with_max_iter(0),
+            Err(CoreError::OutOfRange {
+                arg: "max_iter",
+                ..
+            })
+        ));
+        assert!(matches!(
+            d.clone().with_gap_tol(f64::NAN),
+            Err(CoreError::OutOfRange { arg: "gap_tol", .. })
+        ));
+        assert!(matches!(
+            d.clone().with_step_scale(2.5),
+            Err(CoreError::OutOfRange {
+                arg: "step_scale",
+                ..
+            })
+        ));
+        assert!(matches!(
+            d.with_stall_iters(0),
+            Err(CoreError::OutOfRange {
+                arg: "stall_iters",
+                ..
+            })
+        ));
+    }
+}

@@ -1,0 +1,514 @@
+//! Exact min-cost 2-D linear assignment, dense and sparse: the public types, input
+//! validation and result assembly. The algorithms themselves are in `sap.rs`.
+
+use super::sap;
+use crate::error::{CoreError, CoreResult};
+
+/// A dense assignment: `row_to_col[i]` is the column of row `i` (`None` only when there are
+/// more rows than columns), `cost` the sum of the assigned entries.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DenseAssignment {
+    pub row_to_col: Vec<Option<usize>>,
+    pub cost: f64,
+}
+
+/// Solves `min Σ c[i, σ(i)]` over injective maps between rows and columns of the dense
+/// `n_rows × n_cols` row-major matrix `costs`; every row is assigned when `n_rows <= n_cols`,
+/// every column otherwise (the matrix is transposed internally). `+inf` marks a forbidden pair.
+///
+/// Errors: `Shape` if `costs.len() != n_rows * n_cols`, `NonFinite` for NaN or `-inf`,
+/// `IllPosed` if the forbidden pairs leave no complete assignment.
+///
+/// ```
+/// use passive_assoc::assign::lap::solve_dense;
+/// let a = solve_dense(2, 3, &[4.0, 1.0, 3.0, 2.0, 0.0, 5.0]).unwrap();
+/// assert_eq!(a.row_to_col, vec![Some(1), Some(0)]);
+/// assert_eq!(a.cost, 3.0);
+/// ```
+pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<DenseAssignment> {
+    let expected = n_rows
+        .checked_mul(n_cols)
+        .ok_or_else(|| CoreError::shape("costs", format!("{n_rows} × {n_cols} overflows usize")))?;
+    if costs.len() != expected {
+        return Err(CoreError::shape(
+            "costs",
+            format!(
+                "length {} is not n_rows × n_cols = {n_rows} × {n_cols}",
+                costs.len()
+            ),
+        ));
+    }
+    if let Some(index) = costs
+        .iter()
+        .position(|c| c.is_nan() || *c == f64::NEG_INFINITY)
+    {
+        return Err(CoreError::NonFinite {
+            arg: "costs",
+            index,
+        });
+    }
+    let mut row_to_col = vec![None; n_rows];
+    if n_rows <= n_cols {
+        let col4row = sap::dense(n_rows, n_cols, costs)?;
+        for (i, &j) in col4row.iter().enumerate() {
+            row_to_col[i] = Some(j);
+        }
+    } else {
+        let mut t = vec![0.0; expected];
+        for i in 0..n_rows {
+            for j in 0..n_cols {
+                t[j * n_rows + i] = costs[i * n_cols + j];
+            }
+        }
+        for (j, &i) in sap::dense(n_cols, n_rows, &t)?.iter().enumerate() {
+            row_to_col[i] = Some(j);
+        }
+    }
+    let cost = (row_to_col.iter().enumerate())
+        .filter_map(|(i, j)| j.map(|j| costs[i * n_cols + j]))
+        .sum();
+    Ok(DenseAssignment { row_to_col, cost })
+}
+
+/// A sparse cost matrix in CSR form; absent entries are forbidden pairs. Duplicate entries
+/// are allowed and the cheapest one counts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SparseCosts {
+    n_rows: usize,
+    n_cols: usize,
+    row_offsets: Vec<usize>,
+    col_indices: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SparseCosts {
+    /// Validates a CSR matrix: `row_offsets` has `n_rows + 1` non-decreasing entries from 0 to
+    /// `col_indices.len() == values.len()`, every column index is `< n_cols`, values finite.
+    ///
+    /// ```
+    /// use passive_assoc::assign::lap::SparseCosts;
+    /// let c = SparseCosts::new(2, 2, vec![0, 1, 3], vec![1, 0, 1], vec![-1.0, -2.0, -3.0]);
+    /// assert!(c.is_ok());
+    /// ```
+    pub fn new(
+        n_rows: usize,
+        n_cols: usize,
+        row_offsets: Vec<usize>,
+        col_indices: Vec<usize>,
+        values: Vec<f64>,
+    ) -> CoreResult<Self> {
+        if row_offsets.len().checked_sub(1) != Some(n_rows) {
+            let got = row_offsets.len();
+            return Err(CoreError::shape(
+                "row_offsets",
+                format!("length {got} is not n_rows + 1 = {}", n_rows + 1),
+            ));
+        }
+        if col_indices.len() != values.len() {
+            let (a, b) = (col_indices.len(), values.len());
+            return Err(CoreError::shape(
+                "values",
+                format!("length {b} differs from col_indices length {a}"),
+            ));
+        }
+        if row_offsets[0] != 0 || row_offsets[n_rows] != values.len() {
+            return Err(CoreError::out_of_range(
+                "row_offsets",
+                format!(
+                    "must start at 0 and end at the number of entries {}",
+                    values.len()
+                ),
+            ));
+        }
+        if let Some(r) = (0..n_rows).find(|&r| row_offsets[r] > row_offsets[r + 1]) {
+            return Err(CoreError::out_of_range(
+                "row_offsets",
+                format!("decreases after row {r}"),
+            ));
+        }
+        if let Some(k) = col_indices.iter().position(|&j| j >= n_cols) {
+            let j = col_indices[k];
+            return Err(CoreError::out_of_range(
+                "col_indices",
+                format!("entry {k} is {j} but n_cols is {n_cols}"),
+            ));
+        }
+        crate::error::ensure_finite("values", &values)?;
+        Ok(Self {
+            n_rows,
+            n_cols,
+            row_offsets,
+            col_indices,
+            values,
+        })
+    }
+
+    /// Builds from `(row, col, cost)` triplets in any order, validated like [`SparseCosts::new`].
+    pub fn from_triplets(
+        n_rows: usize,
+        n_cols: usize,
+        triplets: &[(usize, usize, f64)],
+    ) -> CoreResult<Self> {
+        if let Some(k) = triplets.iter().position(|t| t.0 >= n_rows) {
+            let i = triplets[k].0;
+            return Err(CoreError::out_of_range(
+                "triplets",
+                format!("entry {k} has row {i} but n_rows is {n_rows}"),
+            ));
+        }
+        let mut row_offsets = vec![0usize; n_rows + 1];
+        for t in triplets {
+            row_offsets[t.0 + 1] += 1;
+        }
+        for r in 0..n_rows {
+            row_offsets[r + 1] += row_offsets[r];
+        }
+        let mut fill = row_offsets.clone();
+        let (mut col_indices, mut values) = (vec![0; triplets.len()], vec![0.0; triplets.len()]);
+        for &(i, j, c) in triplets {
+            col_indices[fill[i]] = j;
+            values[fill[i]] = c;
+            fill[i] += 1;
+        }
+        Self::new(n_rows, n_cols, row_offsets, col_indices, values)
+    }
+
+    /// CSR parts built by the S-D solvers, valid by construction (checked in debug builds).
+    pub(crate) fn from_csr_unchecked(
+        n_rows: usize,
+        n_cols: usize,
+        row_offsets: Vec<usize>,
+        col_indices: Vec<usize>,
+        values: Vec<f64>,
+    ) -> Self {
+        debug_assert!(Self::new(
+            n_rows,
+            n_cols,
+            row_offsets.clone(),
+            col_indices.clone(),
+            values.clone()
+        )
+        .is_ok());
+        Self {
+            n_rows,
+            n_cols,
+            row_offsets,
+            col_indices,
+            values,
+        }
+    }
+
+    /// Row `i`'s entries as a range into [`SparseCosts::col_indices`] and the values.
+    pub(crate) fn span(&self, i: usize) -> std::ops::Range<usize> {
+        self.row_offsets[i]..self.row_offsets[i + 1]
+    }
+
+    pub(crate) fn col_indices(&self) -> &[usize] {
+        &self.col_indices
+    }
+
+    pub(crate) fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.values
+    }
+
+    pub fn n_rows(&self) -> usize {
+        self.n_rows
+    }
+
+    pub fn n_cols(&self) -> usize {
+        self.n_cols
+    }
+
+    pub(super) fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let span = self.row_offsets[i]..self.row_offsets[i + 1];
+        self.col_indices[span.clone()]
+            .iter()
+            .copied()
+            .zip(self.values[span].iter().copied())
+    }
+}
+
+/// A sparse assignment: each row has its column or `None` (left unassigned), each column its
+/// row or `None`; `cost` counts assigned entries plus the unassigned costs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SparseAssignment {
+    pub row_to_col: Vec<Option<usize>>,
+    pub col_to_row: Vec<Option<usize>>,
+    pub cost: f64,
+}
+
+/// Exact min-cost assignment where each row takes one allowed column or pays
+/// `row_unassigned[i]`, and each column not taken pays `col_unassigned[j]`.
+///
+/// Why it is exact and sparse: the objective equals `Σ a_i + Σ b_j + Σ (c_ij - a_i - b_j)`
+/// over the assigned pairs, so only entries with `c_ij - a_i - b_j < 0` are ever worth using
+/// (ties are left unassigned). Giving each row a private zero-cost dummy column turns that into
+/// a rectangular assignment that always has a solution; shortest augmenting paths with a binary
+/// heap then cost O(rows · nnz · log) in the worst case and touch only stored entries.
+///
+/// Errors: `Shape` for wrong lengths, `NonFinite` for a non-finite unassigned cost.
+///
+/// ```
+/// use passive_assoc::assign::lap::{solve_sparse, SparseCosts};
+/// let c = SparseCosts::from_triplets(2, 2, &[(0, 0, -5.0), (1, 0, -4.0)]).unwrap();
+/// let a = solve_sparse(&c, &[0.0, -1.0], &[0.0, 0.0]).unwrap();
+/// assert_eq!(a.row_to_col, vec![Some(0), None]);
+/// assert_eq!(a.cost, -6.0);
+/// ```
+pub fn solve_sparse(
+    costs: &SparseCosts,
+    row_unassigned: &[f64],
+    col_unassigned: &[f64],
+) -> CoreResult<SparseAssignment> {
+    if row_unassigned.len() != costs.n_rows {
+        let got = row_unassigned.len();
+        return Err(CoreError::shape(
+            "row_unassigned",
+            format!("length {got} is not n_rows = {}", costs.n_rows),
+        ));
+    }
+    if col_unassigned.len() != costs.n_cols {
+        let got = col_unassigned.len();
+        return Err(CoreError::shape(
+            "col_unassigned",
+            format!("length {got} is not n_cols = {}", costs.n_cols),
+        ));
+    }
+    crate::error::ensure_finite("row_unassigned", row_unassigned)?;
+    crate::error::ensure_finite("col_unassigned", col_unassigned)?;
+    Ok(sparse_core(costs, row_unassigned, col_unassigned))
+}
+
+/// The sparse solver on validated input (never fails: every row has its dummy column).
+pub(crate) fn sparse_core(costs: &SparseCosts, a: &[f64], b: &[f64]) -> SparseAssignment {
+    finish(costs, a, b, &sap::sparse(costs, a, b))
+}
+
+/// Converts the internal matching to the public form and totals the cost from the input.
+fn finish(costs: &SparseCosts, a: &[f64], b: &[f64], col4row: &[usize]) -> SparseAssignment {
+    let (nr, nc) = (costs.n_rows, costs.n_cols);
+    let mut row_to_col = vec![None; nr];
+    let mut col_to_row = vec![None; nc];
+    let mut cost = 0.0;
+    for i in 0..nr {
+        let j = col4row[i];
+        if j < nc {
+            row_to_col[i] = Some(j);
+            col_to_row[j] = Some(i);
+            // The cheapest duplicate is the one the search used.
+            cost += costs
+                .row(i)
+                .filter(|e| e.0 == j)
+                .map(|e| e.1)
+                .fold(f64::INFINITY, f64::min);
+        } else {
+            cost += a[i];
+        }
+    }
+    cost += (0..nc)
+        .filter(|&j| col_to_row[j].is_none())
+        .map(|j| b[j])
+        .sum::<f64>();
+    SparseAssignment {
+        row_to_col,
+        col_to_row,
+        cost,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Min over all maps assigning `min(nr, nc)` pairs; `None` if every such map is forbidden.
+    fn brute_dense(nr: usize, nc: usize, c: &[f64]) -> Option<f64> {
+        fn go(i: usize, nr: usize, nc: usize, c: &[f64], used: &mut Vec<bool>, left: usize) -> f64 {
+            if i == nr {
+                return if left == 0 { 0.0 } else { f64::INFINITY };
+            }
+            let mut best = if nr - i > left {
+                go(i + 1, nr, nc, c, used, left)
+            } else {
+                f64::INFINITY
+            };
+            for j in 0..nc {
+                if used[j] || left == 0 {
+                    continue;
+                }
+                used[j] = true;
+                best = best.min(c[i * nc + j] + go(i + 1, nr, nc, c, used, left - 1));
+                used[j] = false;
+            }
+            best
+        }
+        let v = go(0, nr, nc, c, &mut vec![false; nc], nr.min(nc));
+        v.is_finite().then_some(v)
+    }
+
+    #[test]
+    fn dense_matches_brute_force() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        for case in 0..300 {
+            let (nr, nc) = (rng.random_range(0..6usize), rng.random_range(0..6usize));
+            let c: Vec<f64> = (0..nr * nc)
+                .map(|_| {
+                    if rng.random_bool(0.15) {
+                        f64::INFINITY
+                    } else {
+                        rng.random_range(-5..10i32) as f64
+                    }
+                })
+                .collect();
+            match (solve_dense(nr, nc, &c), brute_dense(nr, nc, &c)) {
+                (Ok(a), Some(best)) => {
+                    assert_eq!(a.cost, best, "case {case}: {nr}x{nc} {c:?}");
+                    let cols: Vec<usize> = a.row_to_col.iter().flatten().copied().collect();
+                    assert_eq!(cols.len(), nr.min(nc));
+                    let mut sorted = cols.clone();
+                    sorted.sort_unstable();
+                    sorted.dedup();
+                    assert_eq!(sorted.len(), cols.len(), "case {case}: column reused");
+                }
+                (Err(CoreError::IllPosed { .. }), None) => {}
+                (got, want) => panic!("case {case}: got {got:?}, brute force {want:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn dense_rejects_bad_input() {
+        assert!(matches!(
+            solve_dense(2, 2, &[0.0; 3]),
+            Err(CoreError::Shape { arg: "costs", .. })
+        ));
+        let e = solve_dense(1, 2, &[0.0, f64::NAN]).unwrap_err();
+        assert_eq!(
+            e,
+            CoreError::NonFinite {
+                arg: "costs",
+                index: 1
+            }
+        );
+        let e = solve_dense(2, 2, &[1.0, f64::INFINITY, 2.0, f64::INFINITY]).unwrap_err();
+        assert!(matches!(e, CoreError::IllPosed { .. }), "{e}");
+    }
+
+    fn brute_sparse(m: &SparseCosts, a: &[f64], b: &[f64]) -> f64 {
+        fn go(i: usize, m: &SparseCosts, a: &[f64], b: &[f64], used: &mut Vec<bool>) -> f64 {
+            if i == m.n_rows {
+                return (0..m.n_cols).filter(|&j| !used[j]).map(|j| b[j]).sum();
+            }
+            let mut best = a[i] + go(i + 1, m, a, b, used);
+            for (j, c) in m.row(i).collect::<Vec<_>>() {
+                if !used[j] {
+                    used[j] = true;
+                    best = best.min(c + go(i + 1, m, a, b, used));
+                    used[j] = false;
+                }
+            }
+            best
+        }
+        go(0, m, a, b, &mut vec![false; m.n_cols])
+    }
+
+    #[test]
+    fn sparse_matches_brute_force() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for case in 0..400 {
+            let (nr, nc) = (rng.random_range(0..6usize), rng.random_range(0..6usize));
+            let mut trip = Vec::new();
+            for i in 0..nr {
+                for j in 0..nc {
+                    // Some duplicates on purpose: the cheaper one must count.
+                    for _ in 0..rng.random_range(0..3) {
+                        if rng.random_bool(0.4) {
+                            trip.push((i, j, rng.random_range(-20..5i32) as f64));
+                        }
+                    }
+                }
+            }
+            let m = SparseCosts::from_triplets(nr, nc, &trip).unwrap();
+            let a: Vec<f64> = (0..nr).map(|_| rng.random_range(-6..3i32) as f64).collect();
+            let b: Vec<f64> = (0..nc).map(|_| rng.random_range(-6..3i32) as f64).collect();
+            let s = solve_sparse(&m, &a, &b).unwrap();
+            assert_eq!(
+                s.cost,
+                brute_sparse(&m, &a, &b),
+                "case {case}: {trip:?} a={a:?} b={b:?}"
+            );
+            for (i, j) in s.row_to_col.iter().enumerate() {
+                if let Some(j) = j {
+                    assert_eq!(s.col_to_row[*j], Some(i));
+                    assert!(
+                        m.row(i).any(|e| e.0 == *j),
+                        "case {case}: forbidden pair used"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sparse_with_prohibitive_unassigned_costs_equals_dense() {
+        // Beyond brute-force sizes: forcing every row and column to be assigned makes the
+        // sparse problem a dense square one, plus the constant it subtracts out.
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for n in [1usize, 7, 30, 60] {
+            let c: Vec<f64> = (0..n * n)
+                .map(|_| rng.random_range(0..50i32) as f64)
+                .collect();
+            let trip: Vec<_> = (0..n * n).map(|k| (k / n, k % n, c[k])).collect();
+            let m = SparseCosts::from_triplets(n, n, &trip).unwrap();
+            let s = solve_sparse(&m, &vec![1e4; n], &vec![1e4; n]).unwrap();
+            assert_eq!(s.cost, solve_dense(n, n, &c).unwrap().cost, "n = {n}");
+            assert!(s.row_to_col.iter().all(Option::is_some));
+        }
+    }
+
+    #[test]
+    fn sparse_rejects_bad_input() {
+        let e = SparseCosts::new(2, 2, vec![0, 1], vec![0], vec![1.0]).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                CoreError::Shape {
+                    arg: "row_offsets",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = SparseCosts::new(1, 2, vec![0, 1], vec![2], vec![1.0]).unwrap_err();
+        assert_eq!(e.to_string(), "col_indices: entry 0 is 2 but n_cols is 2");
+        let e = SparseCosts::new(2, 2, vec![0, 2, 1], vec![0, 1], vec![1.0, 1.0]).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                CoreError::OutOfRange {
+                    arg: "row_offsets",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let m = SparseCosts::from_triplets(1, 1, &[(0, 0, 1.0)]).unwrap();
+        assert!(matches!(
+            solve_sparse(&m, &[], &[0.0]),
+            Err(CoreError::Shape {
+                arg: "row_unassigned",
+                ..
+            })
+        ));
+        let e = solve_sparse(&m, &[0.0], &[f64::INFINITY]).unwrap_err();
+        assert_eq!(
+            e,
+            CoreError::NonFinite {
+                arg: "col_unassigned",
+                index: 0
+            }
+        );
+        assert!(SparseCosts::from_triplets(1, 1, &[(3, 0, 1.0)]).is_err());
+    }
+}

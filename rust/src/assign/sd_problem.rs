@@ -1,0 +1,225 @@
+//! The validated input of the S-D assignment problem (METHODS.md §2, baselines A and B).
+
+use crate::error::{ensure_finite, CoreError, CoreResult};
+
+/// An S-D assignment problem: choose candidate tuples minimising the sum of their costs so that
+/// every real report is used by at most one chosen tuple (unused reports are false alarms,
+/// cost 0).
+///
+/// A tuple is a row of `n_sensors` entries; entry `s` is `0` ("sensor s missed it") or
+/// `1..=sizes[s]`, a report of sensor `s`. Conventions the solvers rely on:
+/// * an all-zero tuple (the dummy, cost 0 by definition) is accepted and ignored;
+/// * a tuple with cost `>= 0` is never chosen: dropping it never raises the objective;
+/// * duplicate tuples are allowed; the solvers simply never need more than the cheapest.
+/// Upper bound on reports per sensor accepted by [`SdProblem::new`].
+pub const MAX_REPORTS_PER_SENSOR: usize = 10_000_000;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SdProblem {
+    n_sensors: usize,
+    sizes: Vec<usize>,
+    tuples: Vec<usize>,
+    costs: Vec<f64>,
+    /// Tuples worth choosing: not all-zero and with negative cost, ascending.
+    active: Vec<usize>,
+}
+
+impl SdProblem {
+    /// Validates and builds a problem. `tuples` is `K × n_sensors` row-major with
+    /// `K = costs.len()`; `sizes[s]` is the number of reports of sensor `s` (may be 0).
+    ///
+    /// Errors: `OutOfRange` if `n_sensors < 2` or an entry exceeds its sensor's size, `Shape`
+    /// for mismatched lengths, `NonFinite` for a NaN/inf cost.
+    ///
+    /// ```
+    /// use passive_assoc::assign::SdProblem;
+    /// // Two tuples over 3 sensors that share report 1 of sensor 0.
+    /// let p = SdProblem::new(vec![1, 1, 1, 1, 2, 0], 3, vec![-5.0, -3.0], vec![1, 2, 1]).unwrap();
+    /// assert_eq!(p.n_tuples(), 2);
+    /// assert!(p.evaluate(&[0, 1]).is_err());
+    /// assert_eq!(p.evaluate(&[0]).unwrap(), -5.0);
+    /// ```
+    pub fn new(
+        tuples: Vec<usize>,
+        n_sensors: usize,
+        costs: Vec<f64>,
+        sizes: Vec<usize>,
+    ) -> CoreResult<Self> {
+        if n_sensors < 2 {
+            return Err(CoreError::out_of_range(
+                "n_sensors",
+                format!("S-D assignment needs at least 2 sensors, got {n_sensors}"),
+            ));
+        }
+        if sizes.len() != n_sensors {
+            let got = sizes.len();
+            return Err(CoreError::shape(
+                "sizes",
+                format!("length {got} is not n_sensors = {n_sensors}"),
+            ));
+        }
+        // Solvers allocate per report; a size far beyond any real scan is a caller's mistake.
+        if let Some(s) = sizes.iter().position(|&n| n > MAX_REPORTS_PER_SENSOR) {
+            return Err(CoreError::CapExceeded {
+                what: "sizes",
+                count: sizes[s],
+                cap: MAX_REPORTS_PER_SENSOR,
+                hint: "one sensor's reports in one scan; check the sizes argument",
+            });
+        }
+        let k = costs.len();
+        if Some(tuples.len()) != k.checked_mul(n_sensors) {
+            let got = tuples.len();
+            return Err(CoreError::shape(
+                "tuples",
+                format!("length {got} is not len(costs) × n_sensors = {k} × {n_sensors}"),
+            ));
+        }
+        if let Some(at) = (0..tuples.len()).find(|&at| tuples[at] > sizes[at % n_sensors]) {
+            let (row, col) = (at / n_sensors, at % n_sensors);
+            return Err(CoreError::out_of_range(
+                "tuples",
+                format!(
+                    "row {row} column {col} is {} but sensor {col} has {} reports",
+                    tuples[at], sizes[col]
+                ),
+            ));
+        }
+        ensure_finite("costs", &costs)?;
+        let active = (0..k)
+            .filter(|&t| {
+                costs[t] < 0.0
+                    && tuples[t * n_sensors..(t + 1) * n_sensors]
+                        .iter()
+                        .any(|&i| i > 0)
+            })
+            .collect();
+        Ok(Self {
+            n_sensors,
+            sizes,
+            tuples,
+            costs,
+            active,
+        })
+    }
+
+    /// Number of sensors S.
+    pub fn n_sensors(&self) -> usize {
+        self.n_sensors
+    }
+
+    /// Reports per sensor.
+    pub fn sizes(&self) -> &[usize] {
+        &self.sizes
+    }
+
+    /// Number of candidate tuples K (including ignored ones).
+    pub fn n_tuples(&self) -> usize {
+        self.costs.len()
+    }
+
+    /// Tuple `k` (panics if `k >= n_tuples()`, like slice indexing).
+    pub fn tuple(&self, k: usize) -> &[usize] {
+        &self.tuples[k * self.n_sensors..(k + 1) * self.n_sensors]
+    }
+
+    /// All tuple costs.
+    pub fn costs(&self) -> &[f64] {
+        &self.costs
+    }
+
+    /// Indices of the tuples a solver may choose (non-dummy, negative cost), ascending.
+    pub fn active(&self) -> &[usize] {
+        &self.active
+    }
+
+    /// Total cost of `chosen` after checking it is feasible: indices in range, no duplicates,
+    /// no real report used twice. Errors name the offending position.
+    pub fn evaluate(&self, chosen: &[usize]) -> CoreResult<f64> {
+        let mut owner: Vec<Vec<Option<usize>>> =
+            self.sizes.iter().map(|&n| vec![None; n + 1]).collect();
+        let mut total = 0.0;
+        for (pos, &k) in chosen.iter().enumerate() {
+            if k >= self.n_tuples() {
+                let n = self.n_tuples();
+                return Err(CoreError::out_of_range(
+                    "chosen",
+                    format!("entry {pos} is {k} but there are {n} tuples"),
+                ));
+            }
+            for (s, &i) in self.tuple(k).iter().enumerate().filter(|e| *e.1 > 0) {
+                if let Some(prev) = owner[s][i].replace(k) {
+                    return Err(CoreError::ill_posed(
+                        "chosen",
+                        format!("entry {pos} (tuple {k}) reuses report {i} of sensor {s}, already used by tuple {prev}"),
+                    ));
+                }
+            }
+            total += self.costs[k];
+        }
+        Ok(total)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_bad_input_with_the_right_variant() {
+        let e = SdProblem::new(vec![1], 1, vec![-1.0], vec![1]).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                CoreError::OutOfRange {
+                    arg: "n_sensors",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = SdProblem::new(vec![1, 1], 2, vec![-1.0], vec![1]).unwrap_err();
+        assert!(matches!(e, CoreError::Shape { arg: "sizes", .. }), "{e}");
+        let e = SdProblem::new(vec![1, 1, 1], 2, vec![-1.0], vec![1, 1]).unwrap_err();
+        assert!(matches!(e, CoreError::Shape { arg: "tuples", .. }), "{e}");
+        let e = SdProblem::new(vec![1, 1, 0, 3], 2, vec![-1.0, -2.0], vec![1, 2]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "tuples: row 1 column 1 is 3 but sensor 1 has 2 reports"
+        );
+        let e = SdProblem::new(vec![1, 1], 2, vec![f64::NAN], vec![1, 1]).unwrap_err();
+        assert_eq!(
+            e,
+            CoreError::NonFinite {
+                arg: "costs",
+                index: 0
+            }
+        );
+    }
+
+    #[test]
+    fn ignores_dummy_and_non_negative_tuples() {
+        let p = SdProblem::new(
+            vec![0, 0, 1, 1, 1, 0, 0, 1],
+            2,
+            vec![-9.0, 0.0, -1.0, 2.0],
+            vec![1, 1],
+        )
+        .unwrap();
+        assert_eq!(p.active(), &[2]);
+    }
+
+    #[test]
+    fn evaluate_reports_conflicts_and_bad_indices() {
+        let p = SdProblem::new(vec![1, 1, 1, 0], 2, vec![-1.0, -2.0], vec![1, 1]).unwrap();
+        assert!(matches!(
+            p.evaluate(&[0, 1]),
+            Err(CoreError::IllPosed { .. })
+        ));
+        assert!(matches!(
+            p.evaluate(&[5]),
+            Err(CoreError::OutOfRange { .. })
+        ));
+        assert_eq!(p.evaluate(&[1]), Ok(-2.0));
+    }
+}

@@ -1,0 +1,109 @@
+"""S-D assignment against an independent exact solver (scipy.optimize.milp), and the 2-D
+solver against scipy.optimize.linear_sum_assignment (issue: static association)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import Bounds, LinearConstraint, linear_sum_assignment, milp
+from scipy.sparse import csr_matrix
+
+import passive_assoc as pa
+
+
+def random_instance(rng: np.random.Generator, s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tuples built around a few 'targets' (so candidates overlap as LOS ghosts do) plus
+    random clutter tuples; costs mostly negative."""
+    sizes = rng.integers(1, 9, size=s)
+    rows = set()
+    for _ in range(rng.integers(3, 40)):
+        t = tuple(int(rng.integers(0, n + 1)) if rng.random() < 0.9 else 0 for n in sizes)
+        if sum(v > 0 for v in t) >= 2:
+            rows.add(t)
+    if not rows:
+        rows.add(tuple([1] * s))
+    tuples = np.array(sorted(rows), dtype=np.int64)
+    costs = -rng.gamma(2.0, 3.0, len(tuples)) + rng.normal(0, 1.0, len(tuples)) * (rng.random(len(tuples)) < 0.2)
+    return tuples, costs, sizes
+
+
+def milp_optimum(tuples: np.ndarray, costs: np.ndarray, sizes: np.ndarray) -> float:
+    k, s = tuples.shape
+    rows, cols = [], []
+    offset = 0
+    for j in range(s):
+        for k_idx in range(k):
+            if tuples[k_idx, j] > 0:
+                rows.append(offset + tuples[k_idx, j] - 1)
+                cols.append(k_idx)
+        offset += sizes[j]
+    a = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(offset, k))
+    res = milp(costs, constraints=LinearConstraint(a, -np.inf, 1), integrality=np.ones(k), bounds=Bounds(0, 1))
+    assert res.status == 0
+    return float(res.fun)
+
+
+def feasible_cost(tuples: np.ndarray, costs: np.ndarray, chosen: np.ndarray) -> float:
+    used = set()
+    for k in chosen:
+        for j, i in enumerate(tuples[k]):
+            if i > 0:
+                assert (j, i) not in used, "a report is used twice"
+                used.add((j, i))
+    return float(costs[chosen].sum())
+
+
+def test_exact_and_lagrangian_against_milp_on_200_instances() -> None:
+    rng = np.random.default_rng(20261121)
+    hits, n = 0, 0
+    for s in (3, 4):
+        for _ in range(100):
+            tuples, costs, sizes = random_instance(rng, s)
+            optimum = milp_optimum(tuples, costs, sizes)
+            exact = pa.assign_sd(tuples, costs, sizes, method="exact")
+            assert exact.optimal
+            assert feasible_cost(tuples, costs, exact.chosen) == pytest.approx(exact.primal_cost, abs=1e-9)
+            assert exact.primal_cost == pytest.approx(optimum, rel=1e-9, abs=1e-9)
+            lag = pa.assign_sd(tuples, costs, sizes, method="lagrangian")
+            assert feasible_cost(tuples, costs, lag.chosen) == pytest.approx(lag.primal_cost, abs=1e-9)
+            assert lag.dual_bound <= optimum + 1e-7 * max(1.0, abs(optimum))
+            # Within its own reported gap of the optimum.
+            assert lag.primal_cost - optimum <= lag.gap * max(1.0, abs(lag.primal_cost)) + 1e-9
+            hits += abs(lag.primal_cost - optimum) <= 1e-9 * max(1.0, abs(optimum))
+            n += 1
+    assert hits / n >= 0.9, f"Lagrangian optimal in {hits}/{n}"
+
+
+@pytest.mark.parametrize("shape", [(1, 1), (5, 5), (7, 4), (4, 9), (60, 60)])
+def test_linear_assignment_matches_scipy(shape: tuple[int, int]) -> None:
+    rng = np.random.default_rng(sum(shape))
+    for _ in range(20):
+        c = rng.uniform(0, 100, shape)
+        if rng.random() < 0.5:
+            c = np.round(c / 10)  # ties
+        rows, cols, total = pa.linear_assignment(c)
+        r_ref, c_ref = linear_sum_assignment(c)
+        assert total == pytest.approx(c[r_ref, c_ref].sum(), rel=1e-12)
+        assert c[rows, cols].sum() == pytest.approx(total, rel=1e-12)
+        assert len(set(rows)) == len(rows) == min(shape) and len(set(cols)) == len(cols)
+
+
+@pytest.mark.parametrize(
+    "call,exc,message",
+    [
+        (lambda: pa.assign_sd([[1], [1]], [-1.0, -1.0], [1]), ValueError, "at least 2 sensors"),
+        (lambda: pa.assign_sd([[1, 1]], [-1.0, -1.0], [1, 1]), ValueError, r"costs: expected shape"),
+        (lambda: pa.assign_sd([[1, 3]], [-1.0], [1, 2]), ValueError, r"tuples: row 0 column 1 is 3 but sensor 1 has 2"),
+        (lambda: pa.assign_sd([[1, -1]], [-1.0], [1, 2]), ValueError, r"tuples: entry 1 is -1"),
+        (lambda: pa.assign_sd([[1, 1]], [np.nan], [1, 1]), ValueError, r"costs: non-finite value at index 0"),
+        (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 10**9]), ValueError, r"sizes: 1000000000 exceeds the cap"),
+        (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="greedy"), ValueError, "method"),
+        (lambda: pa.assign_sd([["a", "b"]], [-1.0], [1, 1]), TypeError, "tuples"),
+        (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="exact", time_limit=-1.0), ValueError, "time_limit"),
+        (lambda: pa.linear_assignment([[np.nan, 1.0]]), ValueError, "costs"),
+        (lambda: pa.linear_assignment([1.0, 2.0]), ValueError, "costs"),
+    ],
+)
+def test_assignment_bad_input(call, exc, message) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(exc, match=message):
+        call()
