@@ -305,11 +305,11 @@ def test_validate_against() -> None:
     net2 = SensorNetwork.planar([[0, 0], [1, 0]], 0.01)
     t3 = MeasurementTable.from_arrays([0, 1, 1], [0.0, 0.0, 1.0], [0.1, 0.2, 0.3], [0.1] * 3)
     t3.validate_against(net3)
-    with pytest.raises(ValueError, match=r"^measurements are 3-D .* network is 2-D"):
+    with pytest.raises(ValueError, match=r"^measurements: the table is 3-D .* network is 2-D"):
         t3.validate_against(net2)
     t2 = MeasurementTable.from_arrays([0, 1], [0.0, 0.0], [0.1, 0.2])
     t2.validate_against(net2)
-    with pytest.raises(ValueError, match=r"^measurements are 2-D .* network is 3-D"):
+    with pytest.raises(ValueError, match=r"^measurements: the table is 2-D .* network is 3-D"):
         t2.validate_against(net3)
     bad = MeasurementTable.from_arrays([0, 1, 2, 5], [0.0] * 4, [0.1] * 4)
     with pytest.raises(ValueError, match=r"^sensor\[2\] = 2 \(row 2\) is not a sensor"):

@@ -276,7 +276,7 @@ class MeasurementTable:
         if self.ndim != sensors.ndim:
             elevation = "present" if self.ndim == 3 else "NaN"
             raise ValueError(
-                f"measurements are {self.ndim}-D (elevation {elevation}) "
+                f"measurements: the table is {self.ndim}-D (elevation {elevation}) "
                 f"but the sensor network is {sensors.ndim}-D"
             )
 
