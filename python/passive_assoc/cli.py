@@ -15,7 +15,13 @@ import numpy as np
 
 from . import __version__
 from .evaluation import perfect_association_fit, target_crlbs
+from .experiments import fti
 from .simulate import paper_fti_scenario
+
+#: (name, module with add_arguments/main, one-line summary) of every `reproduce` experiment.
+_EXPERIMENTS = [
+    ("fti", fti, "paper 000: fuzzy track initiation, Tables 2-3 (RMS vs perfect association vs CRLB)"),
+]
 
 _COMPONENTS = ("x0 m", "y0 m", "z0 m", "vx m/s", "vy m/s", "vz m/s")
 
@@ -56,7 +62,21 @@ def build_parser() -> argparse.ArgumentParser:
     )
     demo.add_argument("--seed", type=int, default=0, help="simulation seed (default 0)")
     demo.set_defaults(run=_demo)
+    _add_reproduce(commands)
     return parser
+
+
+def _add_reproduce(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    reproduce = commands.add_parser(
+        "reproduce",
+        help="run a paper's experiment and print our figures beside the paper's",
+        description="Reproduce a paper's experiment (EXPERIMENTS.md) with fixed seeds.",
+    )
+    experiments = reproduce.add_subparsers(dest="experiment", metavar="EXPERIMENT", required=True)
+    for name, module, summary in _EXPERIMENTS:
+        sub = experiments.add_parser(name, help=summary, description=summary)
+        module.add_arguments(sub)
+        sub.set_defaults(run=module.main)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

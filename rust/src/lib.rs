@@ -7,6 +7,7 @@ pub mod data;
 pub mod error;
 pub mod fisher;
 pub mod fit;
+pub mod initiation;
 pub mod los;
 pub mod model;
 pub mod parallel;

@@ -6,6 +6,7 @@ mod assign;
 mod convert;
 mod errors;
 mod fit;
+mod initiation;
 
 use pyo3::prelude::*;
 
@@ -16,5 +17,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::crlb, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_sd, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_2d, m)?)?;
+    m.add_function(wrap_pyfunction!(initiation::initiate, m)?)?;
+    m.add_function(wrap_pyfunction!(initiation::closeness, m)?)?;
     Ok(())
 }

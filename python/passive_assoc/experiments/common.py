@@ -1,0 +1,80 @@
+"""Plumbing shared by the paper reproductions: per-run seeds, a progress bar over runs that
+may execute on several worker threads, and JSON output."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from collections.abc import Callable, Iterable
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+from typing import Any, TypeVar
+
+import numpy as np
+from tqdm import tqdm
+
+R = TypeVar("R")
+
+
+def run_seeds(seed: int, runs: int) -> list[np.random.SeedSequence]:
+    """Independent, reproducible seed sequences for ``runs`` Monte-Carlo runs."""
+    return np.random.SeedSequence(seed).spawn(runs)
+
+
+def map_runs(work: Callable[[int], R], runs: int, workers: int, desc: str) -> list[R]:
+    """``[work(r) for r in range(runs)]`` with a progress bar, on ``workers`` threads.
+
+    The Rust core releases the GIL, so threads run runs in parallel; results come back in run
+    order, so they do not depend on ``workers``.
+    """
+    bar = tqdm(total=runs, desc=desc, unit="run", file=sys.stderr, disable=None, leave=False)
+    try:
+        if workers <= 1:
+            out = []
+            for r in range(runs):
+                out.append(work(r))
+                bar.update()
+            return out
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            futures = [pool.submit(work, r) for r in range(runs)]
+            results: list[R] = []
+            for f in futures:
+                results.append(f.result())
+                bar.update()
+            return results
+    finally:
+        bar.close()
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, np.generic):
+        return _jsonable(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def write_json(path: str | Path, record: dict[str, Any]) -> None:
+    """Write ``record`` as JSON (NumPy values converted, NaN as null)."""
+    Path(path).write_text(json.dumps(_jsonable(record), indent=2) + "\n")
+
+
+def fmt(value: float, digits: int = 3) -> str:
+    """A number for a table cell, with a fixed number of significant digits."""
+    if value is None or not math.isfinite(value):
+        return "-"
+    return f"{value:.{digits}g}"
+
+
+def print_rows(rows: Iterable[Iterable[str]], widths: Iterable[int]) -> None:
+    """Print right-aligned columns."""
+    w = list(widths)
+    for row in rows:
+        print(" ".join(cell.rjust(width) for cell, width in zip(row, w)))

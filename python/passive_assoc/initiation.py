@@ -1,0 +1,255 @@
+"""Fuzzy track initiation for distributed passive sensors (METHODS §1, paper 000).
+
+From the raw azimuth/elevation (or bearing) measurements of two or more sensors over several
+scans, in clutter, and without knowing the clutter density or the detection probability,
+:class:`FuzzyTrackInitiator` finds how many constant-velocity targets there are, which
+measurements are theirs, and their initial states. The pipeline (candidate generation with
+pruning, Gauss-Newton candidate fits, steepest ascent of the fuzzy closeness R, detection,
+ambiguity resolution, final ML fit) runs in the Rust core with the GIL released.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from itertools import combinations
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import _core
+from ._validation import as_float_array, as_float_scalar, as_int_array, as_int_scalar
+from .measurements import MeasurementTable
+from .sensors import SensorNetwork
+
+#: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
+#: 3-D candidate's fit.
+CHI2_2DOF_999 = 13.815510557964274
+
+
+@dataclass(frozen=True)
+class Track:
+    """One initiated target.
+
+    Attributes
+    ----------
+    state : ndarray, shape (D,)
+        ML estimate of the constant-velocity initial state X0 at ``t0`` (D = 6 in 3-D, 4 in 2-D).
+    covariance : ndarray, shape (D, D)
+        Inverse Fisher information at ``state``.
+    closeness : float
+        Fuzzy synthetic closeness R at ``state`` (eq. 18).
+    chi2 : float
+        Sum of squared normalised residuals of the final fit.
+    measurements : ndarray of int
+        Rows of the input table assigned to this target.
+    """
+
+    state: NDArray[np.float64]
+    covariance: NDArray[np.float64]
+    closeness: float
+    chi2: float
+    measurements: NDArray[np.int64]
+
+
+@dataclass(frozen=True)
+class InitiationDiagnostics:
+    """How the pipeline got there: candidates left after each stage, descent iterations and
+    seconds per stage."""
+
+    stage_counts: dict[str, int]
+    descent_iterations: NDArray[np.int64]
+    stage_seconds: dict[str, float]
+
+
+@dataclass(frozen=True)
+class InitiationResult:
+    """Output of :meth:`FuzzyTrackInitiator.initiate`.
+
+    Every input measurement is in exactly one track or in :attr:`clutter`; :attr:`labels`
+    holds that partition as one array (track index, or -1 for clutter).
+    """
+
+    tracks: list[Track]
+    labels: NDArray[np.int64]
+    t0: float
+    diagnostics: InitiationDiagnostics = field(repr=False)
+
+    @property
+    def clutter(self) -> NDArray[np.int64]:
+        """Rows assigned to no track."""
+        return np.flatnonzero(self.labels < 0)
+
+    @property
+    def states(self) -> NDArray[np.float64]:
+        """All track states stacked, shape (n_tracks, D)."""
+        if not self.tracks:
+            return np.empty((0, 0))
+        return np.stack([t.state for t in self.tracks])
+
+
+def _optional_positive(name: str, value: float | None) -> float | None:
+    if value is None:
+        return None
+    v = as_float_scalar(name, value, finite=True)
+    if v <= 0:
+        raise ValueError(f"{name}: must be > 0 (or None to switch the rule off), got {v}")
+    return v
+
+
+@dataclass(frozen=True)
+class FuzzyTrackInitiator:
+    """Fuzzy track initiator with the paper's defaults.
+
+    Parameters
+    ----------
+    spread_factor : float
+        Membership spread per sensor and angle as a multiple of that sensor's noise std:
+        ``s = spread_factor * sigma``. The paper uses ``s = 2 sigma`` (10 mrad at 5 mrad).
+    spread : float, optional
+        A fixed spread in radians for every sensor and angle, overriding ``spread_factor``.
+    gate : float
+        Detection gate g in standard deviations (eq. 23); paper 5.
+    n_detect : int
+        Nd: an optimum becomes a target when more than this many not-yet-taken measurements
+        are related to it; paper 9.
+    pairs : sequence of (int, int), optional
+        Sensor pairs that generate candidates; default every pair.
+    ray_gate : float or None
+        Prune a pair of first- or last-scan rays whose closest approach exceeds this many
+        standard deviations of the crossing, plus ``v_max`` times the two sensors' time
+        offset (asynchronous sensors; 3-D only, 2-D lines always meet); None: off.
+    reject_behind : bool
+        Prune ray pairs that meet behind either sensor.
+    v_max : float or None
+        Prune candidates whose implied speed exceeds this (m/s); None switches it off. The
+        default, 500 m/s, is 2.5x the paper's fastest target; raise it for faster targets
+        (at 1000 m/s about twice as many candidates reach the fitting stage).
+    chi2_gate : float or None
+        Prune candidates whose 4-measurement fit has χ² above this (3-D: 2 dof); None: off.
+    one_per_scan : bool
+        A target takes at most one measurement per sensor and scan (the closest), as a
+        sensor reports a target once per scan.
+    merge_tol : float
+        Optima closer than this, in units of the candidate fit's standard deviations, are one.
+    descent_scaling : {"whitened", "diagonal"}
+        Coordinates of the steepest-ascent search. ``"diagonal"`` scales each component by the
+        candidate fit's standard deviation (METHODS §1 wording). ``"whitened"`` (default) uses
+        the candidate fit's full covariance factor ``L`` (``x = x_c + L y``), which also removes
+        the strong position–velocity and along-range correlations of a 4-measurement fit:
+        measured on the paper scenario, a descent to full convergence takes ~86 closeness
+        evaluations instead of ~330, and true optima land within 0.06σ instead of 0.48σ at
+        the same stopping rule.
+    descent_max_iter : int
+        Iteration cap of each steepest-ascent search.
+    refine_passes : int
+        Extra passes that re-relate measurements (eq. 23–24) to the final ML estimates and
+        refit, until the partition stops changing (a project extension; 0 = the paper's
+        pipeline). The ML estimate is sharper than the closeness optimum the first
+        classification uses, which matters where targets cross or fly close.
+    max_candidates : int
+        Refuse (ValueError) rather than exhaust memory when more candidates than this reach
+        the fitting stage.
+    n_threads : int, optional
+        Threads; default all cores. Results are identical for any value.
+    """
+
+    spread_factor: float = 2.0
+    spread: float | None = None
+    gate: float = 5.0
+    n_detect: int = 9
+    pairs: Sequence[tuple[int, int]] | None = None
+    ray_gate: float | None = 5.0
+    reject_behind: bool = True
+    v_max: float | None = 500.0
+    chi2_gate: float | None = CHI2_2DOF_999
+    one_per_scan: bool = True
+    merge_tol: float = 1.0
+    descent_scaling: Literal["whitened", "diagonal"] = "whitened"
+    descent_max_iter: int = 100
+    refine_passes: int = 2
+    max_candidates: int = 500_000
+    n_threads: int | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("spread_factor", "gate", "merge_tol"):
+            if as_float_scalar(name, getattr(self, name), finite=True) <= 0:
+                raise ValueError(f"{name}: must be > 0, got {getattr(self, name)}")
+        _optional_positive("spread", self.spread)
+        for name in ("ray_gate", "v_max", "chi2_gate"):
+            _optional_positive(name, getattr(self, name))
+        as_int_scalar("n_detect", self.n_detect, minimum=1)
+        as_int_scalar("descent_max_iter", self.descent_max_iter, minimum=1)
+        as_int_scalar("refine_passes", self.refine_passes, minimum=0)
+        as_int_scalar("max_candidates", self.max_candidates, minimum=1)
+        if self.n_threads is not None:
+            as_int_scalar("n_threads", self.n_threads, minimum=1)
+        if self.descent_scaling not in ("whitened", "diagonal"):
+            raise ValueError(f"descent_scaling: must be 'whitened' or 'diagonal', got {self.descent_scaling!r}")
+        for name in ("reject_behind", "one_per_scan"):
+            if not isinstance(getattr(self, name), bool):
+                raise TypeError(f"{name}: expected a bool, got {getattr(self, name)!r}")
+
+    def _pairs(self, n_sensors: int) -> NDArray[np.int64]:
+        if self.pairs is None:
+            chosen = list(combinations(range(n_sensors), 2))
+        else:
+            chosen = list(self.pairs)
+        if not chosen:
+            raise ValueError("pairs: at least one sensor pair is needed (the network has "
+                             f"{n_sensors} sensor{'s' if n_sensors != 1 else ''})")
+        return as_int_array("pairs", np.asarray(chosen), shape=(None, 2))
+
+    def _spreads(self, sensors: SensorNetwork) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        n = sensors.n_sensors
+        if self.spread is not None:
+            return np.full(n, self.spread), np.full(n, self.spread)
+        sigma_el = sensors.sigma_azimuth if sensors.ndim == 2 else sensors.sigma_elevation
+        return self.spread_factor * sensors.sigma_azimuth, self.spread_factor * np.asarray(sigma_el, dtype=float)
+
+    def initiate(self, measurements: MeasurementTable, sensors: SensorNetwork, *, t0: float | None = None) -> InitiationResult:
+        """Find the targets in ``measurements``.
+
+        Parameters
+        ----------
+        measurements : MeasurementTable
+            Every measurement of every sensor in the window (any order, any number of scans;
+            candidates come from each sensor's first and last scan).
+        sensors : SensorNetwork
+        t0 : float, optional
+            Epoch of the returned initial states; default the earliest measurement time.
+
+        Returns
+        -------
+        InitiationResult
+        """
+        if not isinstance(measurements, MeasurementTable):
+            raise TypeError(f"measurements: expected a MeasurementTable, got {type(measurements).__name__}")
+        if not isinstance(sensors, SensorNetwork):
+            raise TypeError(f"sensors: expected a SensorNetwork, got {type(sensors).__name__}")
+        if len(measurements) == 0:
+            raise ValueError("measurements: the table is empty")
+        measurements.validate_against(sensors)
+        epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
+        spread_az, spread_el = self._spreads(sensors)
+        elevation = np.zeros(len(measurements)) if sensors.ndim == 2 else measurements.elevation
+        out = _core.initiate(
+            measurements.sensor, measurements.time, measurements.azimuth, np.ascontiguousarray(elevation),
+            sensors.positions, sensors.sigma_azimuth, sensors.sigma_elevation,
+            self._pairs(sensors.n_sensors), spread_az, spread_el,
+            ndim=sensors.ndim, t0=epoch, gate=float(self.gate), n_detect=int(self.n_detect),
+            ray_gate=self.ray_gate, reject_behind=self.reject_behind, v_max=self.v_max,
+            chi2_gate=self.chi2_gate, one_per_scan=self.one_per_scan, merge_tol=float(self.merge_tol),
+            descent_max_iter=int(self.descent_max_iter), max_candidates=int(self.max_candidates),
+            n_threads=self.n_threads, descent_scaling=self.descent_scaling,
+            refine_passes=int(self.refine_passes),
+        )
+        labels = out["labels"]
+        tracks = [
+            Track(out["estimates"][k], out["covariances"][k], float(out["closeness"][k]),
+                  float(out["chi2"][k]), np.flatnonzero(labels == k))
+            for k in range(len(out["closeness"]))
+        ]
+        diagnostics = InitiationDiagnostics(dict(out["stage_counts"]), out["descent_iterations"], dict(out["stage_seconds"]))
+        return InitiationResult(tracks, labels, epoch, diagnostics)

@@ -1,0 +1,131 @@
+//! Scans: the rows of one sensor that share one time value. Times are compared exactly (a
+//! scan is what the sensor reported in one sampling instant, so its rows carry the identical
+//! time stamp); rows with times that differ in the last bit are different scans.
+
+use crate::data::Measurements;
+use crate::error::{CoreError, CoreResult};
+
+/// The scan structure of a measurement table, CSR-style.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scans {
+    /// Scan (group) index of every row.
+    pub scan_of: Vec<usize>,
+    /// Rows of scan `k` are `rows[offsets[k]..offsets[k + 1]]`, ascending.
+    pub offsets: Vec<usize>,
+    pub rows: Vec<usize>,
+    /// Scans of each sensor in increasing time.
+    pub per_sensor: Vec<Vec<usize>>,
+}
+
+impl Scans {
+    /// Groups the rows of `measurements` (already validated against `n_sensors`).
+    pub fn new(measurements: &Measurements<'_>, n_sensors: usize) -> Self {
+        let mut order: Vec<usize> = (0..measurements.len()).collect();
+        // Sort by (sensor, time, row): rows of one scan become contiguous and ascending.
+        order.sort_by(|&p, &q| {
+            measurements
+                .sensor(p)
+                .cmp(&measurements.sensor(q))
+                .then(measurements.time(p).total_cmp(&measurements.time(q)))
+                .then(p.cmp(&q))
+        });
+        let mut scans = Scans {
+            scan_of: vec![0; measurements.len()],
+            offsets: vec![0],
+            rows: Vec::with_capacity(order.len()),
+            per_sensor: vec![Vec::new(); n_sensors],
+        };
+        let mut previous: Option<(usize, f64)> = None;
+        for &row in &order {
+            let key = (measurements.sensor(row), measurements.time(row));
+            if previous != Some(key) {
+                if previous.is_some() {
+                    scans.offsets.push(scans.rows.len());
+                }
+                scans.per_sensor[key.0].push(scans.offsets.len() - 1);
+                previous = Some(key);
+            }
+            scans.scan_of[row] = scans.offsets.len() - 1;
+            scans.rows.push(row);
+        }
+        if previous.is_some() {
+            scans.offsets.push(scans.rows.len());
+        }
+        scans
+    }
+
+    pub fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Rows of scan `k`.
+    pub fn scan(&self, k: usize) -> &[usize] {
+        &self.rows[self.offsets[k]..self.offsets[k + 1]]
+    }
+
+    /// First and last scan of sensor `j`, or an error naming it when it has fewer than two.
+    pub fn first_last(&self, j: usize) -> CoreResult<(usize, usize)> {
+        match self.per_sensor[j].as_slice() {
+            [first, .., last] => Ok((*first, *last)),
+            other => Err(CoreError::ill_posed(
+                "pairs",
+                format!(
+                    "sensor {j} has {} scan{}; need first and last",
+                    other.len(),
+                    if other.len() == 1 { "" } else { "s" }
+                ),
+            )),
+        }
+    }
+}
+
+/// The sensor pairs to use: `requested`, checked, or every pair a < b. Both sensors of each
+/// pair need a first and a last scan; pairs may not repeat (in either order).
+pub fn resolve_pairs(
+    requested: Option<&[[usize; 2]]>,
+    scans: &Scans,
+) -> CoreResult<Vec<[usize; 2]>> {
+    let n_sensors = scans.per_sensor.len();
+    let pairs: Vec<[usize; 2]> = match requested {
+        Some(p) if !p.is_empty() => p.to_vec(),
+        _ => (0..n_sensors)
+            .flat_map(|a| (a + 1..n_sensors).map(move |b| [a, b]))
+            .collect(),
+    };
+    if pairs.is_empty() {
+        return Err(CoreError::ill_posed(
+            "pairs",
+            "need at least two sensors to form a pair",
+        ));
+    }
+    for (k, &[a, b]) in pairs.iter().enumerate() {
+        if a >= n_sensors || b >= n_sensors {
+            return Err(CoreError::out_of_range(
+                "pairs",
+                format!("pair {k} is ({a}, {b}) but the network has {n_sensors} sensors"),
+            ));
+        }
+        if a == b {
+            return Err(CoreError::out_of_range(
+                "pairs",
+                format!("pair {k} uses sensor {a} twice"),
+            ));
+        }
+        if pairs[..k]
+            .iter()
+            .any(|&[c, d]| (c, d) == (a, b) || (c, d) == (b, a))
+        {
+            return Err(CoreError::out_of_range(
+                "pairs",
+                format!("pair {k} ({a}, {b}) repeats an earlier pair"),
+            ));
+        }
+        scans.first_last(a)?;
+        scans.first_last(b)?;
+    }
+    Ok(pairs)
+}
