@@ -8,7 +8,9 @@ from __future__ import annotations
 
 from ._core import __version__
 from .assignment import SdAssignment, assign_sd, linear_assignment
+from .closeness import ClosenessOptima, closeness, maximize_closeness
 from .fitting import TERMINATION_NAMES, FitResult, crlb, fisher_and_crlb, fit_ml
+from .initiation import FuzzyTrackInitiator, InitiationResult, Track
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
 from .simulate import (
@@ -21,6 +23,12 @@ from .simulate import (
 )
 
 __all__ = [
+    "ClosenessOptima",
+    "closeness",
+    "maximize_closeness",
+    "FuzzyTrackInitiator",
+    "InitiationResult",
+    "Track",
     "SdAssignment",
     "assign_sd",
     "linear_assignment",

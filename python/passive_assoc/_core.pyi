@@ -96,3 +96,22 @@ def assign_sd(
     time_limit: float | None = 10.0,
 ) -> dict[str, Any]: ...
 def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
+def maximize_closeness(
+    sensor: NDArray[np.int64],
+    time: NDArray[np.float64],
+    azimuth: NDArray[np.float64],
+    elevation: NDArray[np.float64],
+    sensor_positions: NDArray[np.float64],
+    sigma_azimuth: NDArray[np.float64],
+    sigma_elevation: NDArray[np.float64],
+    spread_azimuth: NDArray[np.float64],
+    spread_elevation: NDArray[np.float64],
+    starts: NDArray[np.float64],
+    covariances: NDArray[np.float64],
+    *,
+    ndim: int,
+    t0: float,
+    scaling: str = "whitened",
+    max_iter: int = 100,
+    n_threads: int | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]: ...

@@ -38,11 +38,13 @@
 //! each is kept unless it merges with an already kept one: deterministic, and of merging
 //! optima the one with the larger R survives.
 
+use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::candidates::Candidate;
 use super::closeness::{closeness_and_gradient, Precomputed};
 use super::{DescentOptions, Scaling};
+use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::model::MAX_DIM;
 
 /// Armijo sufficient-increase constant.
@@ -84,6 +86,79 @@ pub fn descend_all(
             opt
         })
         .collect()
+}
+
+/// Descents from caller-given starts, each scaled by its own covariance (`P × D × D`,
+/// row-major): the entry point for searching R directly; the pipeline uses [`descend_all`].
+pub fn descend_from(
+    pre: &Precomputed,
+    starts: &[f64],
+    covariances: &[f64],
+    options: &DescentOptions,
+) -> CoreResult<Vec<Optimum>> {
+    let d = pre.dim();
+    if starts.len() % d != 0 {
+        return Err(CoreError::shape(
+            "starts",
+            format!("expected shape (P, {d}), got {} values", starts.len()),
+        ));
+    }
+    let p = starts.len() / d;
+    if covariances.len() != p * d * d {
+        return Err(CoreError::shape(
+            "covariances",
+            format!(
+                "expected shape ({p}, {d}, {d}), got {} values",
+                covariances.len()
+            ),
+        ));
+    }
+    ensure_finite("starts", starts)?;
+    ensure_finite("covariances", covariances)?;
+    let factors = (0..p)
+        .map(|k| factor_of(&covariances[k * d * d..(k + 1) * d * d], d, k))
+        .collect::<CoreResult<Vec<_>>>()?;
+    Ok(factors
+        .par_iter()
+        .enumerate()
+        .map(|(k, lower)| {
+            let factor = match options.scaling {
+                Scaling::Whitened => *lower,
+                Scaling::Diagonal => diagonal(&std::array::from_fn(|i| {
+                    if i < d {
+                        lower_row_norm(lower, i)
+                    } else {
+                        0.0
+                    }
+                })),
+            };
+            let mut start = [0.0; MAX_DIM];
+            start[..d].copy_from_slice(&starts[k * d..(k + 1) * d]);
+            descend(pre, &start, &factor, options)
+        })
+        .collect())
+}
+
+/// Cholesky factor L (lower, `L·Lᵀ = C`) of one covariance, or an error naming it.
+fn factor_of(cov: &[f64], d: usize, k: usize) -> CoreResult<Factor> {
+    let c = DMatrix::from_row_slice(d, d, cov);
+    let l = c
+        .cholesky()
+        .ok_or_else(|| {
+            CoreError::ill_posed(
+                "covariances",
+                format!("matrix {k} is not positive definite"),
+            )
+        })?
+        .l();
+    Ok(std::array::from_fn(|i| {
+        std::array::from_fn(|j| if i < d && j < d { l[(i, j)] } else { 0.0 })
+    }))
+}
+
+/// sqrt(C_ii) from the factor: the per-component standard deviation.
+fn lower_row_norm(lower: &Factor, i: usize) -> f64 {
+    lower[i].iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
 /// The factor of a per-component scaling.

@@ -1,7 +1,7 @@
 //! Bindings for fuzzy track initiation (METHODS §1) and its closeness function: extract,
 //! validate, `py.detach`, delegate to the core, return arrays.
 
-use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -9,6 +9,7 @@ use pyo3::types::PyDict;
 use super::convert::{slice1, slice2, space, to_numpy, MeasurementArrays, SensorArrays};
 use crate::error::ensure_finite;
 use crate::initiation::closeness::closeness_batch;
+use crate::initiation::descent::descend_from;
 use crate::initiation::{
     initiate as core_initiate, DescentOptions, InitiationOptions, Precomputed, Scaling, Spreads,
 };
@@ -55,15 +56,7 @@ pub fn initiate<'py>(
     refine_passes: i64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let space = space_of(ndim)?;
-    let scaling = match descent_scaling {
-        "whitened" => Scaling::Whitened,
-        "diagonal" => Scaling::Diagonal,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "descent_scaling: must be 'whitened' or 'diagonal', got {other:?}"
-            )))
-        }
-    };
+    let scaling = scaling_of(descent_scaling)?;
     let sensors_arrays = SensorArrays {
         positions: sensor_positions,
         sigma_azimuth,
@@ -209,6 +202,104 @@ pub fn closeness<'py>(
         to_numpy(py, values, &[p])?,
         to_numpy(py, gradients, &[p, d])?,
     ))
+}
+
+/// Steepest ascent of R (METHODS §1 eq. 19) from each row of `starts`, scaled by the matching
+/// covariance; returns (optima (P, D), R (P,), iterations (P,), evaluations (P,)).
+#[pyfunction]
+#[pyo3(signature = (
+    sensor, time, azimuth, elevation, sensor_positions, sigma_azimuth, sigma_elevation,
+    spread_azimuth, spread_elevation, starts, covariances, *, ndim, t0, scaling="whitened",
+    max_iter=100, n_threads=None
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn maximize_closeness<'py>(
+    py: Python<'py>,
+    sensor: PyReadonlyArray1<'py, i64>,
+    time: PyReadonlyArray1<'py, f64>,
+    azimuth: PyReadonlyArray1<'py, f64>,
+    elevation: PyReadonlyArray1<'py, f64>,
+    sensor_positions: PyReadonlyArray2<'py, f64>,
+    sigma_azimuth: PyReadonlyArray1<'py, f64>,
+    sigma_elevation: PyReadonlyArray1<'py, f64>,
+    spread_azimuth: PyReadonlyArray1<'py, f64>,
+    spread_elevation: PyReadonlyArray1<'py, f64>,
+    starts: PyReadonlyArray2<'py, f64>,
+    covariances: PyReadonlyArray3<'py, f64>,
+    ndim: i64,
+    t0: f64,
+    scaling: &str,
+    max_iter: i64,
+    n_threads: Option<i64>,
+) -> PyResult<(
+    F64Array<'py>,
+    F64Array<'py>,
+    Bound<'py, PyArrayDyn<i64>>,
+    Bound<'py, PyArrayDyn<i64>>,
+)> {
+    let space = space_of(ndim)?;
+    let sensors_arrays = SensorArrays {
+        positions: sensor_positions,
+        sigma_azimuth,
+        sigma_elevation,
+    };
+    let sensors = sensors_arrays.view(space)?;
+    let table = MeasurementArrays {
+        sensor,
+        time,
+        azimuth,
+        elevation,
+    };
+    let measurements = table.view(&sensors)?;
+    let spreads = Spreads::new(
+        space,
+        sensors.len(),
+        slice1("spread_azimuth", &spread_azimuth)?,
+        slice1("spread_elevation", &spread_elevation)?,
+    )?;
+    let d = 2 * space.position_dim();
+    let starts = slice2("starts", &starts, d)?;
+    let covariances = covariances
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("covariances: array must be C-contiguous"))?;
+    let options = DescentOptions {
+        max_iter: count("max_iter", max_iter, 0)?,
+        scaling: scaling_of(scaling)?,
+        ..DescentOptions::default()
+    };
+    let pre = Precomputed::new(&sensors, &measurements, &spreads, t0)?;
+    let threads = threads(n_threads)?;
+    let optima = py.detach(|| {
+        with_threads(threads, || {
+            descend_from(&pre, starts, covariances, &options)
+        })
+    })??;
+    let p = optima.len();
+    let states: Vec<f64> = optima.iter().flat_map(|o| o.x[..d].to_vec()).collect();
+    Ok((
+        to_numpy(py, states, &[p, d])?,
+        to_numpy(py, optima.iter().map(|o| o.closeness).collect(), &[p])?,
+        to_numpy(
+            py,
+            optima.iter().map(|o| o.iterations as i64).collect(),
+            &[p],
+        )?,
+        to_numpy(
+            py,
+            optima.iter().map(|o| o.evaluations as i64).collect(),
+            &[p],
+        )?,
+    ))
+}
+
+fn scaling_of(name: &str) -> PyResult<Scaling> {
+    match name {
+        "whitened" => Ok(Scaling::Whitened),
+        "diagonal" => Ok(Scaling::Diagonal),
+        other => Err(PyValueError::new_err(format!(
+            "scaling: must be 'whitened' or 'diagonal', got {other:?}"
+        ))),
+    }
 }
 
 fn space_of(ndim: i64) -> PyResult<crate::model::Space> {

@@ -19,5 +19,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assign::assign_2d, m)?)?;
     m.add_function(wrap_pyfunction!(initiation::initiate, m)?)?;
     m.add_function(wrap_pyfunction!(initiation::closeness, m)?)?;
+    m.add_function(wrap_pyfunction!(initiation::maximize_closeness, m)?)?;
     Ok(())
 }
