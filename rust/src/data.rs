@@ -202,11 +202,11 @@ impl<'a> Measurements<'a> {
             Space::Planar => 0.0,
             Space::Spatial => self.elevation[m],
         };
-        Observation {
-            sensor: sensors.position(j),
-            time: self.time[m],
-            angles: [self.azimuth[m], elevation],
-            sigma: sensors.sigma(j),
-        }
+        Observation::new(
+            sensors.position(j),
+            self.time[m],
+            [self.azimuth[m], elevation],
+            sensors.sigma(j),
+        )
     }
 }

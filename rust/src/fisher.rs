@@ -29,12 +29,12 @@ pub fn crlb(
     for (&j, &time) in sensor_index.iter().zip(times) {
         let sensor = sensors.position(j as usize);
         let target = layout.position(truth, time);
-        let obs = Observation {
+        let obs = Observation::new(
             sensor,
             time,
-            angles: predict(layout.space, &sensor, &target),
-            sigma: sensors.sigma(j as usize),
-        };
+            predict(layout.space, &sensor, &target),
+            sensors.sigma(j as usize),
+        );
         let rows = residual_rows(layout, truth, &obs).ok_or_else(|| {
             CoreError::ill_posed(
                 "truth",

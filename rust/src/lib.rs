@@ -5,6 +5,7 @@ pub mod angles;
 pub mod assign;
 pub mod data;
 pub mod error;
+pub mod fastmath;
 pub mod fisher;
 pub mod fit;
 pub mod initiation;

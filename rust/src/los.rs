@@ -199,12 +199,7 @@ mod tests {
                 sensors.iter().enumerate().map(move |(j, s)| {
                     let time = 15.0 * k as f64 + 5.0 * j as f64;
                     let p = layout.position(&truth, time);
-                    Observation {
-                        sensor: *s,
-                        time,
-                        angles: predict(Space::Spatial, s, &p),
-                        sigma: [5e-3, 5e-3],
-                    }
+                    Observation::new(*s, time, predict(Space::Spatial, s, &p), [5e-3, 5e-3])
                 })
             })
             .collect();

@@ -7,38 +7,61 @@ use nalgebra::{SMatrix, SVector};
 use super::{FitOptions, FitOutcome, Termination};
 use crate::model::{residual_rows, Observation, StateLayout, MAX_DIM};
 
-/// Normal equations `H = Σ gᵀg` (lower triangle only: Cholesky reads no more), `b = Σ gᵀr`
-/// and `χ² = Σ r²` over the residual rows at one state.
+/// Normal equations `H = Σ gᵀg`, `b = Σ gᵀr` and `χ² = Σ r²` over the residual rows at one
+/// state. Plain arrays with compile-time bounds: the per-row update compiles to straight-line
+/// multiply-adds with no index checks.
+#[derive(Clone, Copy)]
 struct Normal<const D: usize> {
-    information: SMatrix<f64, D, D>,
-    gradient: SVector<f64, D>,
+    information: [[f64; D]; D],
+    gradient: [f64; D],
     chi2: f64,
 }
 
+impl<const D: usize> Normal<D> {
+    const ZERO: Self = Self {
+        information: [[0.0; D]; D],
+        gradient: [0.0; D],
+        chi2: 0.0,
+    };
+
+    fn information_matrix(&self) -> SMatrix<f64, D, D> {
+        SMatrix::from_fn(|i, j| self.information[i][j])
+    }
+}
+
+/// Fills `out` with the normal equations at `x`; false where the model is undefined.
 fn accumulate<const D: usize>(
     layout: &StateLayout,
     x: &SVector<f64, D>,
     obs: &[Observation],
-) -> Option<Normal<D>> {
-    let mut normal = Normal {
-        information: SMatrix::zeros(),
-        gradient: SVector::zeros(),
-        chi2: 0.0,
-    };
+    out: &mut Normal<D>,
+) -> bool {
+    // Local accumulators and a full (fixed-length, so vectorisable) outer product: cheaper
+    // than a triangular update through memory, and H stays symmetric.
+    let mut information = [[0.0; D]; D];
+    let mut gradient = [0.0; D];
+    let mut chi2 = 0.0;
     for o in obs {
-        let rows = residual_rows(layout, x.as_slice(), o)?;
+        let Some(rows) = residual_rows(layout, x.as_slice(), o) else {
+            return false;
+        };
         for c in 0..rows.count {
-            let g = SVector::<f64, D>::from_fn(|k, _| rows.gradient[c][k]);
-            for a in 0..D {
-                for b in 0..=a {
-                    normal.information[(a, b)] += g[a] * g[b];
+            let (g, r) = (&rows.gradient[c], rows.residual[c]);
+            for (a, row) in information.iter_mut().enumerate() {
+                for (b, h) in row.iter_mut().enumerate() {
+                    *h += g[a] * g[b];
                 }
+                gradient[a] += g[a] * r;
             }
-            normal.gradient += g * rows.residual[c];
-            normal.chi2 += rows.residual[c] * rows.residual[c];
+            chi2 += r * r;
         }
     }
-    normal.chi2.is_finite().then_some(normal)
+    *out = Normal {
+        information,
+        gradient,
+        chi2,
+    };
+    chi2.is_finite()
 }
 
 /// χ² alone, or `None` where the model is undefined.
@@ -120,30 +143,44 @@ fn fit_fixed<const D: usize>(
     slots: FitSlots<'_>,
 ) -> FitSummary {
     let mut x = SVector::<f64, D>::from_fn(|k, _| initial[k]);
-    let Some(mut normal) = accumulate(layout, &x, obs) else {
+    // Two buffers whose roles (current, trial) swap by index: an accepted trial's normal
+    // equations are the next iteration's, computed once and never copied.
+    let mut normals = [Normal::<D>::ZERO; 2];
+    let mut current = 0;
+    if !accumulate(layout, &x, obs, &mut normals[current]) {
         return write_failure(slots, 0, Termination::NonFinite);
-    };
+    }
     let mut iterations = 0;
     let termination = loop {
         if iterations == options.max_iter() {
             break Termination::MaxIterations;
         }
-        let Some(cholesky) = normal.information.cholesky() else {
+        let normal = normals[current];
+        let Some(cholesky) = normal.information_matrix().cholesky() else {
             return write_failure(slots, iterations, Termination::Singular);
         };
         iterations += 1;
-        let step = cholesky.solve(&normal.gradient);
+        let gradient = SVector::<f64, D>::from_column_slice(&normal.gradient);
+        let step = cholesky.solve(&gradient);
         // Converged when the step is negligible relative to the state, or statistically: its
         // Mahalanobis length sqrt(δᵀHδ) = sqrt(δᵀb) is below `step_sigmas` standard deviations.
         // The second test ends the zig-zag along the flat valleys of barely-determined
         // problems (4 measurements, 6 unknowns), where χ² has stopped changing.
         let tiny = step.norm() <= options.xtol() * (x.norm() + options.xtol())
-            || step.dot(&normal.gradient) <= options.step_sigmas().powi(2);
-        match line_search(layout, obs, &x, &step, normal.chi2, options) {
-            // The trial's normal equations are the next iteration's: computed once.
-            Some((next, next_normal)) => {
+            || step.dot(&gradient) <= options.step_sigmas().powi(2);
+        let trial = 1 - current;
+        match line_search(
+            layout,
+            obs,
+            &x,
+            &step,
+            normal.chi2,
+            options,
+            &mut normals[trial],
+        ) {
+            Some(next) => {
                 x = next;
-                normal = next_normal;
+                current = trial;
                 if tiny {
                     break Termination::Converged;
                 }
@@ -152,7 +189,8 @@ fn fit_fixed<const D: usize>(
             None => break Termination::Stalled,
         }
     };
-    match normal.information.cholesky() {
+    let normal = &normals[current];
+    match normal.information_matrix().cholesky() {
         Some(cholesky) => {
             slots.estimate.copy_from_slice(x.as_slice());
             // Symmetric, so column-major storage reads as row-major too.
@@ -179,8 +217,8 @@ fn write_failure(slots: FitSlots<'_>, iterations: usize, termination: Terminatio
     }
 }
 
-/// The full step, halved until χ² does not rise; returns the accepted state with its normal
-/// equations, or `None` if no tried length lowers χ².
+/// The full step, halved until χ² does not rise; returns the accepted state, its normal
+/// equations left in `trial`, or `None` if no tried length lowers χ².
 fn line_search<const D: usize>(
     layout: &StateLayout,
     obs: &[Observation],
@@ -188,14 +226,13 @@ fn line_search<const D: usize>(
     step: &SVector<f64, D>,
     chi2_now: f64,
     options: &FitOptions,
-) -> Option<(SVector<f64, D>, Normal<D>)> {
+    trial: &mut Normal<D>,
+) -> Option<SVector<f64, D>> {
     let mut length = 1.0;
     for _ in 0..=options.max_halvings() {
         let candidate = x + step * length;
-        if let Some(normal) = accumulate(layout, &candidate, obs) {
-            if normal.chi2 <= chi2_now {
-                return Some((candidate, normal));
-            }
+        if accumulate(layout, &candidate, obs, trial) && trial.chi2 <= chi2_now {
+            return Some(candidate);
         }
         length *= 0.5;
     }
@@ -223,12 +260,12 @@ mod tests {
                 let time = 15.0 * scan as f64 + 5.0 * j as f64;
                 let p = layout.position(truth, time);
                 let [a, e] = predict(layout.space, s, &p);
-                out.push(Observation {
-                    sensor: *s,
+                out.push(Observation::new(
+                    *s,
                     time,
-                    angles: [a + jitter(), e + jitter()],
-                    sigma: [5e-3, 5e-3],
-                });
+                    [a + jitter(), e + jitter()],
+                    [5e-3, 5e-3],
+                ));
             }
         }
         out
@@ -254,15 +291,7 @@ mod tests {
     #[test]
     fn single_sensor_static_fit_is_singular_not_a_panic() {
         let layout = StateLayout::new(Space::Spatial, Motion::Static);
-        let obs = vec![
-            Observation {
-                sensor: [0.0; 3],
-                time: 0.0,
-                angles: [0.3, 0.1],
-                sigma: [1e-3, 1e-3]
-            };
-            3
-        ];
+        let obs = vec![Observation::new([0.0; 3], 0.0, [0.3, 0.1], [1e-3, 1e-3]); 3];
         let out = fit(
             &layout,
             &obs,
