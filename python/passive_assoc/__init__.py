@@ -13,6 +13,7 @@ from .fitting import TERMINATION_NAMES, FitResult, crlb, fisher_and_crlb, fit_ml
 from .initiation import FuzzyTrackInitiator, InitiationResult, Track
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
+from .static_association import StaticAssociation, associate_static, enumerate_candidates
 from .simulate import (
     PAPER_FTI_TARGETS,
     ConstantVelocityTarget,
@@ -23,6 +24,9 @@ from .simulate import (
 )
 
 __all__ = [
+    "StaticAssociation",
+    "associate_static",
+    "enumerate_candidates",
     "ClosenessOptima",
     "closeness",
     "maximize_closeness",

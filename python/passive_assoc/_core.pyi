@@ -115,3 +115,29 @@ def maximize_closeness(
     max_iter: int = 100,
     n_threads: int | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]: ...
+def enumerate_static(
+    sensor: NDArray[np.int64],
+    azimuth: NDArray[np.float64],
+    elevation: NDArray[np.float64],
+    sensor_positions: NDArray[np.float64],
+    sigma_azimuth: NDArray[np.float64],
+    sigma_elevation: NDArray[np.float64],
+    pd: NDArray[np.float64],
+    false_alarm_density: NDArray[np.float64],
+    *,
+    ndim: int,
+    gate: float,
+    min_intensity: int = 2,
+    max_candidates: int = 1_000_000,
+    n_threads: int | None = None,
+) -> dict[str, Any]: ...
+def intensity_search(
+    tuples: NDArray[np.int64],
+    positions: NDArray[np.float64],
+    costs: NDArray[np.float64],
+    sizes: NDArray[np.int64],
+    *,
+    vote_fraction: float = 0.5,
+    valid_airspace: bool = True,
+    max_chains: int | None = None,
+) -> dict[str, Any]: ...

@@ -67,3 +67,33 @@ def plot_fti(scenario: Scenario, result: InitiationResult, summary: dict[str, An
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
+
+def plot_static_scan(scan: Any, path: str) -> None:
+    """One static scan: every line of sight (false bearings grey), every gated candidate
+    coloured by its intensity (lines of sight through it), the true targets, and the points
+    each method accepts."""
+    from .static_association import associate_static, enumerate_candidates
+
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(9, 8))
+    m, pos = scan.measurements, scan.sensors.positions
+    for row in range(len(m)):
+        start = pos[m.sensor[row], :2]
+        end = start + 60e3 * np.array([np.cos(m.azimuth[row]), np.sin(m.azimuth[row])])
+        ax.plot([start[0], end[0]], [start[1], end[1]], color="0.75" if m.truth[row] < 0 else "0.45", lw=0.5, zorder=1)
+    cands = enumerate_candidates(m, scan.sensors)
+    for level, marker in ((2, "."), (scan.sensors.n_sensors, "o")):
+        sel = cands["intensity"] == level
+        ax.scatter(*cands["positions"][sel].T, s=12 if level == 2 else 22, marker=marker,
+                   label=f"intensity-{level} candidates ({int(sel.sum())})", zorder=2, alpha=0.7)
+    ax.scatter(*scan.targets.T, s=140, facecolors="none", edgecolors="k", lw=1.5, label="true targets", zorder=3)
+    for k, (method, marker) in enumerate((("intensity", "x"), ("lagrangian", "+"), ("exact", "1"))):
+        out = associate_static(m, scan.sensors, method, time_limit=2.0)
+        ax.scatter(*out.positions.T, s=90, marker=marker, color=f"C{k + 3}", label=f"accepted: {method}", zorder=4)
+    ax.plot(*pos[:, :2].T, "k^", ms=9, label="sensors", zorder=5)
+    ax.set(xlim=(-16e3, 16e3), ylim=(-7e3, 45e3), xlabel="x (m)", ylabel="y (m)", aspect="equal",
+           title=f"one scan: {len(scan.targets)} targets, {len(m)} bearings, {len(cands['costs'])} candidates")
+    ax.legend(loc="lower left", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

@@ -13,3 +13,4 @@ pub mod los;
 pub mod model;
 pub mod parallel;
 pub mod py;
+pub mod static_assoc;

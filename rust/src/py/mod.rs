@@ -7,6 +7,7 @@ mod convert;
 mod errors;
 mod fit;
 mod initiation;
+mod static_assoc;
 
 use pyo3::prelude::*;
 
@@ -20,5 +21,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(initiation::initiate, m)?)?;
     m.add_function(wrap_pyfunction!(initiation::closeness, m)?)?;
     m.add_function(wrap_pyfunction!(initiation::maximize_closeness, m)?)?;
+    m.add_function(wrap_pyfunction!(static_assoc::enumerate_static, m)?)?;
+    m.add_function(wrap_pyfunction!(static_assoc::intensity_search, m)?)?;
     Ok(())
 }

@@ -1,0 +1,336 @@
+//! The paper's intensity-ordered search (METHODS §2, steps 1–4). Eq. 11 is garbled in the
+//! paper; this is the project's reading, stated rule by rule so it can be checked:
+//!
+//! 1. **Valid airspace (eq. 12–13).** `P_1..P_M` are the points of *all* intensity-S candidates
+//!    of the input, `δ_bj` their distances, `d = (1/M) Σ_j (min_{b≠j} δ_bj + max_{b≠j} δ_bj)/2`.
+//!    A candidate is a ghost and is dropped when its distance to the nearest *other* intensity-S
+//!    point exceeds `d` (strictly). This is applied to every candidate of a searched level — the
+//!    intensity-S points and the lower-intensity ones (paper: "establish the valid airspace,
+//!    then form Z3, Z2") — always against the same reference set `P_1..P_M` (ghosts included,
+//!    as in eq. 12 where j runs over all M points). With fewer than two intensity-S points `d`
+//!    is undefined: nothing is dropped and the radius is reported as NaN. `valid_airspace =
+//!    false` switches the step off.
+//! 2. **Probability-intensity chain.** Within a level (the working set: the surviving candidates
+//!    of one intensity), a candidate's *exclusive rays* `m` are its measurements used by no
+//!    other candidate of the working set. A chain starts by accepting its start point; every
+//!    accepted candidate deletes itself and every working candidate sharing a measurement with
+//!    it, `m` is recomputed for the rest, and the next accepted is the one with the largest `m`
+//!    (ties: smaller cost, then smaller index into the input), until the working set is empty.
+//!    A chain therefore accepts a maximal conflict-free set.
+//! 3. **Vote.** `H` is the set of working candidates of maximal `m` at the start of the level;
+//!    one chain starts from each point of `H`. A candidate accepted by more than
+//!    `vote_fraction · |H|` chains (strictly) is confirmed. `max_chains` (not in the paper;
+//!    default `None` = every point of H) caps the chains per level for large scans: then the
+//!    `max_chains` best points of H by (cost, index) start chains and the threshold is τ times
+//!    the chains run. Each chain costs O(candidates of the level), and when ghosts abound
+//!    every candidate has m = 0 and H is the whole level, so the full vote is quadratic. The paper's threshold is "the vast
+//!    majority" with no number; the default τ = 0.5 (a strict majority) also guarantees that the
+//!    confirmed set is conflict-free, since two candidates each in more than half of the chains
+//!    share a chain. With τ < 0.5 conflicts are possible and are resolved greedily by votes
+//!    (more first), then cost, then index.
+//! 4. **Levels.** Every candidate that uses a measurement of a confirmed point is removed; the
+//!    search repeats on intensity S − 1 (paper: Z3 then Z2), and on lower intensities down to
+//!    `lowest_intensity` if asked (default S − 1, at least 2; the paper has S = 3). Result
+//!    `T = T_S ∪ T_{S−1}`. Input tuples of other intensities are ignored.
+//!
+//! Everything is deterministic: chains run in parallel but are collected by start index.
+
+use rayon::prelude::*;
+
+use super::airspace::PointIndex;
+use super::chains::Level;
+use crate::error::{ensure_finite, CoreError, CoreResult};
+
+/// Validated input: `K` tuples over `S` sensors with their points and costs.
+#[derive(Clone, Copy, Debug)]
+pub struct IntensityInput<'a> {
+    tuples: &'a [i64],
+    n_sensors: usize,
+    positions: &'a [f64],
+    pub(super) dim: usize,
+    pub(super) costs: &'a [f64],
+}
+
+impl<'a> IntensityInput<'a> {
+    /// `tuples` is `K × n_sensors` row-major (0 = missed, else `1..=sizes[s]`), `positions`
+    /// is `K × dim`, `costs` has K entries, `sizes` one entry per sensor.
+    pub fn new(
+        tuples: &'a [i64],
+        n_sensors: usize,
+        positions: &'a [f64],
+        dim: usize,
+        costs: &'a [f64],
+        sizes: &'a [i64],
+    ) -> CoreResult<Self> {
+        if n_sensors < 2 {
+            return Err(CoreError::out_of_range(
+                "tuples",
+                format!("needs at least 2 sensor columns, got {n_sensors}"),
+            ));
+        }
+        if sizes.len() != n_sensors {
+            return Err(CoreError::shape(
+                "sizes",
+                format!(
+                    "has {} entries, tuples have {n_sensors} columns",
+                    sizes.len()
+                ),
+            ));
+        }
+        if let Some(s) = sizes.iter().position(|&n| n < 0) {
+            return Err(CoreError::out_of_range(
+                "sizes",
+                format!("entry {s} is {}, must be >= 0", sizes[s]),
+            ));
+        }
+        let k = costs.len();
+        if tuples.len() != k * n_sensors {
+            return Err(CoreError::shape(
+                "tuples",
+                format!("has {} rows, costs has {k}", tuples.len() / n_sensors),
+            ));
+        }
+        if dim == 0 || positions.len() != k * dim {
+            return Err(CoreError::shape(
+                "positions",
+                format!(
+                    "expected shape ({k}, d) with d >= 1, got {} values",
+                    positions.len()
+                ),
+            ));
+        }
+        if let Some(at) =
+            (0..tuples.len()).find(|&at| tuples[at] < 0 || tuples[at] > sizes[at % n_sensors])
+        {
+            let (row, col) = (at / n_sensors, at % n_sensors);
+            return Err(CoreError::out_of_range(
+                "tuples",
+                format!(
+                    "row {row} column {col} is {} but sensor {col} has {} reports",
+                    tuples[at], sizes[col]
+                ),
+            ));
+        }
+        ensure_finite("positions", positions)?;
+        ensure_finite("costs", costs)?;
+        Ok(Self {
+            tuples,
+            n_sensors,
+            positions,
+            dim,
+            costs,
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.costs.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.costs.is_empty()
+    }
+
+    pub(super) fn tuple(&self, k: usize) -> &[i64] {
+        &self.tuples[k * self.n_sensors..(k + 1) * self.n_sensors]
+    }
+
+    pub(super) fn point(&self, k: usize) -> &[f64] {
+        &self.positions[k * self.dim..(k + 1) * self.dim]
+    }
+
+    pub(super) fn intensity(&self, k: usize) -> usize {
+        self.tuple(k).iter().filter(|&&t| t > 0).count()
+    }
+
+    pub(super) fn distance(&self, a: usize, b: usize) -> f64 {
+        self.point(a)
+            .iter()
+            .zip(self.point(b))
+            .map(|(x, y)| (x - y) * (x - y))
+            .sum::<f64>()
+            .sqrt()
+    }
+}
+
+/// Settings of [`intensity_search`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IntensityOptions {
+    /// τ: confirmed when accepted by more than this fraction of the chains; in [0, 1).
+    pub vote_fraction: f64,
+    /// Drop ghosts outside the valid airspace (step 1).
+    pub valid_airspace: bool,
+    /// Lowest intensity searched; `None` = S − 1 (at least 2).
+    pub lowest_intensity: Option<usize>,
+    /// Run at most this many chains per level (`None` = one from every point of H, the
+    /// paper's rule). When H is larger, its best points by (cost, index) start the chains and
+    /// the vote threshold is τ times the chains actually run.
+    pub max_chains: Option<usize>,
+}
+
+impl Default for IntensityOptions {
+    fn default() -> Self {
+        Self {
+            vote_fraction: 0.5,
+            valid_airspace: true,
+            lowest_intensity: None,
+            max_chains: None,
+        }
+    }
+}
+
+/// One searched level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelReport {
+    pub intensity: usize,
+    /// Working candidates at the start of the level.
+    pub candidates: usize,
+    /// |H|: chains run.
+    pub chains: usize,
+    pub confirmed: usize,
+}
+
+/// The chosen tuples (ascending indices into the input) and diagnostics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntensityOutcome {
+    pub chosen: Vec<usize>,
+    /// `d` of eq. 13 (NaN when not computed).
+    pub airspace_radius: f64,
+    /// Candidates of the searched levels dropped as ghosts by the airspace test.
+    pub ghosts_dropped: usize,
+    /// Chains run, over all levels.
+    pub chains: usize,
+    pub levels: Vec<LevelReport>,
+}
+
+/// Runs the intensity-ordered search on enumerated candidates.
+pub fn intensity_search(
+    input: &IntensityInput<'_>,
+    options: &IntensityOptions,
+) -> CoreResult<IntensityOutcome> {
+    let tau = options.vote_fraction;
+    if !(tau.is_finite() && (0.0..1.0).contains(&tau)) {
+        return Err(CoreError::out_of_range(
+            "vote_fraction",
+            format!("{tau} must be in [0, 1)"),
+        ));
+    }
+    let s_count = input.n_sensors;
+    let lowest = options
+        .lowest_intensity
+        .unwrap_or(s_count.saturating_sub(1).max(2));
+    if lowest < 2 || lowest > s_count {
+        return Err(CoreError::out_of_range(
+            "lowest_intensity",
+            format!("{lowest} must be in 2..={s_count}"),
+        ));
+    }
+    if options.max_chains == Some(0) {
+        return Err(CoreError::out_of_range(
+            "max_chains",
+            "must be at least 1 (or None for one chain per point of H)",
+        ));
+    }
+    let k = input.len();
+    let intensity: Vec<usize> = (0..k).map(|c| input.intensity(c)).collect();
+    let searched: Vec<bool> = intensity.iter().map(|&i| i >= lowest).collect();
+    let full: Vec<usize> = (0..k).filter(|&c| intensity[c] == s_count).collect();
+
+    let mut alive = searched.clone();
+    let (mut airspace_radius, mut ghosts_dropped) = (f64::NAN, 0);
+    if options.valid_airspace && full.len() >= 2 {
+        let index = PointIndex::new(input, &full);
+        let d = index.radius();
+        airspace_radius = d;
+        for (c, keep) in alive.iter_mut().enumerate() {
+            if *keep && !index.has_neighbour_within(c, d) {
+                *keep = false;
+                ghosts_dropped += 1;
+            }
+        }
+    }
+
+    // Measurements get dense ids 0..n_meas over those the searched candidates use, so memory
+    // follows the candidates, not the (caller-given) report counts. A report is (sensor, index).
+    let report = |c: usize| {
+        input
+            .tuple(c)
+            .iter()
+            .enumerate()
+            .filter(|(_, &t)| t > 0)
+            .map(|(s, &t)| (s, t))
+    };
+    let mut reports: Vec<(usize, i64)> = (0..k).filter(|&c| searched[c]).flat_map(report).collect();
+    reports.sort_unstable();
+    reports.dedup();
+    let n_meas = reports.len();
+    if n_meas > u32::MAX as usize {
+        return Err(CoreError::out_of_range(
+            "tuples",
+            "more than 2^32 distinct reports in use",
+        ));
+    }
+    let mut used = vec![false; n_meas];
+    let ids = |c: usize| -> Vec<u32> {
+        report(c)
+            .map(|r| reports.binary_search(&r).map_or(u32::MAX, |i| i as u32))
+            .collect()
+    };
+
+    let mut chosen = Vec::new();
+    let mut levels = Vec::new();
+    let mut chains = 0;
+    for level_intensity in (lowest..=s_count).rev() {
+        let members: Vec<usize> = (0..k)
+            .filter(|&c| {
+                alive[c]
+                    && intensity[c] == level_intensity
+                    && ids(c).iter().all(|&m| !used[m as usize])
+            })
+            .collect();
+        let level = Level::new(input, &members, level_intensity, n_meas, &ids);
+        let starts = level.start_points(options.max_chains);
+        let accepted: Vec<Vec<u32>> = starts.par_iter().map(|&h| level.chain(h)).collect();
+        let mut votes = vec![0usize; members.len()];
+        for chain in &accepted {
+            for &c in chain {
+                votes[c as usize] += 1;
+            }
+        }
+        let threshold = tau * starts.len() as f64;
+        let mut confirmed: Vec<usize> = (0..members.len())
+            .filter(|&c| votes[c] as f64 > threshold)
+            .collect();
+        confirmed.sort_by(|&a, &b| {
+            votes[b]
+                .cmp(&votes[a])
+                .then(level.costs[a].total_cmp(&level.costs[b]))
+                .then(a.cmp(&b))
+        });
+        let mut count = 0;
+        for c in confirmed {
+            let mine = level.ids(c);
+            if mine.iter().all(|&m| !used[m as usize]) {
+                for &m in mine {
+                    used[m as usize] = true;
+                }
+                chosen.push(members[c]);
+                count += 1;
+            }
+        }
+        chains += starts.len();
+        levels.push(LevelReport {
+            intensity: level_intensity,
+            candidates: members.len(),
+            chains: starts.len(),
+            confirmed: count,
+        });
+    }
+    chosen.sort_unstable();
+    Ok(IntensityOutcome {
+        chosen,
+        airspace_radius,
+        ghosts_dropped,
+        chains,
+        levels,
+    })
+}

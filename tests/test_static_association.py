@@ -1,0 +1,124 @@
+"""Static bearing-only association (METHODS §2): exact recovery without noise, the partition
+invariant, thread invariance, bad input and a smoke run of `reproduce intensity`."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+import passive_assoc as pa
+from passive_assoc.cli import main as cli_main
+from passive_assoc.static_scenarios import StaticScan, static_scan
+
+METHODS = ("intensity", "lagrangian", "exact")
+
+
+def noiseless(seed: int, n_targets: int, n_sensors: int = 3, sigma: float = 1e-3) -> StaticScan:
+    """Pd = 1, no false bearings, no noise — seen by a network that believes sigma."""
+    raw = static_scan(seed, n_targets=n_targets, n_sensors=n_sensors, pd=1.0, p_false=0.0, sigma=1e-10)
+    return dataclasses.replace(raw, sensors=pa.SensorNetwork.planar(raw.sensors.positions[:, :2], sigma))
+
+
+def assert_partition(result: pa.StaticAssociation, n_rows: int) -> None:
+    used = result.tuples[result.tuples >= 0]
+    assert len(np.unique(used)) == len(used), "a report is in two tuples"
+    assert np.array_equal(np.sort(np.concatenate([used, result.false_alarms])), np.arange(n_rows))
+    for k, rows in enumerate(result.tuples):
+        assert np.all(result.labels[rows[rows >= 0]] == k)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_noiseless_scan_is_recovered_exactly(method: str, seed: int) -> None:
+    scan = noiseless(seed, n_targets=6)
+    result = pa.associate_static(scan.measurements, scan.sensors, method, pd=0.99)
+    assert_partition(result, len(scan.measurements))
+    assert sorted(map(tuple, result.tuples.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
+    order = [int(np.flatnonzero((result.tuples == t).all(axis=1))[0]) for t in scan.true_tuples]
+    np.testing.assert_allclose(result.positions[order], scan.targets, atol=1e-3)
+
+
+def test_four_sensors_noiseless() -> None:
+    scan = noiseless(9, n_targets=5, n_sensors=4)
+    for method in METHODS:
+        result = pa.associate_static(scan.measurements, scan.sensors, method, pd=0.99)
+        assert sorted(map(tuple, result.tuples.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**31), n_targets=st.integers(1, 8), n_sensors=st.integers(2, 4),
+       ratio=st.sampled_from([5.0, 15.0, 60.0]))
+def test_every_report_ends_in_one_tuple_or_the_false_alarms(seed: int, n_targets: int, n_sensors: int, ratio: float) -> None:
+    scan = static_scan(seed, n_targets=n_targets, n_sensors=n_sensors, ratio=ratio)
+    assume(len(scan.measurements) > 0)  # an empty scan is refused (test_bad_inputs)
+    for method in METHODS:
+        result = pa.associate_static(scan.measurements, scan.sensors, method, time_limit=0.5)
+        assert_partition(result, len(scan.measurements))
+
+
+def test_lagrangian_reports_a_valid_bound_and_exact_is_no_worse() -> None:
+    scan = static_scan(5, n_targets=8, ratio=15.0)
+    lag = pa.associate_static(scan.measurements, scan.sensors, "lagrangian")
+    exact = pa.associate_static(scan.measurements, scan.sensors, "exact", time_limit=5.0)
+    assert exact.report["optimal"]
+    assert lag.report["dual_bound"] <= exact.report["primal_cost"] + 1e-9
+    assert exact.report["primal_cost"] <= lag.report["primal_cost"] + 1e-9
+    assert lag.costs.sum() == pytest.approx(lag.report["primal_cost"])
+
+
+def test_enumeration_is_thread_count_invariant() -> None:
+    scan = static_scan(8, n_targets=30, ratio=15.0)
+    one = pa.enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
+    two = pa.enumerate_candidates(scan.measurements, scan.sensors, n_threads=2)
+    for key in ("tuples", "rows", "positions", "covariances", "costs"):
+        np.testing.assert_array_equal(one[key], two[key])
+
+
+@pytest.mark.parametrize(
+    "kwargs,exc,message",
+    [
+        (dict(method="greedy"), ValueError, "method"),
+        (dict(pd=1.0), ValueError, r"pd: sensor 0 has 1.0, must be in \(0.0, 1.0\)"),
+        (dict(pd=[0.9, 0.9]), ValueError, "pd: expected a scalar or 3 values"),
+        (dict(false_alarm_density=-1.0), ValueError, "false_alarm_density"),
+        (dict(gate=float("nan")), ValueError, "gate"),
+        (dict(min_intensity=1), ValueError, "min_intensity"),
+        (dict(max_chains=0), ValueError, "max_chains"),
+        (dict(max_candidates=3), ValueError, "max_candidates|cap"),
+    ],
+)
+def test_bad_arguments(kwargs: dict, exc: type[Exception], message: str) -> None:
+    scan = static_scan(1, n_targets=5)
+    method = kwargs.pop("method", "intensity")
+    with pytest.raises(exc, match=message):
+        pa.associate_static(scan.measurements, scan.sensors, method, **kwargs)
+
+
+def test_bad_inputs() -> None:
+    scan = static_scan(1, n_targets=5)
+    one_sensor = pa.SensorNetwork.planar([[0.0, 0.0]], 1e-3)
+    with pytest.raises(ValueError, match="at least 2 sensors"):
+        pa.associate_static(scan.measurements.select(np.flatnonzero(scan.measurements.sensor == 0)), one_sensor)
+    with pytest.raises(TypeError, match="measurements"):
+        pa.associate_static(scan.measurements.to_arrays(), scan.sensors)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="empty"):
+        pa.associate_static(scan.measurements.select(np.array([], dtype=np.int64)), scan.sensors)
+
+
+def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json, out_png = tmp_path / "intensity.json", tmp_path / "intensity.png"
+    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--max-m", "12", "--time-limit", "0.5",
+            "--json", str(out_json), "--plot", str(out_png)]
+    assert cli_main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "Table 1" in printed and "Table 2" in printed
+    record = json.loads(out_json.read_text())
+    assert set(record["accuracy"]["15"]) == set(METHODS)
+    assert [row["M"] for row in record["timing"] if row["S"] == 3] == [6, 12]
+    assert out_png.stat().st_size > 10_000
