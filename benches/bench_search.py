@@ -17,9 +17,8 @@ import itertools
 import time
 
 import numpy as np
-from scipy.optimize import minimize
-
 import passive_assoc as pa
+from scipy.optimize import minimize
 
 CHI2_GATE = 13.815510557964274
 

@@ -4,11 +4,10 @@ solver against scipy.optimize.linear_sum_assignment (issue: static association).
 from __future__ import annotations
 
 import numpy as np
+import passive_assoc as pa
 import pytest
 from scipy.optimize import Bounds, LinearConstraint, linear_sum_assignment, milp
 from scipy.sparse import csr_matrix
-
-import passive_assoc as pa
 
 
 def random_instance(rng: np.random.Generator, s: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -3,12 +3,12 @@ argument — never a crash or a PanicException (issue: foundation, "Bad input").
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
-import pytest
-
 import passive_assoc as pa
+import pytest
 from passive_assoc import _core
 
 SENSORS = pa.SensorNetwork.spatial([[0, 0, 0], [20e3, 0, 0]], 5e-3, 5e-3)

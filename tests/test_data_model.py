@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
 from passive_assoc._validation import (
     as_float_array,
     as_float_scalar,

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import passive_assoc as pa
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-import passive_assoc as pa
 
 
 def _noiseless_table(sensors: pa.SensorNetwork, state: np.ndarray, times: np.ndarray, which: np.ndarray) -> pa.MeasurementTable:

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-
 from passive_assoc.sensors import SensorNetwork
 from passive_assoc.simulate import (
     PAPER_FTI_TARGETS,

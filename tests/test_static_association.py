@@ -8,11 +8,10 @@ import json
 from pathlib import Path
 
 import numpy as np
+import passive_assoc as pa
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-
-import passive_assoc as pa
 from passive_assoc.cli import main as cli_main
 from passive_assoc.static_scenarios import StaticScan, static_scan
 

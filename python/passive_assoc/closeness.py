@@ -13,27 +13,20 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
+from ._inputs import core_columns
 from ._validation import as_float_array, as_float_scalar, as_int_scalar
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
 
 
 def _columns(measurements: MeasurementTable, sensors: SensorNetwork, spread_factor: float) -> tuple:
-    if not isinstance(measurements, MeasurementTable):
-        raise TypeError(f"measurements: expected a MeasurementTable, got {type(measurements).__name__}")
-    if not isinstance(sensors, SensorNetwork):
-        raise TypeError(f"sensors: expected a SensorNetwork, got {type(sensors).__name__}")
-    if len(measurements) == 0:
-        raise ValueError("measurements: the table is empty")
-    measurements.validate_against(sensors)
+    """Core columns plus the per-sensor spreads (azimuth, elevation)."""
+    columns = core_columns(measurements, sensors)
     factor = as_float_scalar("spread_factor", spread_factor, finite=True)
     if factor <= 0:
         raise ValueError(f"spread_factor: must be > 0, got {factor}")
     sigma_el = sensors.sigma_azimuth if sensors.ndim == 2 else sensors.sigma_elevation
-    elevation = np.zeros(len(measurements)) if sensors.ndim == 2 else measurements.elevation
-    return (measurements.sensor, measurements.time, measurements.azimuth, np.ascontiguousarray(elevation),
-            sensors.positions, sensors.sigma_azimuth, sensors.sigma_elevation,
-            factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float))
+    return (*columns, factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float))
 
 
 def closeness(measurements: MeasurementTable, sensors: SensorNetwork, states: ArrayLike, *, t0: float = 0.0,

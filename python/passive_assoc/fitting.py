@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
+from ._inputs import check_network, core_columns
 from ._validation import as_float_array, as_float_scalar, as_int_array
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
@@ -79,20 +80,6 @@ def _groups_to_csr(groups: ArrayLike | Sequence[ArrayLike]) -> tuple[NDArray[np.
     return np.concatenate(parts), offsets
 
 
-def _network_arrays(sensors: SensorNetwork) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    if not isinstance(sensors, SensorNetwork):
-        raise TypeError(f"sensors: expected a SensorNetwork, got {type(sensors).__name__}")
-    return sensors.positions, sensors.sigma_azimuth, sensors.sigma_elevation
-
-
-def _check_table(measurements: MeasurementTable, sensors: SensorNetwork) -> None:
-    if not isinstance(measurements, MeasurementTable):
-        raise TypeError(f"measurements: expected a MeasurementTable, got {type(measurements).__name__}")
-    if len(measurements) == 0:
-        raise ValueError("measurements: the table is empty")
-    measurements.validate_against(sensors)
-
-
 def fit_ml(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
@@ -146,15 +133,12 @@ def fit_ml(
     >>> fit.estimates.shape, bool(fit.converged.all())
     ((4, 6), True)
     """
-    _check_table(measurements, sensors)
-    positions, sigma_az, sigma_el = _network_arrays(sensors)
+    columns = core_columns(measurements, sensors)
     indices, offsets = _groups_to_csr(groups)
     dim = sensors.ndim * (2 if motion == "cv" else 1)
     start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
-    elevation = np.zeros(len(measurements)) if sensors.ndim == 2 else measurements.elevation
     out = _core.fit_batch(
-        measurements.sensor, measurements.time, measurements.azimuth, np.ascontiguousarray(elevation),
-        positions, sigma_az, sigma_el, indices, offsets, start,
+        *columns, indices, offsets, start,
         ndim=sensors.ndim, motion=motion, t0=as_float_scalar("t0", t0),
         max_iter=max_iter, xtol=xtol, step_sigmas=step_sigmas, n_threads=n_threads,
     )
@@ -203,11 +187,11 @@ def fisher_and_crlb(
     t0: float = 0.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The Fisher information and its inverse; see :func:`crlb`."""
-    positions, sigma_az, sigma_el = _network_arrays(sensors)
+    network = check_network(sensors)
     return _core.crlb(
-        positions, sigma_az, sigma_el,
+        network.positions, network.sigma_azimuth, network.sigma_elevation,
         as_int_array("sensor_index", sensor_index, ndim=1),
         as_float_array("times", times, ndim=1),
         as_float_array("truth", truth, ndim=1),
-        ndim=sensors.ndim, motion=motion, t0=as_float_scalar("t0", t0),
+        ndim=network.ndim, motion=motion, t0=as_float_scalar("t0", t0),
     )

@@ -19,7 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
-from ._validation import as_float_array, as_float_scalar, as_int_array, as_int_scalar
+from ._inputs import core_columns
+from ._validation import as_float_scalar, as_int_array, as_int_scalar
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
 
@@ -224,20 +225,11 @@ class FuzzyTrackInitiator:
         -------
         InitiationResult
         """
-        if not isinstance(measurements, MeasurementTable):
-            raise TypeError(f"measurements: expected a MeasurementTable, got {type(measurements).__name__}")
-        if not isinstance(sensors, SensorNetwork):
-            raise TypeError(f"sensors: expected a SensorNetwork, got {type(sensors).__name__}")
-        if len(measurements) == 0:
-            raise ValueError("measurements: the table is empty")
-        measurements.validate_against(sensors)
+        columns = core_columns(measurements, sensors)
         epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
         spread_az, spread_el = self._spreads(sensors)
-        elevation = np.zeros(len(measurements)) if sensors.ndim == 2 else measurements.elevation
         out = _core.initiate(
-            measurements.sensor, measurements.time, measurements.azimuth, np.ascontiguousarray(elevation),
-            sensors.positions, sensors.sigma_azimuth, sensors.sigma_elevation,
-            self._pairs(sensors.n_sensors), spread_az, spread_el,
+            *columns, self._pairs(sensors.n_sensors), spread_az, spread_el,
             ndim=sensors.ndim, t0=epoch, gate=float(self.gate), n_detect=int(self.n_detect),
             ray_gate=self.ray_gate, reject_behind=self.reject_behind, v_max=self.v_max,
             chi2_gate=self.chi2_gate, one_per_scan=self.one_per_scan, merge_tol=float(self.merge_tol),

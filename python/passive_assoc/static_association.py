@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
+from ._inputs import check_network, core_columns
 from ._validation import as_float_array, as_float_scalar, as_int_scalar
 from .assignment import assign_sd
 from .measurements import MeasurementTable
@@ -105,22 +106,14 @@ def enumerate_candidates(
     row or −1), ``positions``, ``covariances``, ``costs``, ``intensity``, ``chi2``, ``sizes``
     and ``stage_counts`` (partial tuples tested and pruned per depth).
     """
-    if not isinstance(measurements, MeasurementTable):
-        raise TypeError(f"measurements: expected a MeasurementTable, got {type(measurements).__name__}")
-    if not isinstance(sensors, SensorNetwork):
-        raise TypeError(f"sensors: expected a SensorNetwork, got {type(sensors).__name__}")
-    if sensors.n_sensors < 2:
+    if check_network(sensors).n_sensors < 2:
         raise ValueError(f"sensors: static association needs at least 2 sensors, got {sensors.n_sensors}")
-    if len(measurements) == 0:
-        raise ValueError("measurements: the table is empty")
-    measurements.validate_against(sensors)
+    sensor, _, azimuth, elevation, positions, sigma_az, sigma_el = core_columns(measurements, sensors)
     n = sensors.n_sensors
     density = (default_false_alarm_density(measurements, n) if false_alarm_density is None
                else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf))
-    elevation = np.zeros(len(measurements)) if sensors.ndim == 2 else measurements.elevation
     return dict(_core.enumerate_static(
-        measurements.sensor, measurements.azimuth, np.ascontiguousarray(elevation),
-        sensors.positions, sensors.sigma_azimuth, sensors.sigma_elevation,
+        sensor, azimuth, elevation, positions, sigma_az, sigma_el,
         _per_sensor("pd", pd, n, 0.0, 1.0), density, ndim=sensors.ndim,
         gate=as_float_scalar("gate", gate, finite=True), min_intensity=as_int_scalar("min_intensity", min_intensity, minimum=2),
         max_candidates=as_int_scalar("max_candidates", max_candidates, minimum=1), n_threads=n_threads,

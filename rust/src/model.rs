@@ -116,36 +116,10 @@ pub fn predict(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> [f64; 2] {
     }
 }
 
-/// Predicted angles and their gradients with respect to the target position, or `None` where
-/// the angles are not differentiable (target on the sensor's vertical axis).
+/// Gradients of the predicted angles (see [`predict`]) with respect to the target position,
+/// or `None` where they are not differentiable (target on the sensor's vertical axis).
 #[inline(always)]
-pub fn predict_with_gradient(
-    space: Space,
-    sensor: &[f64; 3],
-    target: &[f64; 3],
-) -> Option<([f64; 2], [[f64; 3]; 2])> {
-    let dx = target[0] - sensor[0];
-    let dy = target[1] - sensor[1];
-    let rho2 = dx * dx + dy * dy;
-    if rho2 <= 0.0 || !rho2.is_finite() {
-        return None;
-    }
-    let d_azimuth = [-dy / rho2, dx / rho2, 0.0];
-    let azimuth = dy.atan2(dx);
-    if space == Space::Planar {
-        return Some(([azimuth, 0.0], [d_azimuth, [0.0; 3]]));
-    }
-    let dz = target[2] - sensor[2];
-    let rho = rho2.sqrt();
-    let r2 = rho2 + dz * dz;
-    let d_elevation = [-dx * dz / (r2 * rho), -dy * dz / (r2 * rho), rho / r2];
-    Some(([azimuth, dz.atan2(rho)], [d_azimuth, d_elevation]))
-}
-
-/// Gradients of the predicted angles with respect to the target position (as in
-/// [`predict_with_gradient`], without the angles), or `None` on the vertical axis.
-#[inline(always)]
-fn angle_gradients(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> Option<[[f64; 3]; 2]> {
+pub fn angle_gradients(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> Option<[[f64; 3]; 2]> {
     let dx = target[0] - sensor[0];
     let dy = target[1] - sensor[1];
     let rho2 = dx * dx + dy * dy;

@@ -77,4 +77,4 @@ def print_rows(rows: Iterable[Iterable[str]], widths: Iterable[int]) -> None:
     """Print right-aligned columns."""
     w = list(widths)
     for row in rows:
-        print(" ".join(cell.rjust(width) for cell, width in zip(row, w)))
+        print(" ".join(cell.rjust(width) for cell, width in zip(row, w, strict=True)))

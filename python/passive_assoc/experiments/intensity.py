@@ -44,7 +44,7 @@ def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, wo
     for ratio in ratios:
         seeds = run_seeds(seed + int(ratio * 1000), runs)
 
-        def work(r: int, ratio: float = ratio) -> dict[str, dict[str, float]]:
+        def work(r: int, ratio: float = ratio, seeds: list = seeds) -> dict[str, dict[str, float]]:
             scan = static_scan(np.random.default_rng(seeds[r]), n_targets=n_targets, ratio=ratio)
             return {m: score(scan, m, time_limit) for m in METHODS}
 

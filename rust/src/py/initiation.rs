@@ -171,29 +171,25 @@ pub fn closeness<'py>(
     n_threads: Option<i64>,
 ) -> PyResult<(F64Array<'py>, F64Array<'py>)> {
     let space = space_of(ndim)?;
-    let sensors_arrays = SensorArrays {
-        positions: sensor_positions,
-        sigma_azimuth,
-        sigma_elevation,
-    };
-    let sensors = sensors_arrays.view(space)?;
-    let table = MeasurementArrays {
-        sensor,
-        time,
-        azimuth,
-        elevation,
-    };
-    let measurements = table.view(&sensors)?;
-    let spreads = Spreads::new(
+    let pre = precompute(
         space,
-        sensors.len(),
-        slice1("spread_azimuth", &spread_azimuth)?,
-        slice1("spread_elevation", &spread_elevation)?,
+        t0,
+        SensorArrays {
+            positions: sensor_positions,
+            sigma_azimuth,
+            sigma_elevation,
+        },
+        MeasurementArrays {
+            sensor,
+            time,
+            azimuth,
+            elevation,
+        },
+        (&spread_azimuth, &spread_elevation),
     )?;
     let d = 2 * space.position_dim();
     let states = slice2("states", &states, d)?;
     ensure_finite("states", states)?;
-    let pre = Precomputed::new(&sensors, &measurements, &spreads, t0)?;
     let threads = threads(n_threads)?;
     let (values, gradients) =
         py.detach(|| with_threads(threads, || closeness_batch(&pre, states)))?;
@@ -238,24 +234,21 @@ pub fn maximize_closeness<'py>(
     Bound<'py, PyArrayDyn<i64>>,
 )> {
     let space = space_of(ndim)?;
-    let sensors_arrays = SensorArrays {
-        positions: sensor_positions,
-        sigma_azimuth,
-        sigma_elevation,
-    };
-    let sensors = sensors_arrays.view(space)?;
-    let table = MeasurementArrays {
-        sensor,
-        time,
-        azimuth,
-        elevation,
-    };
-    let measurements = table.view(&sensors)?;
-    let spreads = Spreads::new(
+    let pre = precompute(
         space,
-        sensors.len(),
-        slice1("spread_azimuth", &spread_azimuth)?,
-        slice1("spread_elevation", &spread_elevation)?,
+        t0,
+        SensorArrays {
+            positions: sensor_positions,
+            sigma_azimuth,
+            sigma_elevation,
+        },
+        MeasurementArrays {
+            sensor,
+            time,
+            azimuth,
+            elevation,
+        },
+        (&spread_azimuth, &spread_elevation),
     )?;
     let d = 2 * space.position_dim();
     let starts = slice2("starts", &starts, d)?;
@@ -267,7 +260,6 @@ pub fn maximize_closeness<'py>(
         scaling: scaling_of(scaling)?,
         ..DescentOptions::default()
     };
-    let pre = Precomputed::new(&sensors, &measurements, &spreads, t0)?;
     let threads = threads(n_threads)?;
     let optima = py.detach(|| {
         with_threads(threads, || {
@@ -300,6 +292,25 @@ fn scaling_of(name: &str) -> PyResult<Scaling> {
             "scaling: must be 'whitened' or 'diagonal', got {other:?}"
         ))),
     }
+}
+
+/// The validated closeness table of one call (owned: the array views end here).
+fn precompute(
+    space: crate::model::Space,
+    t0: f64,
+    sensors: SensorArrays<'_>,
+    table: MeasurementArrays<'_>,
+    spreads: (&PyReadonlyArray1<'_, f64>, &PyReadonlyArray1<'_, f64>),
+) -> PyResult<Precomputed> {
+    let sensors = sensors.view(space)?;
+    let measurements = table.view(&sensors)?;
+    let spreads = Spreads::new(
+        space,
+        sensors.len(),
+        slice1("spread_azimuth", spreads.0)?,
+        slice1("spread_elevation", spreads.1)?,
+    )?;
+    Ok(Precomputed::new(&sensors, &measurements, &spreads, t0)?)
 }
 
 fn space_of(ndim: i64) -> PyResult<crate::model::Space> {
