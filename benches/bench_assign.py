@@ -13,9 +13,8 @@ import time
 from collections.abc import Callable
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
-
 import passive_assoc as pa
+from scipy.optimize import linear_sum_assignment
 
 
 def median_seconds(solve: Callable[[np.ndarray], object], matrices: list[np.ndarray]) -> float:

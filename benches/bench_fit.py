@@ -13,9 +13,8 @@ import argparse
 import time
 
 import numpy as np
-from scipy.optimize import least_squares
-
 import passive_assoc as pa
+from scipy.optimize import least_squares
 
 SENSORS = pa.SensorNetwork.spatial([[0, 0, 0], [20e3, 0, 0]], 5e-3, 5e-3)
 SCHEDULE = [(0, 0.0), (1, 5.0), (0, 105.0), (1, 110.0)]

@@ -13,7 +13,6 @@ from .fitting import TERMINATION_NAMES, FitResult, crlb, fisher_and_crlb, fit_ml
 from .initiation import FuzzyTrackInitiator, InitiationResult, Track
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
-from .static_association import StaticAssociation, associate_static, enumerate_candidates
 from .simulate import (
     PAPER_FTI_TARGETS,
     ConstantVelocityTarget,
@@ -22,6 +21,7 @@ from .simulate import (
     paper_fti_scenario,
     simulate,
 )
+from .static_association import StaticAssociation, associate_static, enumerate_candidates
 
 __all__ = [
     "StaticAssociation",
