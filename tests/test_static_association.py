@@ -118,6 +118,8 @@ def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture
     printed = capsys.readouterr().out
     assert "Table 1" in printed and "Table 2" in printed
     record = json.loads(out_json.read_text())
-    assert set(record["accuracy"]["15"]) == set(METHODS)
+    cells = record["accuracy"]["15"]
+    assert set(cells) == {*METHODS, "truth_costlier_than_optimum_pct", "exact_proven_runs", "ghosts_per_scan_median"}
+    assert all(0.0 <= cells[m]["accuracy_pct"] <= 100.0 for m in METHODS)
     assert [row["M"] for row in record["timing"] if row["S"] == 3] == [6, 12]
     assert out_png.stat().st_size > 10_000
