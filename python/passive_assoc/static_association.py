@@ -165,15 +165,16 @@ def associate_static(
         Intensity method: drop every candidate whose nearest intensity-S point (other than
         itself) is farther than the valid-airspace radius d (eq. 12–13), the paper's step 1.
         Off by default: it assumes clustered (formation) targets, and on spread-out targets it
-        deletes isolated real ones even in noiseless data, while its accuracy gain is within
-        Monte-Carlo noise (measured, M = 10, 40 runs: 16.9 % on and off at R = 15; 65.0 % on,
-        62.9 % off at R = 60). ``passive-assoc reproduce intensity`` runs it on, as the paper.
+        deletes isolated real ones even in noiseless data, while its accuracy gain on
+        spread-out targets is small (compare ``passive-assoc reproduce intensity`` with and
+        without ``--no-airspace``; docs/experiments.md). The reproduction runs it on, as the
+        paper.
     max_chains : int, optional
         Intensity method: start at most this many chains (the first of the set H of points
         with the most exclusive rays). Default None: one chain per point of H, the paper's
         rule. Where ghosts are dense every point has 0 exclusive rays, H is the whole level,
-        and the vote grows quadratically (~0.5 s at M = 100); 64 keeps it to milliseconds and
-        did not change accuracy at M = 10–50 in our runs.
+        and the vote grows quadratically in the number of candidates; a cap such as 64 keeps
+        large scans fast (``reproduce intensity`` uses 64 beyond M = 18).
     max_iter, gap_tol, time_limit
         Solver limits, as in :func:`passive_assoc.assign_sd`.
     max_candidates : int

@@ -38,13 +38,13 @@ def truth_cost(scan: StaticScan) -> tuple[float, int]:
     return float(sum(cands["costs"][index[t]] for t in true)), ghosts
 
 
-def score(scan: StaticScan, method: str, time_limit: float) -> dict[str, float]:
+def score(scan: StaticScan, method: str, time_limit: float, valid_airspace: bool = True) -> dict[str, float]:
     """Accuracy (observable targets whose full tuple, misses included, is exactly recovered)
     and GOSPA of one method on one scan; for the exact method also whether the truth's own
     eq. 2 cost is higher than the proven optimum (then no optimiser of eq. 2 can return it)."""
     # The paper's configuration: the intensity method with its valid-airspace step.
     result = associate_static(scan.measurements, scan.sensors, method, time_limit=time_limit, n_threads=1,
-                              valid_airspace=True)
+                              valid_airspace=valid_airspace)
     found = {tuple(row) for row in result.tuples.tolist()}
     observable = scan.observable()
     hits = [tuple(scan.true_tuples[k].tolist()) in found for k in np.flatnonzero(observable)]
@@ -58,14 +58,14 @@ def score(scan: StaticScan, method: str, time_limit: float) -> dict[str, float]:
 
 
 def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, workers: int,
-                   time_limit: float) -> dict[str, Any]:
+                   time_limit: float, valid_airspace: bool = True) -> dict[str, Any]:
     table: dict[str, Any] = {}
     for ratio in ratios:
         seeds = run_seeds(seed + int(ratio * 1000), runs)
 
         def work(r: int, ratio: float = ratio, seeds: list = seeds) -> dict[str, dict[str, float]]:
             scan = static_scan(np.random.default_rng(seeds[r]), n_targets=n_targets, ratio=ratio)
-            return {m: score(scan, m, time_limit) for m in METHODS}
+            return {m: score(scan, m, time_limit, valid_airspace) for m in METHODS}
 
         per_run = map_runs(work, runs, workers, desc=f"accuracy R={ratio:g}")
         table[f"{ratio:g}"] = {
@@ -86,18 +86,19 @@ FULL_VOTE_MAX_M = 18
 MAX_CHAINS = 64
 
 
-def _timed(scan: StaticScan, method: str, time_limit: float, repeats: int) -> tuple[float, Any]:
+def _timed(scan: StaticScan, method: str, time_limit: float, repeats: int, valid_airspace: bool) -> tuple[float, Any]:
     best, result = np.inf, None
     max_chains = None if len(scan.targets) <= FULL_VOTE_MAX_M else MAX_CHAINS
     for _ in range(repeats):
         start = time.perf_counter()
         result = associate_static(scan.measurements, scan.sensors, method, time_limit=time_limit, n_threads=1,
-                                  max_chains=max_chains, valid_airspace=True)
+                                  max_chains=max_chains, valid_airspace=valid_airspace)
         best = min(best, time.perf_counter() - start)
     return best, result
 
 
-def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, time_limit: float) -> list[dict[str, Any]]:
+def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, time_limit: float,
+                 valid_airspace: bool = True) -> list[dict[str, Any]]:
     rows = []
     for n_sensors, n_targets in cases:
         scan = static_scan(seed + 7 * n_targets + n_sensors, n_targets=n_targets, n_sensors=n_sensors, ratio=ratio)
@@ -107,7 +108,7 @@ def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, time_lim
             if method == "exact" and n_targets > 100:
                 row["exact_s"] = None  # far beyond what branch-and-bound can prove
                 continue
-            seconds, result = _timed(scan, method, time_limit, repeats)
+            seconds, result = _timed(scan, method, time_limit, repeats, valid_airspace)
             row[f"{method}_s"] = seconds
             row["candidates"] = result.report["candidates"]
             if method == "lagrangian":
@@ -163,6 +164,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ratios", type=float, nargs="+", default=[5, 10, 15, 20], help="R values (default 5 10 15 20)")
     parser.add_argument("--time-limit", type=float, default=2.0, help="branch-and-bound limit per scan, s (default 2)")
     parser.add_argument("--no-timing", action="store_true", help="skip Table 1")
+    parser.add_argument("--no-airspace", action="store_true",
+                        help="run the intensity method without its valid-airspace step (the library default)")
     parser.add_argument("--max-m", type=int, default=500, help="largest M in Table 1 (default 500)")
     parser.add_argument("--plot", metavar="FILE", help="save a picture of one scan: lines of sight, candidates, accepted targets")
     parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
@@ -173,13 +176,14 @@ def main(args: argparse.Namespace) -> int:
         raise SystemExit("--runs must be at least 1")
     print("intensity — paper 001: 2-D sensors at (-15,0), (0,-5), (15,0) km; targets uniform in "
           "[-10,10] x [20,40] km; Pd 0.95, P_FA 0.05 (Poisson false bearings over each sensor's sector)\n")
-    accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, args.time_limit)
+    airspace = not args.no_airspace
+    accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, args.time_limit, airspace)
     print_accuracy(accuracy, args.runs, args.targets)
     timing: list[dict[str, Any]] = []
     if not args.no_timing:
         cases = [(3, m) for m in (6, 12, 18, 50, 100, 200, 500) if m <= args.max_m]
         cases += [(s, m) for s in (4, 5) for m in (18, 50, 100) if m <= args.max_m]
-        timing = timing_table(args.seed, cases, ratio=15.0, time_limit=args.time_limit)
+        timing = timing_table(args.seed, cases, ratio=15.0, time_limit=args.time_limit, valid_airspace=airspace)
         print_timing(timing)
     if args.json:
         settings = {k: v for k, v in vars(args).items() if k not in ("run", "command", "experiment")}
