@@ -53,6 +53,7 @@ RAW_CASES: list[tuple[str, dict[str, Any], type[Exception], str]] = [
     ("bad motion", dict(motion="spline"), ValueError, r"motion: must be 'static' or 'cv'"),
     ("bad ndim", dict(ndim=4), ValueError, r"ndim: must be 2 or 3"),
     ("zero threads", dict(n_threads=0), ValueError, r"n_threads: must be at least 1"),
+    ("absurd threads", dict(n_threads=10**7), ValueError, r"n_threads: 10000000 exceeds the maximum of 1024"),
     ("bad initial shape", dict(initial=np.zeros((1, 4))), ValueError, r"initial: expected shape \(1, 6\)"),
     ("nan initial", dict(initial=np.full((1, 6), np.nan)), ValueError, r"initial: non-finite"),
     ("zero max_iter", dict(max_iter=0), ValueError, r"max_iter: must be at least 1"),

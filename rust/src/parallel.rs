@@ -1,8 +1,40 @@
 //! Thread-count control. Work runs on rayon's global pool unless the caller asks for a
-//! specific count, in which case a dedicated pool of that size runs it; results never depend
-//! on the count because every parallel stage collects in input order.
+//! specific count, in which case a pool of that size runs it; results never depend on the
+//! count because every parallel stage collects in input order.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use crate::error::{CoreError, CoreResult};
+
+/// Pools by size, built once: starting threads costs ~70 µs, more than a small call's work
+/// (a per-scan association or a single fit asked for on one thread).
+fn pool(threads: usize) -> CoreResult<Arc<ThreadPool>> {
+    static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();
+    let pools = POOLS.get_or_init(|| Mutex::new(HashMap::new()));
+    // A poisoned lock only means another thread panicked while inserting; the map is intact.
+    let mut pools = pools
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if let Some(pool) = pools.get(&threads) {
+        return Ok(Arc::clone(pool));
+    }
+    let pool = ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map(Arc::new)
+        .map_err(|e| {
+            CoreError::out_of_range("n_threads", format!("cannot start {threads} threads: {e}"))
+        })?;
+    pools.insert(threads, Arc::clone(&pool));
+    Ok(pool)
+}
+
+/// Largest thread count accepted: far above any machine, low enough that a typo cannot ask
+/// the OS for millions of threads.
+pub const MAX_THREADS: usize = 1024;
 
 /// Runs `work` on `threads` threads (`None` = rayon's global pool, sized to the machine).
 pub fn with_threads<R: Send>(
@@ -15,14 +47,26 @@ pub fn with_threads<R: Send>(
             "n_threads",
             "must be at least 1 (or None for all cores)",
         )),
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| {
-                    CoreError::out_of_range("n_threads", format!("cannot start {n} threads: {e}"))
-                })?;
-            Ok(pool.install(work))
-        }
+        Some(n) if n > MAX_THREADS => Err(CoreError::out_of_range(
+            "n_threads",
+            format!("{n} exceeds the maximum of {MAX_THREADS}"),
+        )),
+        Some(n) => Ok(pool(n)?.install(work)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pools_are_reused_and_sized_as_asked() {
+        let first = with_threads(Some(3), rayon::current_num_threads).expect("pool");
+        assert_eq!(first, 3);
+        let a = pool(3).expect("pool");
+        let b = pool(3).expect("pool");
+        assert!(Arc::ptr_eq(&a, &b));
+        assert!(with_threads(Some(0), || ()).is_err());
+        assert!(with_threads(Some(MAX_THREADS + 1), || ()).is_err());
     }
 }
