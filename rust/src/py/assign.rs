@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::convert::{slice1, to_numpy};
+use super::convert::{count, slice1, to_numpy};
 use crate::assign::{branch_bound, lagrangian, lap, SdProblem, SdSolution};
 
 /// Non-negative int64 → usize, naming the argument and index of the first negative entry.
@@ -34,9 +34,9 @@ pub fn assign_sd<'py>(
     costs: PyReadonlyArray1<'py, f64>,
     sizes: PyReadonlyArray1<'py, i64>,
     method: &str,
-    max_iter: usize,
+    max_iter: i64,
     gap_tol: f64,
-    max_nodes: usize,
+    max_nodes: i64,
     time_limit: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let n_sensors = tuples.shape()[1];
@@ -53,13 +53,13 @@ pub fn assign_sd<'py>(
         to_usize("sizes", slice1("sizes", &sizes)?)?,
     )?;
     let root = lagrangian::LagrangianOptions::default()
-        .with_max_iter(max_iter)?
+        .with_max_iter(count("max_iter", max_iter, 1)?)?
         .with_gap_tol(gap_tol)?;
     let solution: SdSolution = match method {
         "lagrangian" => py.detach(|| lagrangian::solve(&problem, &root)),
         "exact" => {
             let mut options = branch_bound::BranchBoundOptions::default()
-                .with_max_nodes(max_nodes)?
+                .with_max_nodes(count("max_nodes", max_nodes, 1)?)?
                 .with_root(root);
             options = match time_limit {
                 Some(seconds) if seconds.is_finite() && seconds > 0.0 => {

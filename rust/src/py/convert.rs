@@ -35,8 +35,9 @@ pub fn slice2<'a, T: Element>(
         .map_err(|_| PyValueError::new_err(format!("{name}: array must be C-contiguous")))
 }
 
-/// `ndim` (2 or 3) → the measurement space.
-pub fn space(ndim: u8) -> PyResult<Space> {
+/// `ndim` (2 or 3) → the measurement space. Integer arguments are taken as `i64` so that a
+/// negative or huge value is a `ValueError` naming it, not PyO3's `OverflowError`.
+pub fn space(ndim: i64) -> PyResult<Space> {
     match ndim {
         2 => Ok(Space::Planar),
         3 => Ok(Space::Spatial),
@@ -46,8 +47,23 @@ pub fn space(ndim: u8) -> PyResult<Space> {
     }
 }
 
+/// A count argument of at least `min`.
+pub fn count(name: &str, value: i64, min: usize) -> PyResult<usize> {
+    usize::try_from(value)
+        .ok()
+        .filter(|&v| v >= min)
+        .ok_or_else(|| {
+            PyValueError::new_err(format!("{name}: must be at least {min}, got {value}"))
+        })
+}
+
+/// An optional thread count (`None` = all cores).
+pub fn threads(n_threads: Option<i64>) -> PyResult<Option<usize>> {
+    n_threads.map(|n| count("n_threads", n, 1)).transpose()
+}
+
 /// `motion` ("static" or "cv") and `t0` → the state layout.
-pub fn layout(ndim: u8, motion: &str, t0: f64) -> PyResult<StateLayout> {
+pub fn layout(ndim: i64, motion: &str, t0: f64) -> PyResult<StateLayout> {
     let motion = match motion {
         "static" => Motion::Static,
         "cv" if t0.is_finite() => Motion::ConstantVelocity { t0 },

@@ -4,7 +4,7 @@
 use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use super::convert::{layout, slice1, to_numpy, MeasurementArrays, SensorArrays};
+use super::convert::{count, layout, slice1, threads, to_numpy, MeasurementArrays, SensorArrays};
 use crate::fisher;
 use crate::fit::batch::{fit_batch as core_fit_batch, Problems};
 use crate::fit::FitOptions;
@@ -39,21 +39,21 @@ pub fn fit_batch<'py>(
     indices: PyReadonlyArray1<'py, i64>,
     offsets: PyReadonlyArray1<'py, i64>,
     initial: Option<PyReadonlyArray2<'py, f64>>,
-    ndim: u8,
+    ndim: i64,
     motion: &str,
     t0: f64,
-    max_iter: usize,
+    max_iter: i64,
     xtol: f64,
     step_sigmas: f64,
-    max_halvings: usize,
-    n_threads: Option<usize>,
+    max_halvings: i64,
+    n_threads: Option<i64>,
 ) -> PyResult<FitArrays<'py>> {
     let layout = layout(ndim, motion, t0)?;
     let options = FitOptions::default()
-        .with_max_iter(max_iter)?
+        .with_max_iter(count("max_iter", max_iter, 1)?)?
         .with_xtol(xtol)?
         .with_step_sigmas(step_sigmas)?
-        .with_max_halvings(max_halvings)?;
+        .with_max_halvings(count("max_halvings", max_halvings, 0)?)?;
     let sensors_arrays = SensorArrays {
         positions: sensor_positions,
         sigma_azimuth,
@@ -78,6 +78,7 @@ pub fn fit_batch<'py>(
         offsets: slice1("offsets", &offsets)?,
         initial: initial_slice,
     };
+    let n_threads = threads(n_threads)?;
     let outcome = py.detach(|| {
         with_threads(n_threads, || {
             core_fit_batch(&measurements, &sensors, &layout, &problems, &options)
@@ -105,7 +106,7 @@ pub fn crlb<'py>(
     sensor_index: PyReadonlyArray1<'py, i64>,
     times: PyReadonlyArray1<'py, f64>,
     truth: PyReadonlyArray1<'py, f64>,
-    ndim: u8,
+    ndim: i64,
     motion: &str,
     t0: f64,
 ) -> PyResult<(F64Array<'py>, F64Array<'py>)> {

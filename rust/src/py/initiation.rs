@@ -6,7 +6,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::convert::{slice1, slice2, space, to_numpy, MeasurementArrays, SensorArrays};
+use super::convert::{
+    count, slice1, slice2, space, threads, to_numpy, MeasurementArrays, SensorArrays,
+};
 use crate::error::ensure_finite;
 use crate::initiation::closeness::closeness_batch;
 use crate::initiation::descent::descend_from;
@@ -55,7 +57,7 @@ pub fn initiate<'py>(
     descent_scaling: &str,
     refine_passes: i64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let space = space_of(ndim)?;
+    let space = space(ndim)?;
     let scaling = scaling_of(descent_scaling)?;
     let sensors_arrays = SensorArrays {
         positions: sensor_positions,
@@ -170,7 +172,7 @@ pub fn closeness<'py>(
     t0: f64,
     n_threads: Option<i64>,
 ) -> PyResult<(F64Array<'py>, F64Array<'py>)> {
-    let space = space_of(ndim)?;
+    let space = space(ndim)?;
     let pre = precompute(
         space,
         t0,
@@ -233,7 +235,7 @@ pub fn maximize_closeness<'py>(
     Bound<'py, PyArrayDyn<i64>>,
     Bound<'py, PyArrayDyn<i64>>,
 )> {
-    let space = space_of(ndim)?;
+    let space = space(ndim)?;
     let pre = precompute(
         space,
         t0,
@@ -311,29 +313,6 @@ fn precompute(
         slice1("spread_elevation", spreads.1)?,
     )?;
     Ok(Precomputed::new(&sensors, &measurements, &spreads, t0)?)
-}
-
-fn space_of(ndim: i64) -> PyResult<crate::model::Space> {
-    match u8::try_from(ndim) {
-        Ok(n @ (2 | 3)) => space(n),
-        _ => Err(PyValueError::new_err(format!(
-            "ndim: must be 2 or 3, got {ndim}"
-        ))),
-    }
-}
-
-/// A non-negative integer argument of at least `min`.
-fn count(name: &str, value: i64, min: usize) -> PyResult<usize> {
-    usize::try_from(value)
-        .ok()
-        .filter(|&v| v >= min)
-        .ok_or_else(|| {
-            PyValueError::new_err(format!("{name}: must be an integer >= {min}, got {value}"))
-        })
-}
-
-fn threads(n_threads: Option<i64>) -> PyResult<Option<usize>> {
-    n_threads.map(|n| count("n_threads", n, 1)).transpose()
 }
 
 /// Row-major (K, 2) sensor indices → pairs; an empty array means "every pair".

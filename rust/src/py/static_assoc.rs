@@ -7,24 +7,13 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::convert::{slice1, space, to_numpy, SensorArrays};
+use super::convert::{count, slice1, space, threads, to_numpy, SensorArrays};
 use crate::data::Measurements;
 use crate::parallel::with_threads;
 use crate::static_assoc::{
     enumerate, intensity_search as core_intensity_search, DetectionModel, EnumerateOptions,
     IntensityInput, IntensityOptions,
 };
-
-/// A non-negative integer argument as `usize`, at least `min`.
-fn count(name: &str, value: i64, min: i64) -> PyResult<usize> {
-    if value < min {
-        return Err(PyValueError::new_err(format!(
-            "{name}: must be at least {min}, got {value}"
-        )));
-    }
-    usize::try_from(value)
-        .map_err(|_| PyValueError::new_err(format!("{name}: {value} is too large")))
-}
 
 /// Enumerates the gated candidate tuples of one scan with ML positions, covariances and eq. 2
 /// costs. Times are not needed (one scan); `elevation` is ignored for `ndim=2`.
@@ -50,24 +39,14 @@ pub fn enumerate_static<'py>(
     max_candidates: i64,
     n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let space = match u8::try_from(ndim) {
-        Ok(n) => space(n)?,
-        Err(_) => {
-            return Err(PyValueError::new_err(format!(
-                "ndim: must be 2 or 3, got {ndim}"
-            )))
-        }
-    };
+    let space = space(ndim)?;
     let options = EnumerateOptions {
         gate,
         min_intensity: count("min_intensity", min_intensity, 2)?,
         max_candidates: count("max_candidates", max_candidates, 1)?,
         ..EnumerateOptions::default()
     };
-    let threads = match n_threads {
-        Some(n) => Some(count("n_threads", n, 1)?),
-        None => None,
-    };
+    let threads = threads(n_threads)?;
     let sensors_arrays = SensorArrays {
         positions: sensor_positions,
         sigma_azimuth,
