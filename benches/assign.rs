@@ -3,7 +3,10 @@
 //! * dense LAP on uniform [0, 1) costs, 100×100 and 1000×1000 — the target is at most 1.5×
 //!   `scipy.optimize.linear_sum_assignment` on the same sizes;
 //! * the S-D Lagrangian on S = 3 scans with ~18 and ~100 reports per sensor and a sparse,
-//!   gated-looking tuple set (each report in a handful of tuples).
+//!   gated-looking tuple set (each report in a handful of tuples);
+//! * the same on the shape `static_association.enumerate_candidates` produces (~1 200 and
+//!   ~38 000 candidates): nearly every report pair of two sensors is a candidate at one shared
+//!   cost, and ~0.7·n² triples, many nearly as cheap as the true ones.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use passive_assoc::assign::lagrangian::{self, LagrangianOptions};
@@ -73,16 +76,58 @@ fn sd_scan(n: usize, seed: u64) -> SdProblem {
     SdProblem::new(tuples, 3, costs, vec![n; 3]).expect("the generator builds valid input")
 }
 
-fn sd_lagrangian(c: &mut Criterion) {
-    let mut group = c.benchmark_group("sd_lagrangian_s3");
-    let options = LagrangianOptions::default();
-    for n in [18usize, 100] {
-        let problem = sd_scan(n, 42);
-        group.bench_with_input(BenchmarkId::from_parameter(n), &problem, |b, p| {
-            b.iter(|| lagrangian::solve(black_box(p), &options))
-        });
+/// An S = 3 scan shaped like the enumerated candidates of `static_scan` (ratio 15): `n`
+/// reports per sensor from `n` targets; each sensor pair's report pairs are candidates with
+/// probability 0.97 at a cost shared by that sensor pair; the true triples cost about -13.7,
+/// and ~0.7·n² ghost triples cost between that and -7.
+fn sd_gated(n: usize, seed: u64) -> SdProblem {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut tuples, mut costs) = (Vec::new(), Vec::new());
+    for (pair, cost) in [((0, 1), -6.08), ((0, 2), -6.13), ((1, 2), -6.21)] {
+        for i in 1..=n {
+            for j in (1..=n).filter(|_| rng.random_bool(0.97)) {
+                let mut t = [0; 3];
+                (t[pair.0], t[pair.1]) = (i, j);
+                tuples.extend_from_slice(&t);
+                costs.push(cost);
+            }
+        }
     }
-    group.finish();
+    let perms: Vec<Vec<usize>> = (0..3)
+        .map(|_| {
+            let mut p: Vec<usize> = (1..=n).collect();
+            for i in (1..n).rev() {
+                p.swap(i, rng.random_range(0..=i));
+            }
+            p
+        })
+        .collect();
+    for t in 0..n {
+        tuples.extend(perms.iter().map(|p| p[t]));
+        costs.push(rng.random_range(-13.71..-13.0));
+    }
+    for _ in 0..n * n * 7 / 10 {
+        tuples.extend((0..3).map(|_| rng.random_range(1..=n)));
+        costs.push(rng.random_range(-13.7..-7.0));
+    }
+    SdProblem::new(tuples, 3, costs, vec![n; 3]).expect("the generator builds valid input")
+}
+
+fn sd_lagrangian(c: &mut Criterion) {
+    let options = LagrangianOptions::default();
+    for (name, make) in [
+        ("sd_lagrangian_s3", sd_scan as fn(usize, u64) -> SdProblem),
+        ("sd_lagrangian_s3_gated", sd_gated),
+    ] {
+        let mut group = c.benchmark_group(name);
+        for n in [18usize, 100] {
+            let problem = make(n, 42);
+            group.bench_with_input(BenchmarkId::from_parameter(n), &problem, |b, p| {
+                b.iter(|| lagrangian::solve(black_box(p), &options))
+            });
+        }
+        group.finish();
+    }
 }
 
 criterion_group!(benches, dense_lap, sd_lagrangian);

@@ -8,12 +8,20 @@
 //! sensors 0 and 1 (each pair keeps its best tuple; tuples missing sensor 0 or 1 become the
 //! "unassigned" costs), solved exactly by [`lap`](super::lap), so `L(u)` is a valid lower bound.
 //! The bound is raised by projected subgradient ascent with a Polyak step aimed at the best
-//! primal; a feasible solution is recovered each iteration by successive 2-D assignments.
+//! primal; a feasible solution is recovered each iteration by successive 2-D assignments and
+//! polished by a local search (private module `recovery`).
+//!
+//! Speed: every iteration touches every candidate tuple, so the per-solve structures
+//! (`Relaxation`, `Recovery`) are built once and their buffers reused, and work
+//! whose result is already known is skipped (a repeated relaxed solution or search start). The
+//! result is the same, bit for bit, as a plain implementation of the steps above.
 
-use super::lap::{sparse_core, SparseCosts};
-use super::recovery;
+use super::recovery::Recovery;
 use super::{closes_gap, relative_gap, SdProblem, SdSolution, Termination};
 use crate::error::{CoreError, CoreResult};
+use relaxation::Relaxation;
+
+mod relaxation;
 
 /// Options of [`solve`], built with validated `with_*` setters.
 ///
@@ -131,24 +139,25 @@ impl LagrangianOptions {
 /// assert!(s.dual_bound <= s.primal_cost + 1e-12);
 /// ```
 pub fn solve(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
-    let relax = Relaxation::new(problem);
-    let by_cost = recovery::by_cost(problem);
+    let mut relax = Relaxation::new(problem);
+    let mut recovery = Recovery::new(problem);
     let mut mult: Vec<Vec<f64>> = problem.sizes().iter().map(|&n| vec![0.0; n + 1]).collect();
     let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale, 0);
     let (mut iterations, mut termination) = (0, Termination::MaxIterations);
     while iterations < options.max_iter {
         iterations += 1;
-        let (dual, relaxed) = relax.evaluate(problem, &mult);
+        let (dual, relaxed) = relax.evaluate(&mult);
         if dual > dual_bound {
             dual_bound = dual;
             since = 0;
         } else {
             since += 1;
         }
-        let cand = recovery::primal(problem, &by_cost, &mult, &relaxed);
-        if cand.1 < best.1 {
-            best = cand;
+        if let Some(cand) = recovery.primal(problem, &mult, &relaxed) {
+            if cand.1 < best.1 {
+                best = cand;
+            }
         }
         if problem.n_sensors() == 2 || closes_gap(best.1, dual_bound) {
             termination = Termination::Optimal;
@@ -243,116 +252,6 @@ pub(super) fn keep_min(slot: &mut (f64, usize), cand: (f64, usize)) {
 }
 
 pub(super) const EMPTY: (f64, usize) = (f64::INFINITY, usize::MAX);
-
-/// The fixed structure of the relaxed 2-D problem, built once per solve.
-struct Relaxation {
-    /// Unique (sensor 0, sensor 1) report pairs, rows = sensor 0 reports − 1.
-    pairs: SparseCosts,
-    /// Tuples of each pair (CSR over pair index).
-    pair_offs: Vec<usize>,
-    members: Vec<usize>,
-    /// Tuples `(i0 > 0, 0, …)`, `(0, i1 > 0, …)` and `(0, 0, …)`.
-    row_only: Vec<usize>,
-    col_only: Vec<usize>,
-    free: Vec<usize>,
-}
-
-impl Relaxation {
-    fn new(problem: &SdProblem) -> Self {
-        let key = |k: usize| (problem.tuple(k)[0], problem.tuple(k)[1]);
-        let mut both: Vec<usize> = problem
-            .active()
-            .iter()
-            .copied()
-            .filter(|&k| key(k).0 > 0 && key(k).1 > 0)
-            .collect();
-        both.sort_by_key(|&k| key(k)); // stable: members stay in index order
-        let (n0, n1) = (problem.sizes()[0], problem.sizes()[1]);
-        let (mut row_offs, mut cols, mut pair_offs) = (vec![0; n0 + 1], Vec::new(), Vec::new());
-        for (at, &k) in both.iter().enumerate() {
-            if at == 0 || key(both[at - 1]) != key(k) {
-                row_offs[key(k).0] += 1;
-                cols.push(key(k).1 - 1);
-                pair_offs.push(at);
-            }
-        }
-        pair_offs.push(both.len()); // one start per pair, then the end
-        for r in 0..n0 {
-            row_offs[r + 1] += row_offs[r];
-        }
-        let values = vec![0.0; cols.len()];
-        let pick = |f: &dyn Fn((usize, usize)) -> bool| {
-            problem
-                .active()
-                .iter()
-                .copied()
-                .filter(|&k| f(key(k)))
-                .collect()
-        };
-        Self {
-            pairs: SparseCosts::from_csr_unchecked(n0, n1, row_offs, cols, values),
-            pair_offs,
-            members: both,
-            row_only: pick(&|(a, b)| a > 0 && b == 0),
-            col_only: pick(&|(a, b)| a == 0 && b > 0),
-            free: pick(&|(a, b)| a == 0 && b == 0),
-        }
-    }
-
-    /// `L(u)` and the tuples chosen by the relaxed problem.
-    fn evaluate(&self, problem: &SdProblem, mult: &[Vec<f64>]) -> (f64, Vec<usize>) {
-        let m = |k| modified(problem, mult, k, 2);
-        let mut pairs = self.pairs.clone();
-        let mut arg = vec![usize::MAX; self.pair_offs.len() - 1];
-        for (p, v) in pairs.values_mut().iter_mut().enumerate() {
-            let mut b = EMPTY;
-            for &k in &self.members[self.pair_offs[p]..self.pair_offs[p + 1]] {
-                keep_min(&mut b, (m(k), k));
-            }
-            (*v, arg[p]) = b;
-        }
-        let (mut rows, mut cols) = (
-            vec![EMPTY; problem.sizes()[0]],
-            vec![EMPTY; problem.sizes()[1]],
-        );
-        for &k in &self.row_only {
-            keep_min(&mut rows[problem.tuple(k)[0] - 1], (m(k), k));
-        }
-        for &k in &self.col_only {
-            keep_min(&mut cols[problem.tuple(k)[1] - 1], (m(k), k));
-        }
-        let a: Vec<f64> = rows.iter().map(|r| r.0.min(0.0)).collect();
-        let b: Vec<f64> = cols.iter().map(|c| c.0.min(0.0)).collect();
-        let sol = sparse_core(&pairs, &a, &b);
-        let mut chosen = Vec::new();
-        for (r, c) in sol.row_to_col.iter().enumerate() {
-            match c {
-                Some(c) => chosen.extend(
-                    pairs
-                        .span(r)
-                        .find(|&p| pairs.col_indices()[p] == *c)
-                        .map(|p| arg[p]),
-                ),
-                None if a[r] < 0.0 => chosen.push(rows[r].1),
-                None => {}
-            }
-        }
-        chosen.extend(
-            (0..b.len())
-                .filter(|&c| sol.col_to_row[c].is_none() && b[c] < 0.0)
-                .map(|c| cols[c].1),
-        );
-        let mut dual = sol.cost;
-        for &k in &self.free {
-            if m(k) < 0.0 {
-                dual += m(k);
-                chosen.push(k);
-            }
-        }
-        dual += mult.iter().skip(2).flatten().sum::<f64>();
-        (dual, chosen)
-    }
-}
 
 #[cfg(test)]
 mod tests {

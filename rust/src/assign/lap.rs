@@ -198,6 +198,12 @@ impl SparseCosts {
         }
     }
 
+    /// Gives back `(row_offsets, col_indices, values)`, so a caller that builds one matrix per
+    /// iteration can reuse their allocations.
+    pub(crate) fn into_parts(self) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+        (self.row_offsets, self.col_indices, self.values)
+    }
+
     /// Row `i`'s entries as a range into [`SparseCosts::col_indices`] and the values.
     pub(crate) fn span(&self, i: usize) -> std::ops::Range<usize> {
         self.row_offsets[i]..self.row_offsets[i + 1]
@@ -281,14 +287,55 @@ pub fn solve_sparse(
 
 /// The sparse solver on validated input (never fails: every row has its dummy column).
 pub(crate) fn sparse_core(costs: &SparseCosts, a: &[f64], b: &[f64]) -> SparseAssignment {
-    finish(costs, a, b, &sap::sparse(costs, a, b))
+    let mut solver = SparseSolver::default();
+    solver.solve(costs, a, b);
+    solver.result
+}
+
+/// [`sparse_core`] with working memory kept between calls, for callers that solve one
+/// problem per iteration.
+pub(crate) struct SparseSolver {
+    work: sap::SparseWork,
+    result: SparseAssignment,
+}
+
+impl Default for SparseSolver {
+    fn default() -> Self {
+        let result = SparseAssignment {
+            row_to_col: Vec::new(),
+            col_to_row: Vec::new(),
+            cost: 0.0,
+        };
+        Self {
+            work: sap::SparseWork::default(),
+            result,
+        }
+    }
+}
+
+impl SparseSolver {
+    /// Solves validated input; the result stays valid until the next call.
+    pub(crate) fn solve(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) -> &SparseAssignment {
+        let col4row = sap::sparse(&mut self.work, costs, a, b);
+        finish(costs, a, b, col4row, &mut self.result);
+        &self.result
+    }
 }
 
 /// Converts the internal matching to the public form and totals the cost from the input.
-fn finish(costs: &SparseCosts, a: &[f64], b: &[f64], col4row: &[usize]) -> SparseAssignment {
+fn finish(
+    costs: &SparseCosts,
+    a: &[f64],
+    b: &[f64],
+    col4row: &[usize],
+    out: &mut SparseAssignment,
+) {
     let (nr, nc) = (costs.n_rows, costs.n_cols);
-    let mut row_to_col = vec![None; nr];
-    let mut col_to_row = vec![None; nc];
+    let (row_to_col, col_to_row) = (&mut out.row_to_col, &mut out.col_to_row);
+    row_to_col.clear();
+    col_to_row.clear();
+    row_to_col.resize(nr, None);
+    col_to_row.resize(nc, None);
     let mut cost = 0.0;
     for i in 0..nr {
         let j = col4row[i];
@@ -309,11 +356,7 @@ fn finish(costs: &SparseCosts, a: &[f64], b: &[f64], col4row: &[usize]) -> Spars
         .filter(|&j| col_to_row[j].is_none())
         .map(|j| b[j])
         .sum::<f64>();
-    SparseAssignment {
-        row_to_col,
-        col_to_row,
-        cost,
-    }
+    out.cost = cost;
 }
 
 #[cfg(test)]
@@ -447,6 +490,28 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    #[test]
+    fn reused_solver_matches_fresh_solves() {
+        // One solver through problems that grow and shrink: leftovers of an earlier solve
+        // must not leak into a later one.
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut solver = SparseSolver::default();
+        for case in 0..200 {
+            let (nr, nc) = (rng.random_range(0..30usize), rng.random_range(0..30usize));
+            let mut trip = Vec::new();
+            for k in 0..nr * nc {
+                if rng.random_bool(0.3) {
+                    trip.push((k / nc, k % nc, rng.random_range(-9..3i32) as f64));
+                }
+            }
+            let m = SparseCosts::from_triplets(nr, nc, &trip).unwrap();
+            let a: Vec<f64> = (0..nr).map(|_| rng.random_range(-4..2i32) as f64).collect();
+            let b: Vec<f64> = (0..nc).map(|_| rng.random_range(-4..2i32) as f64).collect();
+            let fresh = sparse_core(&m, &a, &b);
+            assert_eq!(solver.solve(&m, &a, &b), &fresh, "case {case}");
         }
     }
 

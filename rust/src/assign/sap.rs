@@ -11,7 +11,7 @@
 
 use super::lap::SparseCosts;
 use crate::error::{CoreError, CoreResult};
-use std::cmp::{Ordering, Reverse};
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 const NONE: usize = usize::MAX;
@@ -148,39 +148,55 @@ fn augment(mut j: usize, cur: usize, path: &[usize], row4col: &mut [usize], col4
     }
 }
 
-/// Heap key: reduced distance, then free columns first, then column index (determinism).
-#[derive(PartialEq)]
-struct Key(f64, bool, usize);
-impl Eq for Key {}
-impl PartialOrd for Key {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
+/// Heap key of column `j` at distance `d`, packed into one integer so that comparing keys is
+/// a single compare: the distance in `f64::total_cmp` order, then free columns first, then
+/// the column index (determinism).
+fn key(d: f64, free: bool, j: usize) -> u128 {
+    let bits = d.to_bits();
+    // The total order of f64 as an unsigned integer: flip every bit of negatives, only the
+    // sign bit of positives.
+    let ordered = if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    };
+    (u128::from(ordered) << 64) | (u128::from(!free) << 63) | j as u128
 }
-impl Ord for Key {
-    fn cmp(&self, o: &Self) -> Ordering {
-        self.0
-            .total_cmp(&o.0)
-            .then(o.1.cmp(&self.1))
-            .then(self.2.cmp(&o.2))
-    }
+
+/// Inverse of [`key`]: the distance and the column.
+fn unkey(k: u128) -> (f64, usize) {
+    let ordered = (k >> 64) as u64;
+    let bits = if ordered >> 63 == 1 {
+        ordered & !(1 << 63)
+    } else {
+        !ordered
+    };
+    (f64::from_bits(bits), (k as u64 & !(1 << 63)) as usize)
 }
 
 /// The sparse algorithm on validated input; returns the column of each row, where column
 /// `n_cols + i` means "row i unassigned". Why this is exact is on [`super::lap::solve_sparse`].
-pub(super) fn sparse(costs: &SparseCosts, a: &[f64], b: &[f64]) -> Vec<usize> {
-    let mut w = SparseWork::new(costs, a, b);
+/// `w` is working memory, reused across calls.
+pub(super) fn sparse<'w>(
+    w: &'w mut SparseWork,
+    costs: &SparseCosts,
+    a: &[f64],
+    b: &[f64],
+) -> &'w [usize] {
+    w.load(costs, a, b);
     for cur in 0..costs.n_rows() {
         let (sink, min_val) = w.shortest_path(cur);
         w.update_duals(cur, min_val);
         augment(sink, cur, &w.path, &mut w.row4col, &mut w.col4row);
         w.reset();
     }
-    w.col4row
+    &w.col4row
 }
 
-/// Working state of the sparse solver; every vector is allocated once per solve.
-struct SparseWork {
+/// Working state of the sparse solver. The S-D solvers call it every iteration, so it keeps
+/// its vectors between calls: a solve allocates nothing once they have grown.
+#[derive(Default)]
+pub(super) struct SparseWork {
     /// Reduced CSR keeping only profitable entries; column `nc + i` is row i's private dummy.
     offs: Vec<usize>,
     cols: Vec<usize>,
@@ -195,44 +211,47 @@ struct SparseWork {
     touched: Vec<usize>,
     sr: Vec<usize>,
     sc: Vec<usize>,
-    heap: BinaryHeap<Reverse<Key>>,
+    heap: BinaryHeap<Reverse<u128>>,
+    /// Distance of the nearest free column reached by the current search (`reset` sets it).
+    free_dist: f64,
+}
+
+/// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
+fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
+    v.clear();
+    v.resize(n, x);
 }
 
 impl SparseWork {
-    fn new(costs: &SparseCosts, a: &[f64], b: &[f64]) -> Self {
+    /// Sets up the solve of `costs` with unassigned costs `a` (rows) and `b` (columns).
+    fn load(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) {
         let (nr, nc) = (costs.n_rows(), costs.n_cols());
-        let (mut offs, mut cols, mut vals) = (Vec::with_capacity(nr + 1), Vec::new(), Vec::new());
-        offs.push(0);
+        self.offs.clear();
+        self.cols.clear();
+        self.vals.clear();
+        self.offs.push(0);
         for (i, &ai) in a.iter().enumerate() {
             // Only entries beating "both unassigned" can be in an optimum; see `solve_sparse`.
             for (j, c) in costs.row(i) {
                 let r = c - ai - b[j];
                 if r < 0.0 {
-                    cols.push(j);
-                    vals.push(r);
+                    self.cols.push(j);
+                    self.vals.push(r);
                 }
             }
-            cols.push(nc + i);
-            vals.push(0.0);
-            offs.push(cols.len());
+            self.cols.push(nc + i);
+            self.vals.push(0.0);
+            self.offs.push(self.cols.len());
         }
         let n = nc + nr;
-        Self {
-            offs,
-            cols,
-            vals,
-            u: vec![0.0; nr],
-            v: vec![0.0; n],
-            dist: vec![f64::INFINITY; n],
-            path: vec![NONE; n],
-            col4row: vec![NONE; nr],
-            row4col: vec![NONE; n],
-            scanned: vec![false; n],
-            touched: Vec::new(),
-            sr: Vec::new(),
-            sc: Vec::new(),
-            heap: BinaryHeap::new(),
-        }
+        refill(&mut self.u, nr, 0.0);
+        refill(&mut self.v, n, 0.0);
+        refill(&mut self.dist, n, f64::INFINITY);
+        refill(&mut self.path, n, NONE);
+        refill(&mut self.col4row, nr, NONE);
+        refill(&mut self.row4col, n, NONE);
+        refill(&mut self.scanned, n, false);
+        self.reset();
     }
 
     /// Dijkstra from row `cur` to the nearest free column; returns it and its distance.
@@ -240,24 +259,14 @@ impl SparseWork {
         let (mut i, mut min_val) = (cur, 0.0);
         loop {
             self.sr.push(i);
-            for k in self.offs[i]..self.offs[i + 1] {
-                let j = self.cols[k];
-                let r = min_val + self.vals[k] - self.u[i] - self.v[j];
-                if !self.scanned[j] && r < self.dist[j] {
-                    if self.dist[j] == f64::INFINITY {
-                        self.touched.push(j);
-                    }
-                    self.dist[j] = r;
-                    self.path[j] = i;
-                    self.heap.push(Reverse(Key(r, self.row4col[j] == NONE, j)));
-                }
-            }
+            self.relax(i, min_val);
             let j = loop {
                 // The dummy column of `cur` is reachable only from `cur` and free until `cur`
                 // is assigned, so it was pushed above and the heap cannot run dry first.
-                let Some(Reverse(Key(d, _, j))) = self.heap.pop() else {
+                let Some(Reverse(k)) = self.heap.pop() else {
                     unreachable!("sparse LAP: row {cur} lost its dummy column")
                 };
+                let (d, j) = unkey(k);
                 if !self.scanned[j] && d == self.dist[j] {
                     min_val = d;
                     break j;
@@ -269,6 +278,36 @@ impl SparseWork {
                 return (j, min_val);
             }
             i = self.row4col[j];
+        }
+    }
+
+    /// Relaxes the stored entries of row `i`, reached at distance `min_val`. The inner loop
+    /// of the solver: it works on split borrows so the optimiser sees they do not alias.
+    ///
+    /// A column farther than the nearest free column already reached can never be scanned in
+    /// this search (that free column ends it first), so it is skipped outright: its distance
+    /// is never read, and a later, shorter path to it is compared against a value that is
+    /// at least as large. This keeps most entries out of the heap without changing the result.
+    fn relax(&mut self, i: usize, min_val: f64) {
+        let span = self.offs[i]..self.offs[i + 1];
+        let (cols, vals) = (&self.cols[span.clone()], &self.vals[span]);
+        let (dist, path, scanned) = (&mut self.dist[..], &mut self.path[..], &self.scanned[..]);
+        let (v, row4col, ui) = (&self.v[..], &self.row4col[..], self.u[i]);
+        for (&j, &c) in cols.iter().zip(vals) {
+            let r = min_val + c - ui - v[j];
+            if r > self.free_dist || scanned[j] || r >= dist[j] {
+                continue;
+            }
+            if dist[j] == f64::INFINITY {
+                self.touched.push(j);
+            }
+            dist[j] = r;
+            path[j] = i;
+            let free = row4col[j] == NONE;
+            if free {
+                self.free_dist = r;
+            }
+            self.heap.push(Reverse(key(r, free, j)));
         }
     }
 
@@ -293,5 +332,6 @@ impl SparseWork {
         self.sr.clear();
         self.sc.clear();
         self.heap.clear();
+        self.free_dist = f64::INFINITY;
     }
 }
