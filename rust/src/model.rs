@@ -119,7 +119,11 @@ pub fn predict(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> [f64; 2] {
 /// Gradients of the predicted angles (see [`predict`]) with respect to the target position,
 /// or `None` where they are not differentiable (target on the sensor's vertical axis).
 #[inline(always)]
-pub fn angle_gradients(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> Option<[[f64; 3]; 2]> {
+pub fn angle_gradients(
+    space: Space,
+    sensor: &[f64; 3],
+    target: &[f64; 3],
+) -> Option<[[f64; 3]; 2]> {
     let dx = target[0] - sensor[0];
     let dy = target[1] - sensor[1];
     let rho2 = dx * dx + dy * dy;
