@@ -191,6 +191,47 @@ fn angle_residual(unit: &[f64; 2], u: f64, v: f64) -> f64 {
     fastmath::atan2(s * u - c * v, c * u + s * v)
 }
 
+/// Normalised residuals and their gradients with respect to the *position* at the
+/// observation time, before the chain rule to the state: what the constant-velocity
+/// normal equations accumulate per measurement (see `fit::gauss_newton`).
+#[derive(Clone, Copy, Debug)]
+pub struct PositionRows {
+    pub count: usize,
+    pub residual: [f64; 2],
+    pub gradient: [[f64; 3]; 2],
+}
+
+/// [`PositionRows`] of `obs` at `state`, or `None` at a non-differentiable geometry.
+#[inline(always)]
+pub fn position_rows(
+    layout: &StateLayout,
+    state: &[f64],
+    obs: &Observation,
+) -> Option<PositionRows> {
+    let target = layout.position(state, obs.time);
+    let gradient = angle_gradients(layout.space, &obs.sensor, &target)?;
+    let count = layout.space.angles();
+    let (dx, dy, dz) = (
+        target[0] - obs.sensor[0],
+        target[1] - obs.sensor[1],
+        target[2] - obs.sensor[2],
+    );
+    let mut rows = PositionRows {
+        count,
+        residual: [0.0; 2],
+        gradient: [[0.0; 3]; 2],
+    };
+    for c in 0..count {
+        let residual = match c {
+            0 => angle_residual(&obs.unit[0], dx, dy),
+            _ => angle_residual(&obs.unit[1], (dx * dx + dy * dy).sqrt(), dz),
+        };
+        rows.residual[c] = residual / obs.sigma[c];
+        rows.gradient[c] = gradient[c].map(|g| g / obs.sigma[c]);
+    }
+    Some(rows)
+}
+
 /// Residual rows of `obs` at `state`, or `None` at a non-differentiable geometry.
 // Always inlined: returned by value it is a 120-byte copy per measurement in the fit loop.
 #[inline(always)]
@@ -199,29 +240,14 @@ pub fn residual_rows(
     state: &[f64],
     obs: &Observation,
 ) -> Option<ResidualRows> {
-    let target = layout.position(state, obs.time);
-    let position_gradient = angle_gradients(layout.space, &obs.sensor, &target)?;
-    let count = layout.space.angles();
+    let position = position_rows(layout, state, obs)?;
     let mut rows = ResidualRows {
-        count,
-        residual: [0.0; 2],
+        count: position.count,
+        residual: position.residual,
         gradient: [[0.0; MAX_DIM]; 2],
     };
-    let (dx, dy, dz) = (
-        target[0] - obs.sensor[0],
-        target[1] - obs.sensor[1],
-        target[2] - obs.sensor[2],
-    );
-    for c in 0..count {
-        let residual = match c {
-            0 => angle_residual(&obs.unit[0], dx, dy),
-            _ => angle_residual(&obs.unit[1], (dx * dx + dy * dy).sqrt(), dz),
-        };
-        rows.residual[c] = residual / obs.sigma[c];
-        let g = layout.state_gradient(&position_gradient[c], obs.time);
-        for (dst, src) in rows.gradient[c].iter_mut().zip(g.iter()) {
-            *dst = src / obs.sigma[c];
-        }
+    for c in 0..position.count {
+        rows.gradient[c] = layout.state_gradient(&position.gradient[c], obs.time);
     }
     Some(rows)
 }
