@@ -124,23 +124,45 @@ pub fn angle_gradients(
     sensor: &[f64; 3],
     target: &[f64; 3],
 ) -> Option<[[f64; 3]; 2]> {
-    let dx = target[0] - sensor[0];
-    let dy = target[1] - sensor[1];
+    line_of_sight(space, sensor, target).map(|los| los.gradient)
+}
+
+/// The sensor-to-target vector, its horizontal range and the angle gradients, computed once
+/// and with one division per angle: divisions, not multiplications, bound the residual
+/// kernel's latency.
+#[derive(Clone, Copy)]
+struct LineOfSight {
+    delta: [f64; 3],
+    rho: f64,
+    gradient: [[f64; 3]; 2],
+}
+
+#[inline(always)]
+fn line_of_sight(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> Option<LineOfSight> {
+    let delta: [f64; 3] = std::array::from_fn(|k| target[k] - sensor[k]);
+    let [dx, dy, dz] = delta;
     let rho2 = dx * dx + dy * dy;
     if rho2 <= 0.0 || !rho2.is_finite() {
         return None;
     }
-    let d_azimuth = [-dy / rho2, dx / rho2, 0.0];
-    if space == Space::Planar {
-        return Some([d_azimuth, [0.0; 3]]);
-    }
-    let dz = target[2] - sensor[2];
+    let inv_rho2 = 1.0 / rho2;
+    let d_azimuth = [-dy * inv_rho2, dx * inv_rho2, 0.0];
     let rho = rho2.sqrt();
+    if space == Space::Planar {
+        return Some(LineOfSight {
+            delta,
+            rho,
+            gradient: [d_azimuth, [0.0; 3]],
+        });
+    }
     let r2 = rho2 + dz * dz;
-    Some([
-        d_azimuth,
-        [-dx * dz / (r2 * rho), -dy * dz / (r2 * rho), rho / r2],
-    ])
+    let k = 1.0 / (r2 * rho);
+    let d_elevation = [-dx * dz * k, -dy * dz * k, rho2 * k];
+    Some(LineOfSight {
+        delta,
+        rho,
+        gradient: [d_azimuth, d_elevation],
+    })
 }
 
 /// Normalised residuals `wrap(z − h)/σ` of one measurement and their state gradients
@@ -164,6 +186,8 @@ pub struct Observation {
     pub sigma: [f64; 2],
     /// `[cos, sin]` of each of `angles`.
     unit: [[f64; 2]; 2],
+    /// `1/σ`, so the kernel multiplies instead of dividing.
+    inv_sigma: [f64; 2],
 }
 
 impl Observation {
@@ -178,6 +202,7 @@ impl Observation {
             angles,
             sigma,
             unit,
+            inv_sigma: sigma.map(|v| 1.0 / v),
         }
     }
 }
@@ -209,13 +234,9 @@ pub fn position_rows(
     obs: &Observation,
 ) -> Option<PositionRows> {
     let target = layout.position(state, obs.time);
-    let gradient = angle_gradients(layout.space, &obs.sensor, &target)?;
+    let los = line_of_sight(layout.space, &obs.sensor, &target)?;
+    let [dx, dy, dz] = los.delta;
     let count = layout.space.angles();
-    let (dx, dy, dz) = (
-        target[0] - obs.sensor[0],
-        target[1] - obs.sensor[1],
-        target[2] - obs.sensor[2],
-    );
     let mut rows = PositionRows {
         count,
         residual: [0.0; 2],
@@ -224,10 +245,11 @@ pub fn position_rows(
     for c in 0..count {
         let residual = match c {
             0 => angle_residual(&obs.unit[0], dx, dy),
-            _ => angle_residual(&obs.unit[1], (dx * dx + dy * dy).sqrt(), dz),
+            _ => angle_residual(&obs.unit[1], los.rho, dz),
         };
-        rows.residual[c] = residual / obs.sigma[c];
-        rows.gradient[c] = gradient[c].map(|g| g / obs.sigma[c]);
+        let w = obs.inv_sigma[c];
+        rows.residual[c] = residual * w;
+        rows.gradient[c] = los.gradient[c].map(|g| g * w);
     }
     Some(rows)
 }
