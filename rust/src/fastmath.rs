@@ -47,8 +47,9 @@ pub fn atan(t: f64) -> f64 {
 /// the standard library otherwise.
 #[inline(always)]
 pub fn atan2(y: f64, x: f64) -> f64 {
-    if x > 0.0 && (y / x).is_finite() {
-        atan(y / x)
+    let t = y / x;
+    if x > 0.0 && t.is_finite() {
+        atan(t)
     } else {
         y.atan2(x)
     }

@@ -3,7 +3,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::model::{Observation, Space, StateLayout, MAX_DIM};
+use crate::model::{Observation, StateLayout, MAX_DIM};
 
 /// Unit direction of the line of sight with azimuth `az` and elevation `el`.
 #[inline]
@@ -117,7 +117,7 @@ fn solve_pseudo_linear<const D: usize>(
     let mut normal = SMatrix::<f64, D, D>::zeros();
     let mut rhs = SVector::<f64, D>::zeros();
     for obs in observations {
-        for (plane_normal, sigma) in constraint_normals(layout.space, obs) {
+        for &(plane_normal, sigma) in &constraint_normals(obs)[..layout.space.angles()] {
             // n·(p(t) − s) = 0 with p(t) linear in the state: gradient row a, target n·s.
             let a = layout.state_gradient(&plane_normal, obs.time);
             let row = SVector::<f64, D>::from_fn(|k, _| a[k] / sigma);
@@ -136,23 +136,20 @@ fn solve_pseudo_linear<const D: usize>(
 }
 
 /// Unit normals of the planes (lines in 2-D) that contain the line of sight, with the σ of the
-/// angle each one encodes.
-fn constraint_normals(space: Space, obs: &Observation) -> Vec<([f64; 3], f64)> {
+/// angle each one encodes; a planar layout uses only the first.
+fn constraint_normals(obs: &Observation) -> [([f64; 3], f64); 2] {
+    // Fixed-size: this runs per measurement for every default starting point.
     let (sa, ca) = obs.angles[0].sin_cos();
+    let (se, ce) = obs.angles[1].sin_cos();
     let horizontal = ([-sa, ca, 0.0], obs.sigma[0]);
-    match space {
-        Space::Planar => vec![horizontal],
-        Space::Spatial => {
-            let (se, ce) = obs.angles[1].sin_cos();
-            vec![horizontal, ([-se * ca, -se * sa, ce], obs.sigma[1])]
-        }
-    }
+    let vertical = ([-se * ca, -se * sa, ce], obs.sigma[1]);
+    [horizontal, vertical]
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{predict, Motion};
+    use crate::model::{predict, Motion, Space};
 
     #[test]
     fn crossing_rays_meet_at_the_target() {
