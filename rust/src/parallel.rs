@@ -9,7 +9,7 @@ use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use crate::error::{CoreError, CoreResult};
 
-/// Pools by size, built once: starting threads costs ~70 µs, more than a small call's work
+/// Pools by size, built once: starting threads costs more than a small call's work
 /// (a per-scan association or a single fit asked for on one thread).
 fn pool(threads: usize) -> CoreResult<Arc<ThreadPool>> {
     static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();

@@ -18,10 +18,8 @@
 //!   (METHODS §1 wording). It fixes the units but not the correlations (position–velocity,
 //!   along-range x–y), which remain strong with 4 measurements.
 //!
-//! Measured on the paper's scenario with 2× clutter (seed 2024, 70 descents): converging
-//! fully took 86 evaluations of R per descent whitened against 330 diagonal; with the default
-//! stopping rule the true targets' optima landed within 0.06 (whitened) against 0.48
-//! (diagonal) standard deviations of the fully converged ones, at 21 against 40 evaluations.
+//! `python benches/bench_search.py` prints the evaluations per search of both scalings on
+//! one paper run's candidates (whitened needs about 40 % fewer).
 //!
 //! **Step length.** The first trial step is one scaled unit (one standard deviation); later
 //! trials use the Barzilai-Borwein length `sᵀs / −sᵀΔg` (the secant estimate of the inverse
