@@ -140,4 +140,5 @@ def intensity_search(
     vote_fraction: float = 0.5,
     valid_airspace: bool = True,
     max_chains: int | None = None,
+    n_threads: int | None = None,
 ) -> dict[str, Any]: ...

@@ -180,7 +180,8 @@ def associate_static(
     max_candidates : int
         Refuse with a ValueError rather than enumerate more candidates than this.
     n_threads : int, optional
-        Threads for the enumeration; results are identical for any value.
+        Threads for the enumeration and the intensity method's chains (None: all cores);
+        results are identical for any value.
 
     Returns
     -------
@@ -195,7 +196,8 @@ def associate_static(
     if method == "intensity":
         out = _core.intensity_search(cands["tuples"], cands["positions"], cands["costs"], cands["sizes"],
                                      vote_fraction=float(vote_fraction), valid_airspace=bool(valid_airspace),
-                                     max_chains=None if max_chains is None else as_int_scalar("max_chains", max_chains, minimum=1))
+                                     max_chains=None if max_chains is None else as_int_scalar("max_chains", max_chains, minimum=1),
+                                     n_threads=n_threads)
         chosen = out.pop("chosen")
         report.update(out)
     else:

@@ -5,7 +5,7 @@
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 use super::convert::{count, slice1, space, threads, to_numpy, SensorArrays};
 use crate::data::Measurements;
@@ -95,8 +95,9 @@ pub fn enumerate_static<'py>(
 /// The paper's intensity-ordered search over enumerated candidates: valid airspace, chains,
 /// vote, then the next lower intensity. `chosen` indexes the rows of `tuples`. `max_chains`
 /// (not in the paper; default None = one chain per point of H) caps the chains per level.
+/// Chains run in parallel on `n_threads` (None: all cores); the result is the same for any.
 #[pyfunction]
-#[pyo3(signature = (tuples, positions, costs, sizes, *, vote_fraction=0.5, valid_airspace=true, max_chains=None))]
+#[pyo3(signature = (tuples, positions, costs, sizes, *, vote_fraction=0.5, valid_airspace=true, max_chains=None, n_threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn intensity_search<'py>(
     py: Python<'py>,
@@ -107,7 +108,9 @@ pub fn intensity_search<'py>(
     vote_fraction: f64,
     valid_airspace: bool,
     max_chains: Option<i64>,
+    n_threads: Option<i64>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let threads = threads(n_threads)?;
     let max_chains = match max_chains {
         Some(n) => Some(count("max_chains", n, 1)?),
         None => None,
@@ -138,7 +141,8 @@ pub fn intensity_search<'py>(
         max_chains,
         ..IntensityOptions::default()
     };
-    let outcome = py.detach(|| core_intensity_search(&input, &options))?;
+    let outcome =
+        py.detach(|| with_threads(threads, || core_intensity_search(&input, &options)))??;
     let t = outcome.chosen.len();
     let chosen: Vec<i64> = outcome.chosen.iter().map(|&c| c as i64).collect();
     let out = PyDict::new(py);
@@ -146,5 +150,16 @@ pub fn intensity_search<'py>(
     out.set_item("airspace_radius", outcome.airspace_radius)?;
     out.set_item("ghosts_dropped", outcome.ghosts_dropped)?;
     out.set_item("chains", outcome.chains)?;
+    let levels = PyList::empty(py);
+    for level in &outcome.levels {
+        let row = PyDict::new(py);
+        row.set_item("intensity", level.intensity)?;
+        row.set_item("candidates", level.candidates)?;
+        row.set_item("starts", level.starts)?;
+        row.set_item("chains", level.chains)?;
+        row.set_item("confirmed", level.confirmed)?;
+        levels.append(row)?;
+    }
+    out.set_item("levels", levels)?;
     Ok(out)
 }

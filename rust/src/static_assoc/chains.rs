@@ -4,6 +4,8 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use rayon::prelude::*;
+
 use super::intensity::IntensityInput;
 
 /// The working set of one level, with its measurement ↔ candidate incidence.
@@ -117,18 +119,62 @@ impl Level {
         h
     }
 
+    /// Votes of the chains from `starts`: per candidate, the number of chains that accepted
+    /// it, and the number of chains run.
+    ///
+    /// With `early_exit`, chains run in fixed batches of [`VOTE_BATCH`] (in parallel within a
+    /// batch) and stop once every candidate is decided against the threshold `threshold` over
+    /// all `starts.len()` chains: confirmed (`votes > threshold`) or out of reach
+    /// (`votes + chains left <= threshold`). The confirmed set is then the full vote's; only the
+    /// counts of undecided-irrelevant chains are skipped. Callers use it only when the order of
+    /// the confirmed set does not depend on the counts (τ >= 0.5). The batches are fixed, so the
+    /// chains run do not depend on the thread count.
+    pub fn vote(&self, starts: &[usize], threshold: f64, early_exit: bool) -> (Vec<usize>, usize) {
+        let mut votes = vec![0usize; self.len()];
+        let batch = if early_exit {
+            VOTE_BATCH
+        } else {
+            starts.len().max(1)
+        };
+        let mut run = 0;
+        for chunk in starts.chunks(batch) {
+            let accepted: Vec<Vec<u32>> = chunk
+                .par_iter()
+                .map_init(|| Scratch::new(self), |scratch, &h| self.chain(scratch, h))
+                .collect();
+            for chain in &accepted {
+                for &c in chain {
+                    votes[c as usize] += 1;
+                }
+            }
+            run += chunk.len();
+            let left = (starts.len() - run) as f64;
+            if early_exit
+                && votes
+                    .iter()
+                    .all(|&v| v as f64 > threshold || v as f64 + left <= threshold)
+            {
+                break;
+            }
+        }
+        (votes, run)
+    }
+
     /// One chain from `start`; returns the accepted candidates in acceptance order.
     ///
     /// The next candidate is the alive one of largest current m, then best rank. Since m only
     /// grows, each level m keeps a cursor into the candidates that started at m (rank order;
     /// dead or promoted ones are skipped for good) and a small heap of those promoted to m.
-    pub fn chain(&self, start: usize) -> Vec<u32> {
-        let n = self.len();
-        let mut alive = vec![true; n];
-        let mut uses = self.initial_uses.clone();
-        let mut m = self.initial_m.clone();
-        let mut cursor = vec![0usize; self.stride + 1];
-        let mut promoted: Vec<BinaryHeap<Reverse<u32>>> = vec![BinaryHeap::new(); self.stride + 1];
+    /// `scratch` is reset here, so one can serve many chains without reallocating.
+    fn chain(&self, scratch: &mut Scratch, start: usize) -> Vec<u32> {
+        scratch.reset(self);
+        let Scratch {
+            alive,
+            uses,
+            m,
+            cursor,
+            promoted,
+        } = scratch;
         let mut accepted = Vec::new();
         let mut next = Some(start);
         while let Some(c) = next {
@@ -181,5 +227,44 @@ impl Level {
             }
         }
         accepted
+    }
+}
+
+/// Chains run per batch when the vote may stop early: small enough to stop soon after the
+/// outcome is decided, large enough to keep both cores of a small machine busy.
+pub const VOTE_BATCH: usize = 16;
+
+/// The per-chain working state, reused across the chains one thread runs.
+struct Scratch {
+    alive: Vec<bool>,
+    uses: Vec<u32>,
+    m: Vec<u32>,
+    cursor: Vec<usize>,
+    promoted: Vec<BinaryHeap<Reverse<u32>>>,
+}
+
+impl Scratch {
+    fn new(level: &Level) -> Scratch {
+        Scratch {
+            alive: Vec::with_capacity(level.len()),
+            uses: Vec::with_capacity(level.initial_uses.len()),
+            m: Vec::with_capacity(level.len()),
+            cursor: Vec::with_capacity(level.stride + 1),
+            promoted: vec![BinaryHeap::new(); level.stride + 1],
+        }
+    }
+
+    fn reset(&mut self, level: &Level) {
+        self.alive.clear();
+        self.alive.resize(level.len(), true);
+        self.uses.clear();
+        self.uses.extend_from_slice(&level.initial_uses);
+        self.m.clear();
+        self.m.extend_from_slice(&level.initial_m);
+        self.cursor.clear();
+        self.cursor.resize(level.stride + 1, 0);
+        for heap in &mut self.promoted {
+            heap.clear();
+        }
     }
 }

@@ -22,20 +22,23 @@
 //!    `vote_fraction · |H|` chains (strictly) is confirmed. `max_chains` (not in the paper;
 //!    default `None` = every point of H) caps the chains per level for large scans: then the
 //!    `max_chains` best points of H by (cost, index) start chains and the threshold is τ times
-//!    the chains run. Each chain costs O(candidates of the level), and when ghosts abound
-//!    every candidate has m = 0 and H is the whole level, so the full vote is quadratic. The paper's threshold is "the vast
-//!    majority" with no number; the default τ = 0.5 (a strict majority) also guarantees that the
-//!    confirmed set is conflict-free, since two candidates each in more than half of the chains
-//!    share a chain. With τ < 0.5 conflicts are possible and are resolved greedily by votes
-//!    (more first), then cost, then index.
+//!    that many. Each chain costs O(candidates of the level), and when ghosts abound every
+//!    candidate has m = 0 and H is the whole level, so the full vote is quadratic. The paper's
+//!    threshold is "the vast majority" with no number; the default τ = 0.5 (a strict majority)
+//!    also guarantees that the confirmed set is conflict-free, since two candidates each in
+//!    more than half of the chains share a chain. With τ < 0.5 conflicts are possible and are
+//!    resolved greedily by votes (more first), then cost, then index.
+//!
+//!    With τ >= 0.5 the chains run in fixed batches and stop as soon as every candidate is
+//!    either confirmed or can no longer reach the threshold with the chains left: the
+//!    confirmed set is exactly the full vote's, at a fraction of its cost. The batches are
+//!    fixed, so the chains run do not depend on the thread count.
 //! 4. **Levels.** Every candidate that uses a measurement of a confirmed point is removed; the
 //!    search repeats on intensity S − 1 (paper: Z3 then Z2), and on lower intensities down to
 //!    `lowest_intensity` if asked (default S − 1, at least 2; the paper has S = 3). Result
 //!    `T = T_S ∪ T_{S−1}`. Input tuples of other intensities are ignored.
 //!
 //! Everything is deterministic: chains run in parallel but are collected by start index.
-
-use rayon::prelude::*;
 
 use super::airspace::PointIndex;
 use super::chains::Level;
@@ -184,7 +187,9 @@ pub struct LevelReport {
     pub intensity: usize,
     /// Working candidates at the start of the level.
     pub candidates: usize,
-    /// |H|: chains run.
+    /// |H|, or `max_chains` of it: the chains the vote is over.
+    pub starts: usize,
+    /// Chains actually run: fewer than `starts` when the vote was decided early (τ >= 0.5).
     pub chains: usize,
     pub confirmed: usize,
 }
@@ -289,14 +294,10 @@ pub fn intensity_search(
             .collect();
         let level = Level::new(input, &members, level_intensity, n_meas, &ids);
         let starts = level.start_points(options.max_chains);
-        let accepted: Vec<Vec<u32>> = starts.par_iter().map(|&h| level.chain(h)).collect();
-        let mut votes = vec![0usize; members.len()];
-        for chain in &accepted {
-            for &c in chain {
-                votes[c as usize] += 1;
-            }
-        }
         let threshold = tau * starts.len() as f64;
+        // With τ >= 0.5 the confirmed set is conflict-free, so only membership matters and the
+        // vote may stop once it is decided; below 0.5 conflicts are settled by vote counts.
+        let (votes, run) = level.vote(&starts, threshold, tau >= 0.5);
         let mut confirmed: Vec<usize> = (0..members.len())
             .filter(|&c| votes[c] as f64 > threshold)
             .collect();
@@ -317,11 +318,12 @@ pub fn intensity_search(
                 count += 1;
             }
         }
-        chains += starts.len();
+        chains += run;
         levels.push(LevelReport {
             intensity: level_intensity,
             candidates: members.len(),
-            chains: starts.len(),
+            starts: starts.len(),
+            chains: run,
             confirmed: count,
         });
     }

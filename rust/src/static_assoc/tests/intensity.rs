@@ -318,3 +318,44 @@ fn huge_report_counts_cost_no_memory() {
     let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
     assert_eq!(out.chosen, vec![0, 1]);
 }
+
+/// Levels with many start points, where the vote stops early (τ >= 0.5): still the obvious
+/// implementation's answer, and the early stop does happen.
+#[test]
+fn early_decided_vote_equals_the_full_vote() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut stopped_early = 0;
+    for case in 0..40 {
+        let n_sensors = 3;
+        let sizes: Vec<i64> = (0..n_sensors).map(|_| rng.random_range(4..10)).collect();
+        let k = rng.random_range(20..120);
+        let mut tuples = Vec::new();
+        for _ in 0..k {
+            let t: Vec<i64> = sizes.iter().map(|&n| rng.random_range(1..=n)).collect();
+            tuples.extend(t);
+        }
+        let costs: Vec<f64> = (0..k).map(|_| -(rng.random_range(1..6) as f64)).collect();
+        let positions = vec![0.0; 2 * k];
+        let input =
+            IntensityInput::new(&tuples, n_sensors, &positions, 2, &costs, &sizes).expect("valid");
+        for tau in [0.5, 0.8] {
+            let options = IntensityOptions {
+                vote_fraction: tau,
+                valid_airspace: false,
+                ..Default::default()
+            };
+            let fast = intensity_search(&input, &options).expect("searches");
+            assert_eq!(
+                fast.chosen,
+                naive_intensity(&tuples, n_sensors, &costs, tau),
+                "case {case} tau {tau}"
+            );
+            let level = &fast.levels[0];
+            stopped_early += usize::from(level.chains < level.starts);
+        }
+    }
+    assert!(
+        stopped_early >= 15,
+        "the vote stopped early in only {stopped_early} levels"
+    );
+}
