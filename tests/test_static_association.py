@@ -112,7 +112,7 @@ def test_bad_inputs() -> None:
 
 def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out_json, out_png = tmp_path / "intensity.json", tmp_path / "intensity.png"
-    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--max-m", "12", "--time-limit", "0.5",
+    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--max-m", "12", "--time-limit", "0.5", "--timing-scans", "2",
             "--json", str(out_json), "--plot", str(out_png)]
     assert cli_main(argv) == 0
     printed = capsys.readouterr().out
@@ -122,4 +122,23 @@ def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture
     assert set(cells) == {*METHODS, "truth_costlier_than_optimum_pct", "exact_proven_runs", "ghosts_per_scan_median"}
     assert all(0.0 <= cells[m]["accuracy_pct"] <= 100.0 for m in METHODS)
     assert [row["M"] for row in record["timing"] if row["S"] == 3] == [6, 12]
+    assert all(row["scans"] == 2 for row in record["timing"])
     assert out_png.stat().st_size > 10_000
+
+
+def test_bayes_bound_recovers_a_noiseless_scan() -> None:
+    from passive_assoc.experiments.intensity import bayes_map
+
+    scan = noiseless(4, n_targets=6)
+    assert bayes_map(scan, time_limit=5.0) == {"accuracy": 1.0, "truth_beaten": 0.0}
+
+
+def test_reproduce_intensity_bayes_bound_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json = tmp_path / "bound.json"
+    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--no-timing", "--time-limit", "0.5",
+            "--bayes-bound", "--json", str(out_json)]
+    assert cli_main(argv) == 0
+    assert "exact MAP under the scenario's own model" in capsys.readouterr().out
+    bound = json.loads(out_json.read_text())["accuracy"]["15"]["bayes_map"]
+    assert set(bound) == {"accuracy_pct", "truth_costlier_pct", "proven_runs"}
+    assert 0.0 <= bound["accuracy_pct"] <= 100.0

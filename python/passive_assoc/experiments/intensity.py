@@ -13,9 +13,10 @@ from typing import Any
 
 import numpy as np
 
+from ..assignment import assign_sd
 from ..metrics import gospa
 from ..static_association import associate_static, enumerate_candidates
-from ..static_scenarios import StaticScan, static_scan
+from ..static_scenarios import SQUARE_X, SQUARE_Y, StaticScan, static_scan
 from .common import fmt, map_runs, print_rows, run_seeds, write_json
 
 METHODS = ("intensity", "lagrangian", "exact")
@@ -57,15 +58,48 @@ def score(scan: StaticScan, method: str, time_limit: float, valid_airspace: bool
     return out
 
 
+def bayes_map(scan: StaticScan, time_limit: float) -> dict[str, float]:
+    """The best any method can expect here: the exact MAP association under the scenario's own
+    model, which eq. 2 only approximates. Each candidate's cost becomes the negative log
+    posterior ratio with the true prior — targets uniform over the square at density M/area —
+    by Laplace's approximation of the marginal likelihood: eq. 2 − ln(M/area) − ln(2π √det P)
+    − ln(prior mass of the square under N(x̂, P)). Returns its accuracy and whether the truth's
+    own cost is higher than that MAP's (then no estimator of the association can prefer it)."""
+    from scipy.stats import norm
+
+    cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
+    pos, cov = cands["positions"], cands["covariances"]
+    sd = np.sqrt(np.stack([cov[:, 0, 0], cov[:, 1, 1]], axis=1))
+    lo, hi = np.array([SQUARE_X[0], SQUARE_Y[0]]), np.array([SQUARE_X[1], SQUARE_Y[1]])
+    mass = np.prod(norm.cdf((hi - pos) / sd) - norm.cdf((lo - pos) / sd), axis=1)
+    density = len(scan.targets) / float(np.prod(hi - lo))
+    with np.errstate(divide="ignore"):
+        cost = (cands["costs"] - np.log(density) - np.log(2 * np.pi) - 0.5 * np.log(np.linalg.det(cov))
+                - np.log(mass))
+    keep = np.flatnonzero(np.isfinite(cost) & (cost < 0))
+    solved = assign_sd(cands["tuples"][keep], cost[keep], cands["sizes"], method="exact", time_limit=time_limit)
+    found = {tuple(cands["rows"][keep[k]].tolist()) for k in solved.chosen}
+    true = [tuple(scan.true_tuples[k].tolist()) for k in np.flatnonzero(scan.observable())]
+    out = {"accuracy": float(np.mean([t in found for t in true])) if true else float("nan")}
+    index = {tuple(row): k for k, row in enumerate(cands["rows"].tolist())}
+    if solved.optimal and all(t in index for t in true):
+        truth = sum(min(cost[index[t]], 0.0) for t in true)  # a true tuple costing > 0 would not be chosen
+        out["truth_beaten"] = float(truth > solved.primal_cost + 1e-9)
+    return out
+
+
 def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, workers: int,
-                   time_limit: float, valid_airspace: bool = True) -> dict[str, Any]:
+                   time_limit: float, valid_airspace: bool = True, bayes: bool = False) -> dict[str, Any]:
     table: dict[str, Any] = {}
     for ratio in ratios:
         seeds = run_seeds(seed + int(ratio * 1000), runs)
 
         def work(r: int, ratio: float = ratio, seeds: list = seeds) -> dict[str, dict[str, float]]:
             scan = static_scan(np.random.default_rng(seeds[r]), n_targets=n_targets, ratio=ratio)
-            return {m: score(scan, m, time_limit, valid_airspace) for m in METHODS}
+            out = {m: score(scan, m, time_limit, valid_airspace) for m in METHODS}
+            if bayes:
+                out["bayes"] = bayes_map(scan, time_limit)
+            return out
 
         per_run = map_runs(work, runs, workers, desc=f"accuracy R={ratio:g}")
         table[f"{ratio:g}"] = {
@@ -77,6 +111,12 @@ def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, wo
         table[f"{ratio:g}"]["truth_costlier_than_optimum_pct"] = 100 * float(np.mean(proven)) if proven else float("nan")
         table[f"{ratio:g}"]["exact_proven_runs"] = len(proven)
         table[f"{ratio:g}"]["ghosts_per_scan_median"] = float(np.median([p["exact"]["ghosts"] for p in per_run]))
+        if bayes:
+            beaten = [p["bayes"]["truth_beaten"] for p in per_run if "truth_beaten" in p["bayes"]]
+            table[f"{ratio:g}"]["bayes_map"] = {
+                "accuracy_pct": 100 * float(np.nanmean([p["bayes"]["accuracy"] for p in per_run])),
+                "truth_costlier_pct": 100 * float(np.mean(beaten)) if beaten else float("nan"),
+                "proven_runs": len(beaten)}
     return table
 
 
@@ -97,29 +137,50 @@ def _timed(scan: StaticScan, method: str, time_limit: float, repeats: int, valid
     return best, result
 
 
+def _time_scan(scan: StaticScan, time_limit: float, valid_airspace: bool) -> dict[str, Any]:
+    """Every method on one scan: best-of-repeats seconds and the solver reports."""
+    repeats = 3 if len(scan.targets) <= 50 else 1
+    out: dict[str, Any] = {}
+    for method in METHODS:
+        if method == "exact" and len(scan.targets) > 100:
+            continue  # far beyond what branch-and-bound can prove
+        seconds, result = _timed(scan, method, time_limit, repeats, valid_airspace)
+        out[f"{method}_s"] = seconds
+        out["candidates"] = result.report["candidates"]
+        if method != "intensity":
+            out[f"{method}_cost"] = result.report["primal_cost"]
+        if method == "lagrangian":
+            out["lagrangian_gap"] = result.report["gap"]
+        if method == "exact":
+            out["exact_proven"] = bool(result.report["optimal"])
+    if out.get("exact_proven"):
+        out["lagrangian_gap_to_optimum"] = (out["lagrangian_cost"] - out["exact_cost"]) / max(1.0, abs(out["exact_cost"]))
+    return out
+
+
 def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, time_limit: float,
-                 valid_airspace: bool = True) -> list[dict[str, Any]]:
+                 valid_airspace: bool = True, scans: int = 5) -> list[dict[str, Any]]:
+    """Per (S, M): the median over ``scans`` random scans (one beyond M = 100) of each
+    method's time, of the candidate count and of the gaps — a single scan's figure depends on
+    how many ghosts it happens to have (candidate counts vary by ±25 % between scans)."""
     rows = []
     for n_sensors, n_targets in cases:
-        scan = static_scan(seed + 7 * n_targets + n_sensors, n_targets=n_targets, n_sensors=n_sensors, ratio=ratio)
-        repeats = 5 if n_targets <= 50 else 1
-        row: dict[str, Any] = {"S": n_sensors, "M": n_targets, "reports": len(scan.measurements)}
-        for method in METHODS:
-            if method == "exact" and n_targets > 100:
-                row["exact_s"] = None  # far beyond what branch-and-bound can prove
-                continue
-            seconds, result = _timed(scan, method, time_limit, repeats, valid_airspace)
-            row[f"{method}_s"] = seconds
-            row["candidates"] = result.report["candidates"]
-            if method == "lagrangian":
-                row["lagrangian_gap"] = result.report["gap"]
-                row["lagrangian_cost"] = result.report["primal_cost"]
-            if method == "exact":
-                row["exact_proven"] = result.report["optimal"]
-                row["exact_cost"] = result.report["primal_cost"]
-        if row.get("exact_proven"):
-            optimum = row["exact_cost"]
-            row["lagrangian_gap_to_optimum"] = (row["lagrangian_cost"] - optimum) / max(1.0, abs(optimum))
+        per_scan = []
+        for k in range(scans if n_targets <= 100 else 1):
+            scan = static_scan(seed + 7 * n_targets + n_sensors + 1000 * k, n_targets=n_targets,
+                               n_sensors=n_sensors, ratio=ratio)
+            per_scan.append((len(scan.measurements), _time_scan(scan, time_limit, valid_airspace)))
+
+        def median(key: str) -> float | None:
+            values = [t[key] for _, t in per_scan if t.get(key) is not None]
+            return float(np.median(values)) if values else None
+
+        row: dict[str, Any] = {"S": n_sensors, "M": n_targets, "scans": len(per_scan),
+                               "reports": int(np.median([n for n, _ in per_scan]))}
+        for key in ("candidates", "intensity_s", "lagrangian_s", "exact_s", "lagrangian_gap", "lagrangian_gap_to_optimum"):
+            row[key] = median(key)
+        row["candidates"] = int(row["candidates"])
+        row["exact_proven"] = sum(bool(t.get("exact_proven")) for _, t in per_scan) if row["exact_s"] is not None else None
         rows.append(row)
     return rows
 
@@ -139,19 +200,28 @@ def print_accuracy(table: dict[str, Any], runs: int, n_targets: int) -> None:
     print("  truth>opt: scans (with a proven exact optimum) where the true association's own eq. 2 cost is")
     print("  higher than the optimum's — there no method that optimises eq. 2 can return the truth;")
     print("  ghosts: median number of intensity-S candidates per scan that are not targets")
+    if any("bayes_map" in cells for cells in table.values()):
+        print("\nBound — exact MAP under the scenario's own model (uniform prior over the square, Laplace marginal)")
+        out = [["R", "MAP accuracy %", "truth costlier than MAP %", "proven runs"]]
+        for ratio, cells in table.items():
+            b = cells["bayes_map"]
+            out.append([ratio, f"{b['accuracy_pct']:.1f}", fmt(b["truth_costlier_pct"]), str(b["proven_runs"])])
+        print_rows(out, [4, 15, 26, 12])
 
 
 def print_timing(rows: list[dict[str, Any]]) -> None:
-    print("\nTable 1 — seconds per scan on one thread, enumeration included | paper (2000 hardware)")
+    print("\nTable 1 — seconds per scan on one thread, enumeration included, median over the scans | paper (2000 hardware)")
     out = [["S", "M", "reports", "cand.", "intensity", "lagrangian", "exact", "lagr. gap", "gap to opt.", "paper i/l/e"]]
     for r in rows:
         paper = PAPER_SECONDS.get(r["M"], {}) if r["S"] == 3 else {}
-        exact = "-" if r.get("exact_s") is None else fmt(r["exact_s"]) + ("" if r.get("exact_proven") else "*")
+        proven = "" if r.get("exact_proven") == r["scans"] else f"* ({r.get('exact_proven')}/{r['scans']} proven)"
+        exact = "-" if r.get("exact_s") is None else fmt(r["exact_s"]) + proven
         out.append([str(r["S"]), str(r["M"]), str(r["reports"]), str(r["candidates"]), fmt(r["intensity_s"]),
                     fmt(r["lagrangian_s"]), exact, fmt(r["lagrangian_gap"]), fmt(r.get("lagrangian_gap_to_optimum")),
                     "/".join(fmt(paper.get(m)) for m in METHODS) if paper else ""])
     print_rows(out, [2, 4, 8, 7, 10, 11, 9, 10, 12, 16])
-    print("  * exact: time limit reached, optimality not proven; '-': not attempted")
+    print(f"  median over {rows[0]['scans'] if rows else 0} scans per row (1 beyond M = 100); reports and candidates: medians")
+    print("  * exact: time limit reached on some scans, optimality not proven there; '-': not attempted")
     print(f"  intensity for M > {FULL_VOTE_MAX_M}: at most {MAX_CHAINS} chains (max_chains); the paper's full vote is"
           " quadratic where every ghost has 0 exclusive rays")
 
@@ -166,24 +236,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-timing", action="store_true", help="skip Table 1")
     parser.add_argument("--no-airspace", action="store_true",
                         help="run the intensity method without its valid-airspace step (the library default)")
+    parser.add_argument("--bayes-bound", action="store_true",
+                        help="also solve each scan exactly under the scenario's true prior: what any method can expect")
+    parser.add_argument("--timing-scans", type=int, default=5, help="scans per Table 1 row, median reported (default 5)")
     parser.add_argument("--max-m", type=int, default=500, help="largest M in Table 1 (default 500)")
     parser.add_argument("--plot", metavar="FILE", help="save a picture of one scan: lines of sight, candidates, accepted targets")
     parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.runs < 1:
-        raise SystemExit("--runs must be at least 1")
+    if args.runs < 1 or args.timing_scans < 1:
+        raise SystemExit("--runs and --timing-scans must be at least 1")
     print("intensity — paper 001: 2-D sensors at (-15,0), (0,-5), (15,0) km; targets uniform in "
           "[-10,10] x [20,40] km; Pd 0.95, P_FA 0.05 (Poisson false bearings over each sensor's sector)\n")
     airspace = not args.no_airspace
-    accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, args.time_limit, airspace)
+    accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, args.time_limit, airspace,
+                              args.bayes_bound)
     print_accuracy(accuracy, args.runs, args.targets)
     timing: list[dict[str, Any]] = []
     if not args.no_timing:
         cases = [(3, m) for m in (6, 12, 18, 50, 100, 200, 500) if m <= args.max_m]
         cases += [(s, m) for s in (4, 5) for m in (18, 50, 100) if m <= args.max_m]
-        timing = timing_table(args.seed, cases, ratio=15.0, time_limit=args.time_limit, valid_airspace=airspace)
+        timing = timing_table(args.seed, cases, ratio=15.0, time_limit=args.time_limit, valid_airspace=airspace,
+                              scans=args.timing_scans)
         print_timing(timing)
     if args.json:
         settings = {k: v for k, v in vars(args).items() if k not in ("run", "command", "experiment")}
