@@ -214,14 +214,14 @@ def print_timing(rows: list[dict[str, Any]]) -> None:
     out = [["S", "M", "reports", "cand.", "intensity", "lagrangian", "exact", "lagr. gap", "gap to opt.", "paper i/l/e"]]
     for r in rows:
         paper = PAPER_SECONDS.get(r["M"], {}) if r["S"] == 3 else {}
-        proven = "" if r.get("exact_proven") == r["scans"] else f"* ({r.get('exact_proven')}/{r['scans']} proven)"
+        proven = "" if r.get("exact_proven") == r["scans"] else f"*{r.get('exact_proven')}/{r['scans']}"
         exact = "-" if r.get("exact_s") is None else fmt(r["exact_s"]) + proven
         out.append([str(r["S"]), str(r["M"]), str(r["reports"]), str(r["candidates"]), fmt(r["intensity_s"]),
                     fmt(r["lagrangian_s"]), exact, fmt(r["lagrangian_gap"]), fmt(r.get("lagrangian_gap_to_optimum")),
                     "/".join(fmt(paper.get(m)) for m in METHODS) if paper else ""])
-    print_rows(out, [2, 4, 8, 7, 10, 11, 9, 10, 12, 16])
+    print_rows(out, [2, 4, 8, 7, 10, 11, 11, 10, 12, 16])
     print(f"  median over {rows[0]['scans'] if rows else 0} scans per row (1 beyond M = 100); reports and candidates: medians")
-    print("  * exact: time limit reached on some scans, optimality not proven there; '-': not attempted")
+    print("  *p/n exact: time limit reached on some scans, optimum proven on p of n; '-': not attempted")
     print(f"  intensity for M > {FULL_VOTE_MAX_M}: at most {MAX_CHAINS} chains (max_chains); the paper's full vote is"
           " quadratic where every ghost has 0 exclusive rays")
 
