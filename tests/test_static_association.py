@@ -130,7 +130,8 @@ def test_bayes_bound_recovers_a_noiseless_scan() -> None:
     from passive_assoc.experiments.intensity import bayes_map
 
     scan = noiseless(4, n_targets=6)
-    assert bayes_map(scan, time_limit=5.0) == {"accuracy": 1.0, "truth_beaten": 0.0}
+    cands = pa.enumerate_candidates(scan.measurements, scan.sensors)
+    assert bayes_map(scan, cands, time_limit=5.0) == {"accuracy": 1.0, "truth_beaten": 0.0}
 
 
 def test_reproduce_intensity_bayes_bound_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -76,24 +76,15 @@ def default_false_alarm_density(measurements: MeasurementTable, n_sensors: int, 
     """False alarms per radian (per rad² in 3-D) when the caller gives none: a fraction
     ``p_false`` of each sensor's reports, spread over the azimuth (× elevation) sector its
     reports span. The paper's P_FA = 0.05 is the default fraction."""
-    # Vectorised: this runs on every call, and a loop of masks per sensor cost more than
-    # the Rust enumeration of a small scan.
-    sensor = np.asarray(measurements.sensor)
-    keep = (sensor >= 0) & (sensor < n_sensors)
-    sensor = sensor[keep]
-    counts = np.bincount(sensor, minlength=n_sensors)
-    seen = counts > 0
-
-    def span(values: NDArray[np.float64], unseen: float) -> NDArray[np.float64]:
-        lo, hi = np.full(n_sensors, np.inf), np.full(n_sensors, -np.inf)
-        np.minimum.at(lo, sensor, values[keep])
-        np.maximum.at(hi, sensor, values[keep])
-        return np.maximum(np.where(seen, hi - lo, unseen), 1e-3)
-
-    area = span(np.asarray(measurements.azimuth), np.pi)
-    if measurements.ndim == 3:
-        area = area * span(np.asarray(measurements.elevation), 1.0)
-    density = np.maximum(p_false * np.maximum(counts, 1) / area, 1e-12)
+    density = np.empty(n_sensors)
+    for s in range(n_sensors):
+        rows = measurements.sensor == s
+        n = max(int(rows.sum()), 1)
+        width = np.ptp(measurements.azimuth[rows]) if rows.any() else np.pi
+        area = max(width, 1e-3)
+        if measurements.ndim == 3 and rows.any():
+            area *= max(np.ptp(measurements.elevation[rows]), 1e-3)
+        density[s] = max(p_false * n / area, 1e-12)
     return density
 
 

@@ -26,39 +26,48 @@ PAPER_SECONDS = {6: {"exact": 16.6, "lagrangian": 0.4, "intensity": 0.3},
 GOSPA_CUTOFF_M = 1000.0
 
 
-def truth_cost(scan: StaticScan) -> tuple[float, int]:
-    """Eq. 2 cost of the true association (NaN if a true tuple failed the gate), and the
-    number of ghosts among the candidates every sensor sees (intensity S, not a target)."""
-    cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
+def true_tuples(scan: StaticScan) -> list[tuple[int, ...]]:
+    """The table rows of every observable target's reports (−1 where a sensor missed it)."""
+    return [tuple(scan.true_tuples[k].tolist()) for k in np.flatnonzero(scan.observable())]
+
+
+def truth_cost(scan: StaticScan, cands: dict[str, Any], costs: np.ndarray) -> float:
+    """``costs`` (one per candidate) summed over the true association; NaN if a true tuple
+    failed the gate."""
     index = {tuple(row): k for k, row in enumerate(cands["rows"].tolist())}
-    true = [tuple(scan.true_tuples[k].tolist()) for k in np.flatnonzero(scan.observable())]
-    full = int(np.sum(cands["intensity"] == scan.sensors.n_sensors))
-    ghosts = full - sum(1 for t in true if t in index and min(t) >= 0)
+    true = true_tuples(scan)
     if any(t not in index for t in true):
-        return float("nan"), ghosts
-    return float(sum(cands["costs"][index[t]] for t in true)), ghosts
+        return float("nan")
+    return float(sum(costs[index[t]] for t in true))
 
 
-def score(scan: StaticScan, method: str, time_limit: float, valid_airspace: bool = True) -> dict[str, float]:
+def ghosts(scan: StaticScan, cands: dict[str, Any]) -> int:
+    """Candidates every sensor sees (intensity S) that are not a target."""
+    full = {tuple(row) for row, i in zip(cands["rows"].tolist(), cands["intensity"]) if i == scan.sensors.n_sensors}
+    return len(full) - sum(1 for t in true_tuples(scan) if t in full)
+
+
+def score(scan: StaticScan, cands: dict[str, Any], method: str, time_limit: float,
+          valid_airspace: bool = True) -> dict[str, float]:
     """Accuracy (observable targets whose full tuple, misses included, is exactly recovered)
     and GOSPA of one method on one scan; for the exact method also whether the truth's own
-    eq. 2 cost is higher than the proven optimum (then no optimiser of eq. 2 can return it)."""
+    eq. 2 cost is higher than the proven optimum (then no optimiser of eq. 2 can return it).
+    ``cands`` are the scan's enumerated candidates, to price the truth."""
     # The paper's configuration: the intensity method with its valid-airspace step.
     result = associate_static(scan.measurements, scan.sensors, method, time_limit=time_limit, n_threads=1,
                               valid_airspace=valid_airspace)
     found = {tuple(row) for row in result.tuples.tolist()}
-    observable = scan.observable()
-    hits = [tuple(scan.true_tuples[k].tolist()) in found for k in np.flatnonzero(observable)]
-    g = gospa(result.positions, scan.targets[observable], c=GOSPA_CUTOFF_M)
+    hits = [t in found for t in true_tuples(scan)]
+    g = gospa(result.positions, scan.targets[scan.observable()], c=GOSPA_CUTOFF_M)
     out = {"accuracy": float(np.mean(hits)) if hits else float("nan"), "gospa": g.total}
     if method == "exact":
-        cost, out["ghosts"] = truth_cost(scan)
+        out["ghosts"] = ghosts(scan, cands)
         if result.report["optimal"]:
-            out["truth_beaten"] = float(cost > result.report["primal_cost"] + 1e-9)
+            out["truth_beaten"] = float(truth_cost(scan, cands, cands["costs"]) > result.report["primal_cost"] + 1e-9)
     return out
 
 
-def bayes_map(scan: StaticScan, time_limit: float) -> dict[str, float]:
+def bayes_map(scan: StaticScan, cands: dict[str, Any], time_limit: float) -> dict[str, float]:
     """The best any method can expect here: the exact MAP association under the scenario's own
     model, which eq. 2 only approximates. Each candidate's cost becomes the negative log
     posterior ratio with the true prior — targets uniform over the square at density M/area —
@@ -67,7 +76,6 @@ def bayes_map(scan: StaticScan, time_limit: float) -> dict[str, float]:
     own cost is higher than that MAP's (then no estimator of the association can prefer it)."""
     from scipy.stats import norm
 
-    cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
     pos, cov = cands["positions"], cands["covariances"]
     sd = np.sqrt(np.stack([cov[:, 0, 0], cov[:, 1, 1]], axis=1))
     lo, hi = np.array([SQUARE_X[0], SQUARE_Y[0]]), np.array([SQUARE_X[1], SQUARE_Y[1]])
@@ -79,11 +87,11 @@ def bayes_map(scan: StaticScan, time_limit: float) -> dict[str, float]:
     keep = np.flatnonzero(np.isfinite(cost) & (cost < 0))
     solved = assign_sd(cands["tuples"][keep], cost[keep], cands["sizes"], method="exact", time_limit=time_limit)
     found = {tuple(cands["rows"][keep[k]].tolist()) for k in solved.chosen}
-    true = [tuple(scan.true_tuples[k].tolist()) for k in np.flatnonzero(scan.observable())]
+    true = true_tuples(scan)
     out = {"accuracy": float(np.mean([t in found for t in true])) if true else float("nan")}
-    index = {tuple(row): k for k, row in enumerate(cands["rows"].tolist())}
-    if solved.optimal and all(t in index for t in true):
-        truth = sum(min(cost[index[t]], 0.0) for t in true)  # a true tuple costing > 0 would not be chosen
+    # A true tuple costing > 0 would never be chosen: the truth's best price leaves it out.
+    truth = truth_cost(scan, cands, np.minimum(cost, 0.0))
+    if solved.optimal and np.isfinite(truth):
         out["truth_beaten"] = float(truth > solved.primal_cost + 1e-9)
     return out
 
@@ -96,9 +104,10 @@ def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, wo
 
         def work(r: int, ratio: float = ratio, seeds: list = seeds) -> dict[str, dict[str, float]]:
             scan = static_scan(np.random.default_rng(seeds[r]), n_targets=n_targets, ratio=ratio)
-            out = {m: score(scan, m, time_limit, valid_airspace) for m in METHODS}
+            cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
+            out = {m: score(scan, cands, m, time_limit, valid_airspace) for m in METHODS}
             if bayes:
-                out["bayes"] = bayes_map(scan, time_limit)
+                out["bayes"] = bayes_map(scan, cands, time_limit)
             return out
 
         per_run = map_runs(work, runs, workers, desc=f"accuracy R={ratio:g}")
@@ -162,7 +171,7 @@ def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, time_lim
                  valid_airspace: bool = True, scans: int = 5) -> list[dict[str, Any]]:
     """Per (S, M): the median over ``scans`` random scans (one beyond M = 100) of each
     method's time, of the candidate count and of the gaps — a single scan's figure depends on
-    how many ghosts it happens to have (candidate counts vary by ±25 % between scans)."""
+    how many ghosts it happens to have."""
     rows = []
     for n_sensors, n_targets in cases:
         per_scan = []

@@ -125,10 +125,10 @@ impl Level {
     /// With `early_exit`, chains run in fixed batches of [`VOTE_BATCH`] (in parallel within a
     /// batch) and stop once every candidate is decided against the threshold `threshold` over
     /// all `starts.len()` chains: confirmed (`votes > threshold`) or out of reach
-    /// (`votes + chains left <= threshold`). The confirmed set is then the full vote's; only the
-    /// counts of undecided-irrelevant chains are skipped. Callers use it only when the order of
-    /// the confirmed set does not depend on the counts (τ >= 0.5). The batches are fixed, so the
-    /// chains run do not depend on the thread count.
+    /// (`votes + chains left <= threshold`). The confirmed set is then the full vote's, but
+    /// the counts are partial, so callers use it only when the confirmed set's order does not
+    /// depend on them (τ >= 0.5). The batches are fixed, so the chains run do not depend on
+    /// the thread count.
     pub fn vote(&self, starts: &[usize], threshold: f64, early_exit: bool) -> (Vec<usize>, usize) {
         let mut votes = vec![0usize; self.len()];
         let batch = if early_exit {

@@ -31,8 +31,8 @@
 //!
 //!    With τ >= 0.5 the chains run in fixed batches and stop as soon as every candidate is
 //!    either confirmed or can no longer reach the threshold with the chains left: the
-//!    confirmed set is exactly the full vote's, at a fraction of its cost. The batches are
-//!    fixed, so the chains run do not depend on the thread count.
+//!    confirmed set is exactly the full vote's, and the remaining chains are skipped. The
+//!    batches are fixed, so the chains run do not depend on the thread count.
 //! 4. **Levels.** Every candidate that uses a measurement of a confirmed point is removed; the
 //!    search repeats on intensity S − 1 (paper: Z3 then Z2), and on lower intensities down to
 //!    `lowest_intensity` if asked (default S − 1, at least 2; the paper has S = 3). Result
