@@ -139,7 +139,8 @@ impl<'a> PointIndex<'a> {
             return false;
         }
         let start = self.by_x.partition_point(|e| e.0 < p[0]);
-        let within = |e: &&(f64, usize)| e.1 != c && self.input.distance(c, e.1) <= d;
+        // Squared distances: no square root per point looked at.
+        let within = |e: &&(f64, usize)| e.1 != c && self.input.distance_squared(c, e.1) <= d * d;
         self.by_x[start..]
             .iter()
             .take_while(|e| e.0 - p[0] <= d)

@@ -1,30 +1,52 @@
 //! Steps 2–3 of the intensity search within one level: exclusive rays, the set H of start
 //! points, and the probability-intensity chains (see [`super::intensity`] for the rules).
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use rayon::prelude::*;
 
 use super::intensity::IntensityInput;
+use super::measurement_ids::MeasurementIds;
 
 /// The working set of one level, with its measurement ↔ candidate incidence.
+///
+/// Candidates are numbered in member order (the caller's) outside and in rank order — by
+/// (cost, member index), the chain's tie-break — inside the chain, so that "best rank" is
+/// "lowest index" and a bitset scan finds it.
 pub(super) struct Level {
     stride: usize,
-    /// Candidate c's measurement ids at `ids[c*stride..]`.
+    /// Candidate c's measurement ids at `ids[c*stride..]` (member order).
     ids: Vec<u32>,
     pub costs: Vec<f64>,
-    /// Position of each candidate in the order (cost, index): the chain's tie-break.
+    /// Exclusive rays of each member at the start of the level.
+    initial_m: Vec<u32>,
+    /// Rank of each member, and the member of each rank.
     rank: Vec<u32>,
-    /// Candidates by rank (the inverse of `rank`).
     by_rank: Vec<u32>,
-    /// CSR: the candidates using measurement id.
+    /// The chain's view, all in rank order.
+    chain: ChainData,
+}
+
+/// What every chain starts from, indexed by rank.
+struct ChainData {
+    /// Rank r's measurement ids at `ids[r*stride..]`.
+    ids: Vec<u32>,
+    /// CSR: the ranks using measurement id.
     user_offsets: Vec<usize>,
     users: Vec<u32>,
-    initial_uses: Vec<u32>,
-    initial_m: Vec<u32>,
-    /// For each m = 0..=stride, the candidates with that initial m in rank order.
-    initial_by_m: Vec<Vec<u32>>,
+    /// Per measurement: how many candidates use it, and the XOR of their ranks — when one
+    /// user is left, the XOR *is* that user, so nobody scans a user list to find it.
+    uses: Vec<u32>,
+    xor: Vec<u32>,
+    /// Exclusive rays per rank.
+    m: Vec<u32>,
+    /// For each m = 0..=stride, a bitset over ranks of the candidates starting at that m.
+    start_sets: Vec<u64>,
+    /// Levels of m, 0..=stride.
+    levels: usize,
+    words: usize,
+    /// Per measurement, its users as a bitset over ranks — kept only in dense levels, where a
+    /// user list is longer than a bitset has words; a chain then finds the alive users of a
+    /// measurement with one AND per word instead of one test per user.
+    user_sets: Option<Vec<u64>>,
 }
 
 impl Level {
@@ -33,60 +55,40 @@ impl Level {
         members: &[usize],
         stride: usize,
         n_meas: usize,
-        ids_of: &dyn Fn(usize) -> Vec<u32>,
+        meas: &MeasurementIds,
     ) -> Level {
         let mut ids = Vec::with_capacity(members.len() * stride);
         for &c in members {
-            ids.extend(ids_of(c));
+            ids.extend(meas.of(c));
         }
-        let mut initial_uses = vec![0u32; n_meas];
+        let mut uses = vec![0u32; n_meas];
         for &m in &ids {
-            initial_uses[m as usize] += 1;
-        }
-        let mut user_offsets = vec![0usize; n_meas + 1];
-        for m in 0..n_meas {
-            user_offsets[m + 1] = user_offsets[m] + initial_uses[m] as usize;
-        }
-        let mut fill = user_offsets.clone();
-        let mut users = vec![0u32; ids.len()];
-        for (c, chunk) in ids.chunks(stride.max(1)).enumerate() {
-            for &m in chunk {
-                users[fill[m as usize]] = c as u32;
-                fill[m as usize] += 1;
-            }
+            uses[m as usize] += 1;
         }
         let initial_m: Vec<u32> = ids
             .chunks(stride.max(1))
-            .map(|chunk| {
-                chunk
-                    .iter()
-                    .filter(|&&m| initial_uses[m as usize] == 1)
-                    .count() as u32
-            })
+            .map(|chunk| chunk.iter().filter(|&&m| uses[m as usize] == 1).count() as u32)
             .collect();
         let costs: Vec<f64> = members.iter().map(|&c| input.costs[c]).collect();
-        let mut order: Vec<usize> = (0..members.len()).collect();
-        order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]).then(a.cmp(&b)));
+        let mut by_rank: Vec<u32> = (0..members.len() as u32).collect();
+        by_rank.sort_by(|&a, &b| {
+            costs[a as usize]
+                .total_cmp(&costs[b as usize])
+                .then(a.cmp(&b))
+        });
         let mut rank = vec![0u32; members.len()];
-        for (r, &c) in order.iter().enumerate() {
-            rank[c] = r as u32;
+        for (r, &c) in by_rank.iter().enumerate() {
+            rank[c as usize] = r as u32;
         }
-        let mut initial_by_m = vec![Vec::new(); stride + 1];
-        for &c in &order {
-            initial_by_m[initial_m[c] as usize].push(c as u32);
-        }
-        let by_rank = order.iter().map(|&c| c as u32).collect();
+        let chain = ChainData::new(&ids, stride, &by_rank, &initial_m, uses);
         Level {
             stride,
             ids,
             costs,
+            initial_m,
             rank,
             by_rank,
-            user_offsets,
-            users,
-            initial_uses,
-            initial_m,
-            initial_by_m,
+            chain,
         }
     }
 
@@ -96,10 +98,6 @@ impl Level {
 
     pub fn ids(&self, c: usize) -> &[u32] {
         &self.ids[c * self.stride..(c + 1) * self.stride]
-    }
-
-    fn users(&self, m: u32) -> &[u32] {
-        &self.users[self.user_offsets[m as usize]..self.user_offsets[m as usize + 1]]
     }
 
     /// H: the candidates of maximal m, ascending; if there are more than `max_chains`, the
@@ -140,7 +138,10 @@ impl Level {
         for chunk in starts.chunks(batch) {
             let accepted: Vec<Vec<u32>> = chunk
                 .par_iter()
-                .map_init(|| Scratch::new(self), |scratch, &h| self.chain(scratch, h))
+                .map_init(
+                    || Scratch::new(&self.chain, self.stride),
+                    |scratch, &h| self.chain(scratch, h),
+                )
                 .collect();
             for chain in &accepted {
                 for &c in chain {
@@ -160,71 +161,47 @@ impl Level {
         (votes, run)
     }
 
-    /// One chain from `start`; returns the accepted candidates in acceptance order.
+    /// One chain from member `start`; returns the accepted members in acceptance order.
     ///
-    /// The next candidate is the alive one of largest current m, then best rank. Since m only
-    /// grows, each level m keeps a cursor into the candidates that started at m (rank order;
-    /// dead or promoted ones are skipped for good) and a small heap of those promoted to m.
-    /// `scratch` is reset here, so one can serve many chains without reallocating.
+    /// The next candidate is the alive one of largest current m, then best rank: each level m
+    /// keeps a bitset of its alive candidates, whose lowest bit is the best rank, and a word
+    /// cursor that only moves back when a promotion lands below it. `scratch` is reset here,
+    /// so one can serve many chains without reallocating.
     fn chain(&self, scratch: &mut Scratch, start: usize) -> Vec<u32> {
-        scratch.reset(self);
-        let Scratch {
-            alive,
-            uses,
-            m,
-            cursor,
-            promoted,
-        } = scratch;
+        let data = &self.chain;
+        scratch.reset(data);
         let mut accepted = Vec::new();
-        let mut next = Some(start);
+        let mut next = Some(self.rank[start] as usize);
         while let Some(c) = next {
-            accepted.push(c as u32);
-            for &id in self.ids(c) {
-                for &u in self.users(id) {
-                    let u = u as usize;
-                    if !alive[u] {
-                        continue;
+            accepted.push(self.by_rank[c]);
+            for &id in data.ids(c, self.stride) {
+                match &data.user_sets {
+                    Some(sets) => {
+                        let row = &sets[id as usize * data.words..(id as usize + 1) * data.words];
+                        for (w, &users) in row.iter().enumerate() {
+                            let mut hit = scratch.alive[w] & users;
+                            while hit != 0 {
+                                scratch.kill(
+                                    data,
+                                    self.stride,
+                                    w * 64 + hit.trailing_zeros() as usize,
+                                );
+                                hit &= hit - 1;
+                            }
+                        }
                     }
-                    alive[u] = false;
-                    for &other in self.ids(u) {
-                        let left = &mut uses[other as usize];
-                        *left -= 1;
-                        if *left == 1 {
-                            if let Some(&v) = self.users(other).iter().find(|&&v| alive[v as usize])
-                            {
-                                let v = v as usize;
-                                m[v] += 1;
-                                promoted[m[v] as usize].push(Reverse(self.rank[v]));
+                    None => {
+                        for &u in data.users(id) {
+                            if scratch.is_alive(u as usize) {
+                                scratch.kill(data, self.stride, u as usize);
                             }
                         }
                     }
                 }
             }
-            next = None;
-            for level in (0..=self.stride).rev() {
-                let current = |c: usize| alive[c] && m[c] as usize == level;
-                let list = &self.initial_by_m[level];
-                while cursor[level] < list.len() && !current(list[cursor[level]] as usize) {
-                    cursor[level] += 1;
-                }
-                let heap = &mut promoted[level];
-                while let Some(&Reverse(r)) = heap.peek() {
-                    if current(self.by_rank[r as usize] as usize) {
-                        break;
-                    }
-                    heap.pop();
-                }
-                let from_list = list.get(cursor[level]).map(|&c| self.rank[c as usize]);
-                let from_heap = heap.peek().map(|&Reverse(r)| r);
-                let best = match (from_list, from_heap) {
-                    (Some(a), Some(b)) => Some(a.min(b)),
-                    (a, b) => a.or(b),
-                };
-                if let Some(r) = best {
-                    next = Some(self.by_rank[r as usize] as usize);
-                    break;
-                }
-            }
+            next = (0..=self.stride)
+                .rev()
+                .find_map(|level| scratch.best_at(data, level));
         }
         accepted
     }
@@ -234,37 +211,157 @@ impl Level {
 /// outcome is decided, large enough to keep both cores of a small machine busy.
 pub const VOTE_BATCH: usize = 16;
 
-/// The per-chain working state, reused across the chains one thread runs.
-struct Scratch {
-    alive: Vec<bool>,
-    uses: Vec<u32>,
-    m: Vec<u32>,
-    cursor: Vec<usize>,
-    promoted: Vec<BinaryHeap<Reverse<u32>>>,
-}
-
-impl Scratch {
-    fn new(level: &Level) -> Scratch {
-        Scratch {
-            alive: Vec::with_capacity(level.len()),
-            uses: Vec::with_capacity(level.initial_uses.len()),
-            m: Vec::with_capacity(level.len()),
-            cursor: Vec::with_capacity(level.stride + 1),
-            promoted: vec![BinaryHeap::new(); level.stride + 1],
+impl ChainData {
+    fn new(
+        member_ids: &[u32],
+        stride: usize,
+        by_rank: &[u32],
+        member_m: &[u32],
+        uses: Vec<u32>,
+    ) -> ChainData {
+        let n = by_rank.len();
+        let n_meas = uses.len();
+        let mut ids = Vec::with_capacity(member_ids.len());
+        for &c in by_rank {
+            let c = c as usize;
+            ids.extend_from_slice(&member_ids[c * stride..(c + 1) * stride]);
+        }
+        let mut user_offsets = vec![0usize; n_meas + 1];
+        for m in 0..n_meas {
+            user_offsets[m + 1] = user_offsets[m] + uses[m] as usize;
+        }
+        let mut fill = user_offsets.clone();
+        let mut users = vec![0u32; ids.len()];
+        let mut xor = vec![0u32; n_meas];
+        for (r, chunk) in ids.chunks(stride.max(1)).enumerate() {
+            for &m in chunk {
+                users[fill[m as usize]] = r as u32;
+                fill[m as usize] += 1;
+                xor[m as usize] ^= r as u32;
+            }
+        }
+        let m: Vec<u32> = by_rank.iter().map(|&c| member_m[c as usize]).collect();
+        let words = n.div_ceil(64);
+        let mut start_sets = vec![0u64; (stride + 1) * words];
+        for (r, &mr) in m.iter().enumerate() {
+            start_sets[mr as usize * words + r / 64] |= 1 << (r % 64);
+        }
+        let dense = n_meas > 0 && words * n_meas < ids.len();
+        let user_sets = dense.then(|| {
+            let mut sets = vec![0u64; n_meas * words];
+            for (r, chunk) in ids.chunks(stride.max(1)).enumerate() {
+                for &m in chunk {
+                    sets[m as usize * words + r / 64] |= 1 << (r % 64);
+                }
+            }
+            sets
+        });
+        ChainData {
+            ids,
+            user_offsets,
+            users,
+            uses,
+            xor,
+            m,
+            start_sets,
+            levels: stride + 1,
+            words,
+            user_sets,
         }
     }
 
-    fn reset(&mut self, level: &Level) {
-        self.alive.clear();
-        self.alive.resize(level.len(), true);
-        self.uses.clear();
-        self.uses.extend_from_slice(&level.initial_uses);
-        self.m.clear();
-        self.m.extend_from_slice(&level.initial_m);
-        self.cursor.clear();
-        self.cursor.resize(level.stride + 1, 0);
-        for heap in &mut self.promoted {
-            heap.clear();
+    fn ids(&self, r: usize, stride: usize) -> &[u32] {
+        &self.ids[r * stride..(r + 1) * stride]
+    }
+
+    fn users(&self, id: u32) -> &[u32] {
+        &self.users[self.user_offsets[id as usize]..self.user_offsets[id as usize + 1]]
+    }
+}
+
+/// The per-chain working state (rank-indexed), reused across the chains one thread runs.
+struct Scratch {
+    alive: Vec<u64>,
+    /// Per level m, a bitset of the alive candidates whose current m is that level.
+    at: Vec<u64>,
+    /// Per level, a word index below which `at` is all zero.
+    cursor: Vec<usize>,
+    uses: Vec<u32>,
+    xor: Vec<u32>,
+    m: Vec<u32>,
+}
+
+impl Scratch {
+    fn new(data: &ChainData, stride: usize) -> Scratch {
+        Scratch {
+            alive: Vec::with_capacity(data.words),
+            at: Vec::with_capacity(data.start_sets.len()),
+            cursor: Vec::with_capacity(stride + 1),
+            uses: Vec::with_capacity(data.uses.len()),
+            xor: Vec::with_capacity(data.xor.len()),
+            m: Vec::with_capacity(data.m.len()),
         }
+    }
+
+    fn reset(&mut self, data: &ChainData) {
+        let n = data.m.len();
+        self.alive.clear();
+        self.alive.resize(data.words, !0);
+        if n % 64 != 0 {
+            if let Some(last) = self.alive.last_mut() {
+                *last = (1u64 << (n % 64)) - 1;
+            }
+        }
+        self.at.clear();
+        self.at.extend_from_slice(&data.start_sets);
+        self.cursor.clear();
+        self.cursor
+            .resize(data.start_sets.len() / data.words.max(1), 0);
+        self.uses.clear();
+        self.uses.extend_from_slice(&data.uses);
+        self.xor.clear();
+        self.xor.extend_from_slice(&data.xor);
+        self.m.clear();
+        self.m.extend_from_slice(&data.m);
+    }
+
+    fn is_alive(&self, r: usize) -> bool {
+        self.alive[r / 64] >> (r % 64) & 1 == 1
+    }
+
+    /// Deletes rank `u`; every measurement left with one alive user gives that user an
+    /// exclusive ray.
+    #[inline]
+    fn kill(&mut self, data: &ChainData, stride: usize, u: usize) {
+        let words = data.words;
+        let (word, bit) = (u / 64, 1u64 << (u % 64));
+        self.alive[word] &= !bit;
+        self.at[self.m[u] as usize * words + word] &= !bit;
+        for &id in data.ids(u, stride) {
+            let id = id as usize;
+            self.uses[id] -= 1;
+            self.xor[id] ^= u as u32;
+            if self.uses[id] == 1 {
+                // Exactly one alive user is left, and the XOR of the alive users is it.
+                let v = self.xor[id] as usize;
+                let (word, bit) = (v / 64, 1u64 << (v % 64));
+                self.at[self.m[v] as usize * words + word] &= !bit;
+                self.m[v] += 1;
+                let level = self.m[v] as usize;
+                self.at[level * words + word] |= bit;
+                self.cursor[level] = self.cursor[level].min(word);
+            }
+        }
+    }
+
+    /// The best (lowest) alive rank whose current m is `level`, if any.
+    fn best_at(&mut self, data: &ChainData, level: usize) -> Option<usize> {
+        let set = &self.at[level * data.words..(level + 1) * data.words];
+        let cursor = &mut self.cursor[level];
+        while *cursor < set.len() && set[*cursor] == 0 {
+            *cursor += 1;
+        }
+        set.get(*cursor)
+            .map(|&w| *cursor * 64 + w.trailing_zeros() as usize)
     }
 }

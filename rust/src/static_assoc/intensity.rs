@@ -42,16 +42,18 @@
 
 use super::airspace::PointIndex;
 use super::chains::Level;
+use super::measurement_ids::MeasurementIds;
 use crate::error::{ensure_finite, CoreError, CoreResult};
 
 /// Validated input: `K` tuples over `S` sensors with their points and costs.
 #[derive(Clone, Copy, Debug)]
 pub struct IntensityInput<'a> {
     tuples: &'a [i64],
-    n_sensors: usize,
+    pub(super) n_sensors: usize,
     positions: &'a [f64],
     pub(super) dim: usize,
     pub(super) costs: &'a [f64],
+    sizes: &'a [i64],
 }
 
 impl<'a> IntensityInput<'a> {
@@ -122,6 +124,7 @@ impl<'a> IntensityInput<'a> {
             positions,
             dim,
             costs,
+            sizes,
         })
     }
 
@@ -141,17 +144,30 @@ impl<'a> IntensityInput<'a> {
         &self.positions[k * self.dim..(k + 1) * self.dim]
     }
 
+    /// Reports of sensor s (validated >= 0 in `new`).
+    pub(super) fn size(&self, s: usize) -> usize {
+        usize::try_from(self.sizes[s]).unwrap_or(usize::MAX)
+    }
+
+    /// Reports over all sensors (saturating: counts near `i64::MAX` are legal input).
+    pub(super) fn sizes_total(&self) -> usize {
+        (0..self.n_sensors).fold(0usize, |acc, s| acc.saturating_add(self.size(s)))
+    }
+
     pub(super) fn intensity(&self, k: usize) -> usize {
         self.tuple(k).iter().filter(|&&t| t > 0).count()
     }
 
     pub(super) fn distance(&self, a: usize, b: usize) -> f64 {
+        self.distance_squared(a, b).sqrt()
+    }
+
+    pub(super) fn distance_squared(&self, a: usize, b: usize) -> f64 {
         self.point(a)
             .iter()
             .zip(self.point(b))
             .map(|(x, y)| (x - y) * (x - y))
             .sum::<f64>()
-            .sqrt()
     }
 }
 
@@ -254,32 +270,8 @@ pub fn intensity_search(
         }
     }
 
-    // Measurements get dense ids 0..n_meas over those the searched candidates use, so memory
-    // follows the candidates, not the (caller-given) report counts. A report is (sensor, index).
-    let report = |c: usize| {
-        input
-            .tuple(c)
-            .iter()
-            .enumerate()
-            .filter(|(_, &t)| t > 0)
-            .map(|(s, &t)| (s, t))
-    };
-    let mut reports: Vec<(usize, i64)> = (0..k).filter(|&c| searched[c]).flat_map(report).collect();
-    reports.sort_unstable();
-    reports.dedup();
-    let n_meas = reports.len();
-    if n_meas > u32::MAX as usize {
-        return Err(CoreError::out_of_range(
-            "tuples",
-            "more than 2^32 distinct reports in use",
-        ));
-    }
+    let (meas, n_meas) = MeasurementIds::new(input, &searched)?;
     let mut used = vec![false; n_meas];
-    let ids = |c: usize| -> Vec<u32> {
-        report(c)
-            .map(|r| reports.binary_search(&r).map_or(u32::MAX, |i| i as u32))
-            .collect()
-    };
 
     let mut chosen = Vec::new();
     let mut levels = Vec::new();
@@ -287,12 +279,10 @@ pub fn intensity_search(
     for level_intensity in (lowest..=s_count).rev() {
         let members: Vec<usize> = (0..k)
             .filter(|&c| {
-                alive[c]
-                    && intensity[c] == level_intensity
-                    && ids(c).iter().all(|&m| !used[m as usize])
+                alive[c] && intensity[c] == level_intensity && meas.of(c).all(|m| !used[m as usize])
             })
             .collect();
-        let level = Level::new(input, &members, level_intensity, n_meas, &ids);
+        let level = Level::new(input, &members, level_intensity, n_meas, &meas);
         let starts = level.start_points(options.max_chains);
         let threshold = tau * starts.len() as f64;
         // With τ >= 0.5 the confirmed set is conflict-free, so only membership matters and the

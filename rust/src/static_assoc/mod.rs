@@ -55,6 +55,7 @@ mod chains;
 pub mod cost;
 mod enumerate;
 pub mod intensity;
+mod measurement_ids;
 mod prepared;
 mod window;
 

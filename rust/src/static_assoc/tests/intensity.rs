@@ -319,6 +319,36 @@ fn huge_report_counts_cost_no_memory() {
     assert_eq!(out.chosen, vec![0, 1]);
 }
 
+/// Report counts far above the candidates take the sorted path to measurement ids instead of
+/// the lookup table: same answer as the obvious implementation either way.
+#[test]
+fn report_ids_by_sort_equal_those_by_table() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for case in 0..30 {
+        let n_sensors = rng.random_range(3..5);
+        let sizes: Vec<i64> = (0..n_sensors).map(|_| rng.random_range(2..7)).collect();
+        let k = rng.random_range(5..60);
+        let mut tuples = Vec::new();
+        for _ in 0..k {
+            tuples.extend(sizes.iter().map(|&n| rng.random_range(0..=n)));
+        }
+        let costs: Vec<f64> = (0..k).map(|_| -(rng.random_range(1..9) as f64)).collect();
+        let positions = vec![0.0; 2 * k];
+        let huge = vec![1i64 << 40; n_sensors];
+        let options = IntensityOptions {
+            valid_airspace: false,
+            ..Default::default()
+        };
+        let expected = naive_intensity(&tuples, n_sensors, &costs, 0.5);
+        for sizes in [&sizes, &huge] {
+            let input = IntensityInput::new(&tuples, n_sensors, &positions, 2, &costs, sizes)
+                .expect("valid");
+            let out = intensity_search(&input, &options).expect("searches");
+            assert_eq!(out.chosen, expected, "case {case}, sizes {sizes:?}");
+        }
+    }
+}
+
 /// Levels with many start points, where the vote stops early (τ >= 0.5): still the obvious
 /// implementation's answer, and the early stop does happen.
 #[test]
