@@ -51,6 +51,7 @@
 //!   rule; `airspace` (eq. 12–13) and `chains` (probability-intensity chains) implement it.
 
 mod airspace;
+mod chain_block;
 mod chains;
 pub mod cost;
 mod enumerate;

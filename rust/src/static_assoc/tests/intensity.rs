@@ -355,10 +355,11 @@ fn report_ids_by_sort_equal_those_by_table() {
 fn early_decided_vote_equals_the_full_vote() {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let mut stopped_early = 0;
-    for case in 0..40 {
+    // Levels of more than one batch (VOTE_BATCH = 128 chains), or nothing can stop early.
+    for case in 0..6 {
         let n_sensors = 3;
-        let sizes: Vec<i64> = (0..n_sensors).map(|_| rng.random_range(4..10)).collect();
-        let k = rng.random_range(20..120);
+        let sizes: Vec<i64> = (0..n_sensors).map(|_| rng.random_range(6..12)).collect();
+        let k = rng.random_range(260..330);
         let mut tuples = Vec::new();
         for _ in 0..k {
             let t: Vec<i64> = sizes.iter().map(|&n| rng.random_range(1..=n)).collect();
@@ -384,8 +385,9 @@ fn early_decided_vote_equals_the_full_vote() {
             stopped_early += usize::from(level.chains < level.starts);
         }
     }
+    eprintln!("stopped early in {stopped_early} of 12 levels");
     assert!(
-        stopped_early >= 15,
+        stopped_early >= 3,
         "the vote stopped early in only {stopped_early} levels"
     );
 }
