@@ -296,6 +296,7 @@ pub(crate) fn sparse_core(costs: &SparseCosts, a: &[f64], b: &[f64]) -> SparseAs
 /// problem per iteration.
 pub(crate) struct SparseSolver {
     work: sap::SparseWork,
+    warm: sap::WarmState,
     result: SparseAssignment,
 }
 
@@ -308,6 +309,7 @@ impl Default for SparseSolver {
         };
         Self {
             work: sap::SparseWork::default(),
+            warm: sap::WarmState::default(),
             result,
         }
     }
@@ -317,6 +319,20 @@ impl SparseSolver {
     /// Solves validated input; the result stays valid until the next call.
     pub(crate) fn solve(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) -> &SparseAssignment {
         let col4row = sap::sparse(&mut self.work, costs, a, b);
+        finish(costs, a, b, col4row, &mut self.result);
+        &self.result
+    }
+
+    /// [`SparseSolver::solve`] starting from the previous `solve_warm` call's duals and
+    /// matching when the shape is the same: the same optimum (possibly another of equal
+    /// cost), found faster when the problem changed little.
+    pub(crate) fn solve_warm(
+        &mut self,
+        costs: &SparseCosts,
+        a: &[f64],
+        b: &[f64],
+    ) -> &SparseAssignment {
+        let col4row = sap::sparse_warm(&mut self.work, &mut self.warm, costs, a, b);
         finish(costs, a, b, col4row, &mut self.result);
         &self.result
     }

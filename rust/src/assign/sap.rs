@@ -11,8 +11,11 @@
 
 use super::lap::SparseCosts;
 use crate::error::{CoreError, CoreResult};
+
+mod warm;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+pub(super) use warm::{sparse_warm, WarmState};
 
 const NONE: usize = usize::MAX;
 

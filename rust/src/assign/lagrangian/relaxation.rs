@@ -170,7 +170,7 @@ impl Relaxation {
         self.a.extend(self.rows.iter().map(|r| r.0.min(0.0)));
         self.b.clear();
         self.b.extend(self.cols.iter().map(|c| c.0.min(0.0)));
-        let sol = self.lap.solve(&self.pairs, &self.a, &self.b);
+        let sol = self.lap.solve_warm(&self.pairs, &self.a, &self.b);
         let mut chosen = Vec::new();
         for (r, c) in sol.row_to_col.iter().enumerate() {
             match c {

@@ -1,0 +1,224 @@
+//! A warm-started sparse assignment, for callers that solve a slowly changing problem every
+//! iteration: the Lagrangian relaxation changes each 2-D problem only by one subgradient step.
+//!
+//! A warm start keeps the previous solve's column duals and matching. In the rectangular form
+//! of [`super::sparse`] that fails: a column left unassigned must have dual 0, so freeing a
+//! column whose dual is negative forces fix-ups that cascade. Here the problem is made square
+//! instead, where duals are free of sign and every row and column is matched:
+//!
+//! * rows: the real rows `0..nr`, then one *mirror row* per real column (`nr + j`);
+//! * columns: the real columns `0..nc`, then one dummy per real row (`nc + i`, as in the
+//!   rectangular form);
+//! * entries: real row i to column j at the reduced cost `c − a_i − b_j` (only those `< 0`, as
+//!   there), row i to its dummy at 0 ("row i unassigned"), mirror row j to column j at 0
+//!   ("column j unassigned"), and mirror row j to dummy `nc + i` at 0 for every kept entry
+//!   (i, j).
+//!
+//! The mirror entries complete any matching of the real entries at no cost — (i, j) matched
+//! pairs mirror row j with dummy i — so the square optimum is the rectangular one, without
+//! the dense zero block a plain square extension would need. A warm solve keeps the previous
+//! column duals `v`, sets every row dual to its smallest reduced cost (dual feasible), keeps
+//! each previous pair that is still tight, and runs the usual searches only for the rows left
+//! without one.
+
+use super::{augment, SparseWork, NONE};
+use crate::assign::lap::SparseCosts;
+
+/// What one solve hands the next: the square problem's column duals and matching.
+#[derive(Default)]
+pub(in crate::assign) struct WarmState {
+    shape: (usize, usize),
+    v: Vec<f64>,
+    col4row: Vec<usize>,
+}
+
+/// Solves the rectangular problem of [`super::sparse`] (same input, same meaning of the
+/// returned columns for the `nr` real rows), starting from `warm` when it has the same shape,
+/// and leaves this solve's state in `warm`.
+pub(in crate::assign) fn sparse_warm<'w>(
+    w: &'w mut SparseWork,
+    warm: &mut WarmState,
+    costs: &SparseCosts,
+    a: &[f64],
+    b: &[f64],
+) -> &'w [usize] {
+    let shape = (costs.n_rows(), costs.n_cols());
+    w.load_mirrored(costs, a, b);
+    let previous = (warm.shape == shape).then(|| {
+        w.v.copy_from_slice(&warm.v);
+        warm.col4row.as_slice()
+    });
+    w.start_from(previous);
+    for cur in 0..w.col4row.len() {
+        if w.col4row[cur] != NONE {
+            continue;
+        }
+        let (sink, min_val) = w.shortest_path(cur);
+        w.update_duals(cur, min_val);
+        augment(sink, cur, &w.path, &mut w.row4col, &mut w.col4row);
+        w.reset();
+    }
+    warm.shape = shape;
+    warm.v.clone_from(&w.v);
+    warm.col4row.clone_from(&w.col4row);
+    &w.col4row[..shape.0]
+}
+
+impl SparseWork {
+    /// Builds the square problem described in the module docs.
+    fn load_mirrored(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) {
+        let (nr, nc) = (costs.n_rows(), costs.n_cols());
+        self.offs.clear();
+        self.cols.clear();
+        self.vals.clear();
+        self.offs.push(0);
+        let mut per_col = vec![0usize; nc + 1];
+        for (i, &ai) in a.iter().enumerate() {
+            for (j, c) in costs.row(i) {
+                let r = c - ai - b[j];
+                if r < 0.0 {
+                    self.cols.push(j);
+                    self.vals.push(r);
+                    per_col[j + 1] += 1;
+                }
+            }
+            self.cols.push(nc + i);
+            self.vals.push(0.0);
+            self.offs.push(self.cols.len());
+        }
+        // Mirror row j: its own column at 0, then the dummies of the rows with an entry in j.
+        for j in 0..nc {
+            per_col[j + 1] += per_col[j] + 1;
+        }
+        let base = self.cols.len();
+        self.cols.resize(base + per_col[nc], 0);
+        self.vals.resize(base + per_col[nc], 0.0);
+        let mut fill: Vec<usize> = per_col[..nc].iter().map(|&o| base + o).collect();
+        for j in 0..nc {
+            self.cols[fill[j]] = j;
+            fill[j] += 1;
+        }
+        for i in 0..nr {
+            for at in self.offs[i]..self.offs[i + 1] - 1 {
+                let j = self.cols[at];
+                self.cols[fill[j]] = nc + i;
+                fill[j] += 1;
+            }
+        }
+        self.offs.extend(per_col[1..].iter().map(|&o| base + o));
+        let n = nr + nc;
+        for (vec, fill) in [
+            (&mut self.u, 0.0),
+            (&mut self.v, 0.0),
+            (&mut self.dist, f64::INFINITY),
+        ] {
+            vec.clear();
+            vec.resize(n, fill);
+        }
+        for vec in [&mut self.path, &mut self.col4row, &mut self.row4col] {
+            vec.clear();
+            vec.resize(n, NONE);
+        }
+        self.scanned.clear();
+        self.scanned.resize(n, false);
+        self.reset();
+    }
+
+    /// Row duals = each row's smallest reduced cost `c − v` (so every reduced cost is >= 0),
+    /// then, first, each row keeps its `previous` column if that entry is still there and
+    /// tight; then every row still free takes a free tight column (lowest first). The
+    /// searches go on from this state exactly as from an empty one.
+    fn start_from(&mut self, previous: Option<&[usize]>) {
+        let n = self.col4row.len();
+        for i in 0..n {
+            let span = self.offs[i]..self.offs[i + 1];
+            let reduced = self.cols[span.clone()].iter().zip(&self.vals[span]);
+            self.u[i] = reduced
+                .map(|(&j, &c)| c - self.v[j])
+                .fold(f64::INFINITY, f64::min);
+        }
+        let tight = |w: &SparseWork, i: usize, j: usize| {
+            let span = w.offs[i]..w.offs[i + 1];
+            let mut row = w.cols[span.clone()].iter().zip(&w.vals[span]);
+            row.any(|(&jj, &c)| jj == j && c - w.v[j] == w.u[i])
+        };
+        if let Some(previous) = previous {
+            for (i, &j) in previous.iter().enumerate() {
+                if j != NONE && self.row4col[j] == NONE && tight(self, i, j) {
+                    self.col4row[i] = j;
+                    self.row4col[j] = i;
+                }
+            }
+        }
+        for i in 0..n {
+            if self.col4row[i] != NONE {
+                continue;
+            }
+            let span = self.offs[i]..self.offs[i + 1];
+            let free_tight = (self.cols[span.clone()].iter().zip(&self.vals[span]))
+                .filter(|&(&j, &c)| self.row4col[j] == NONE && c - self.v[j] == self.u[i])
+                .map(|(&j, _)| j)
+                .min();
+            if let Some(j) = free_tight {
+                self.col4row[i] = j;
+                self.row4col[j] = i;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::assign::lap::{sparse_core, SparseCosts, SparseSolver};
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Quarter steps keep every sum exact, and integer-heavy costs make ties common: the
+    /// warm solve must reach the cold optimum through problems that drift and change shape.
+    #[test]
+    fn warm_solves_equal_cold_ones_through_a_changing_problem() {
+        let mut rng = ChaCha8Rng::seed_from_u64(21);
+        let mut solver = SparseSolver::default();
+        let quarter =
+            |rng: &mut ChaCha8Rng, lo: i32, hi: i32| rng.random_range(lo..hi) as f64 / 4.0;
+        for run in 0..40 {
+            let (nr, nc) = (rng.random_range(0..25usize), rng.random_range(0..25usize));
+            let pattern: Vec<(usize, usize)> = (0..nr * nc)
+                .filter(|_| rng.random_bool(0.3))
+                .map(|k| (k / nc, k % nc))
+                .collect();
+            let mut vals: Vec<f64> = pattern.iter().map(|_| quarter(&mut rng, -36, 12)).collect();
+            let mut a: Vec<f64> = (0..nr).map(|_| quarter(&mut rng, -16, 8)).collect();
+            let mut b: Vec<f64> = (0..nc).map(|_| quarter(&mut rng, -16, 8)).collect();
+            for step in 0..25 {
+                let big = step % 7 == 6;
+                for x in vals.iter_mut().chain(&mut a).chain(&mut b) {
+                    if rng.random_bool(if big { 0.8 } else { 0.2 }) {
+                        *x += if big {
+                            quarter(&mut rng, -20, 20)
+                        } else {
+                            quarter(&mut rng, -2, 3)
+                        };
+                    }
+                }
+                let trip: Vec<(usize, usize, f64)> = pattern
+                    .iter()
+                    .zip(&vals)
+                    .map(|(&(i, j), &c)| (i, j, c))
+                    .collect();
+                let m = SparseCosts::from_triplets(nr, nc, &trip).unwrap();
+                let cold = sparse_core(&m, &a, &b);
+                let warm = solver.solve_warm(&m, &a, &b);
+                assert_eq!(warm.cost, cold.cost, "run {run} step {step}");
+                for (i, j) in warm.row_to_col.iter().enumerate() {
+                    if let Some(j) = *j {
+                        assert_eq!(warm.col_to_row[j], Some(i), "run {run} step {step}");
+                        assert!(m.row(i).any(|e| e.0 == j), "run {run}: forbidden pair");
+                    }
+                }
+                let matched = warm.row_to_col.iter().flatten().count();
+                assert_eq!(matched, warm.col_to_row.iter().flatten().count());
+            }
+        }
+    }
+}
