@@ -94,9 +94,9 @@ impl SparseWork {
         self.cols.resize(base + per_col[nc], 0);
         self.vals.resize(base + per_col[nc], 0.0);
         let mut fill: Vec<usize> = per_col[..nc].iter().map(|&o| base + o).collect();
-        for j in 0..nc {
-            self.cols[fill[j]] = j;
-            fill[j] += 1;
+        for (j, at) in fill.iter_mut().enumerate() {
+            self.cols[*at] = j;
+            *at += 1;
         }
         for i in 0..nr {
             for at in self.offs[i]..self.offs[i + 1] - 1 {
