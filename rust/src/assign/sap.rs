@@ -217,6 +217,9 @@ pub(super) struct SparseWork {
     heap: BinaryHeap<Reverse<u128>>,
     /// Distance of the nearest free column reached by the current search (`reset` sets it).
     free_dist: f64,
+    /// Buffers of the square form's mirror rows (see `warm`), kept between calls.
+    mirror_offs: Vec<usize>,
+    mirror_fill: Vec<usize>,
 }
 
 /// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
