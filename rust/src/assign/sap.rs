@@ -261,6 +261,9 @@ impl SparseWork {
     }
 
     /// Dijkstra from row `cur` to the nearest free column; returns it and its distance.
+    // The hot loop of both the cold and the warm solve: inlined into each, as it was into the
+    // cold solve alone before the warm one shared it.
+    #[inline(always)]
     fn shortest_path(&mut self, cur: usize) -> (usize, f64) {
         let (mut i, mut min_val) = (cur, 0.0);
         loop {
