@@ -1,7 +1,32 @@
 //! Step 1 of the intensity search, the valid airspace (eq. 12–13), with exact nearest- and
 //! farthest-point queries that avoid the all-pairs loop over candidates × intensity-S points.
+//!
+//! "Is another intensity-S point within d?" is asked of every candidate. A sweep along x
+//! answers it fast when the answer is yes, but a ghost with no point within d scans every
+//! point of the x-window, and d (about the scene's size) makes that window nearly all of them
+//! — quadratic in large scans (at M = 500 it was most of the search). So the sweep looks at a
+//! bounded number of points, and a candidate it does not settle goes to an R*-tree (the
+//! `rstar` crate, a well-kept spatial index), built on first use: in small scans the sweep
+//! settles everything and the tree, whose building cost more than their sweeps, is never
+//! built.
+
+use std::cell::OnceCell;
+
+use rstar::primitives::GeomWithData;
+use rstar::RTree;
 
 use super::intensity::IntensityInput;
+
+/// An intensity-S point in 3-D (planar points get z = 0, which leaves distances unchanged),
+/// with its candidate index.
+type Located = GeomWithData<[f64; 3], usize>;
+
+/// Points of at most 3 coordinates, padded to 3.
+fn padded(point: &[f64]) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    out[..point.len()].copy_from_slice(point);
+    out
+}
 
 /// The intensity-S points, sorted by their first coordinate (nearest-neighbour sweeps) and by
 /// distance from their centroid (farthest-point search). Exact; no approximation.
@@ -15,7 +40,11 @@ pub(super) struct PointIndex<'a> {
     /// Bounding box of the points.
     lower: Vec<f64>,
     upper: Vec<f64>,
+    tree: OnceCell<RTree<Located>>,
 }
+
+/// Points the sweep looks at on each side before asking the tree.
+const SWEEP_LIMIT: usize = 256;
 
 impl<'a> PointIndex<'a> {
     pub fn new(input: &'a IntensityInput<'a>, full: &[usize]) -> Self {
@@ -55,6 +84,7 @@ impl<'a> PointIndex<'a> {
             by_spread,
             lower,
             upper,
+            tree: OnceCell::new(),
         }
     }
 
@@ -139,16 +169,29 @@ impl<'a> PointIndex<'a> {
             return false;
         }
         let start = self.by_x.partition_point(|e| e.0 < p[0]);
-        // Squared distances: no square root per point looked at.
-        let within = |e: &&(f64, usize)| e.1 != c && self.input.distance_squared(c, e.1) <= d * d;
-        self.by_x[start..]
-            .iter()
-            .take_while(|e| e.0 - p[0] <= d)
-            .any(|e| within(&e))
-            || self.by_x[..start]
+        let within = |e: &(f64, usize)| e.1 != c && self.input.distance_squared(c, e.1) <= d * d;
+        let right = &self.by_x[start..];
+        let right = &right[..right.partition_point(|e| e.0 - p[0] <= d)];
+        let left = &self.by_x[..start];
+        let left = &left[left.partition_point(|e| p[0] - e.0 > d)..];
+        let (near_right, near_left) = (
+            &right[..right.len().min(SWEEP_LIMIT)],
+            &left[left.len().saturating_sub(SWEEP_LIMIT)..],
+        );
+        if near_right.iter().any(within) || near_left.iter().any(within) {
+            return true;
+        }
+        if near_right.len() == right.len() && near_left.len() == left.len() {
+            return false; // the whole window was looked at
+        }
+        let tree = self.tree.get_or_init(|| {
+            let located = self
+                .by_x
                 .iter()
-                .rev()
-                .take_while(|e| p[0] - e.0 <= d)
-                .any(|e| within(&e))
+                .map(|&(_, b)| Located::new(padded(self.input.point(b)), b));
+            RTree::bulk_load(located.collect())
+        });
+        tree.locate_within_distance(padded(p), d * d)
+            .any(|e| e.data != c)
     }
 }

@@ -95,11 +95,12 @@ impl<'a> IntensityInput<'a> {
                 format!("has {} rows, costs has {k}", tuples.len() / n_sensors),
             ));
         }
-        if dim == 0 || positions.len() != k * dim {
+        // Points on a line, in the plane or in space: the airspace index is built for <= 3-D.
+        if !(1..=3).contains(&dim) || positions.len() != k * dim {
             return Err(CoreError::shape(
                 "positions",
                 format!(
-                    "expected shape ({k}, d) with d >= 1, got {} values",
+                    "expected shape ({k}, d) with d in 1..=3, got {} values in {dim} columns",
                     positions.len()
                 ),
             ));

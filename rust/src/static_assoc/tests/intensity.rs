@@ -134,14 +134,31 @@ fn lower_level_fills_in_missed_targets() {
 #[test]
 fn airspace_index_matches_the_quadratic_definition() {
     let mut rng = ChaCha8Rng::seed_from_u64(77);
-    for (dim, n_full, n_pairs) in [(2, 40, 60), (3, 25, 30), (2, 2, 5)] {
+    // The large cases put some pairs beside the crowd, far off in y only: their x-window holds
+    // more points than the sweep looks at, so the R*-tree answers for them.
+    for (dim, n_full, n_pairs) in [
+        (2, 40, 60),
+        (3, 25, 30),
+        (2, 2, 5),
+        (2, 1200, 200),
+        (3, 900, 100),
+    ] {
         // Clustered intensity-3 points plus scattered far ones; pairs anywhere.
         let mut positions = Vec::new();
         let mut tuples = Vec::new();
         for k in 0..n_full + n_pairs {
             let spread = if k % 7 == 0 { 50.0 } else { 5.0 };
-            for _ in 0..dim {
-                positions.push(rng.random_range(-spread..spread));
+            for axis in 0..dim {
+                let beside = k >= n_full && n_full > 500 && k % 4 == 0 && axis == 1;
+                positions.push(if beside {
+                    if k % 8 == 0 {
+                        75.0
+                    } else {
+                        -75.0
+                    }
+                } else {
+                    rng.random_range(-spread..spread)
+                });
             }
             let i = (k + 1) as i64;
             tuples.extend(if k < n_full { [i, i, i] } else { [i, i, 0] });
@@ -307,6 +324,18 @@ fn intensity_search_equals_the_obvious_implementation() {
             );
         }
     }
+}
+
+#[test]
+fn points_of_more_than_three_coordinates_are_refused() {
+    let err = IntensityInput::new(&[1, 1, 1], 3, &[0.0; 4], 4, &[-1.0], &[1, 1, 1]);
+    assert!(matches!(
+        err,
+        Err(CoreError::Shape {
+            arg: "positions",
+            ..
+        })
+    ));
 }
 
 #[test]
