@@ -232,6 +232,14 @@ impl SparseWork {
     /// Sets up the solve of `costs` with unassigned costs `a` (rows) and `b` (columns).
     fn load(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) {
         let (nr, nc) = (costs.n_rows(), costs.n_cols());
+        self.load_rows(costs, a, b);
+        self.size_for(nr, nc + nr);
+    }
+
+    /// The reduced CSR of the real rows: entries beating "both unassigned", then each row's
+    /// private dummy column `nc + i` at 0.
+    fn load_rows(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) {
+        let nc = costs.n_cols();
         self.offs.clear();
         self.cols.clear();
         self.vals.clear();
@@ -249,14 +257,17 @@ impl SparseWork {
             self.vals.push(0.0);
             self.offs.push(self.cols.len());
         }
-        let n = nc + nr;
-        refill(&mut self.u, nr, 0.0);
-        refill(&mut self.v, n, 0.0);
-        refill(&mut self.dist, n, f64::INFINITY);
-        refill(&mut self.path, n, NONE);
-        refill(&mut self.col4row, nr, NONE);
-        refill(&mut self.row4col, n, NONE);
-        refill(&mut self.scanned, n, false);
+    }
+
+    /// Empty duals, paths and matching for `rows` rows and `cols` columns.
+    fn size_for(&mut self, rows: usize, cols: usize) {
+        refill(&mut self.u, rows, 0.0);
+        refill(&mut self.v, cols, 0.0);
+        refill(&mut self.dist, cols, f64::INFINITY);
+        refill(&mut self.path, cols, NONE);
+        refill(&mut self.col4row, rows, NONE);
+        refill(&mut self.row4col, cols, NONE);
+        refill(&mut self.scanned, cols, false);
         self.reset();
     }
 

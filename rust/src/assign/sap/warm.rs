@@ -68,27 +68,14 @@ impl SparseWork {
     /// Builds the square problem described in the module docs.
     fn load_mirrored(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) {
         let (nr, nc) = (costs.n_rows(), costs.n_cols());
-        self.offs.clear();
-        self.cols.clear();
-        self.vals.clear();
-        self.offs.push(0);
+        self.load_rows(costs, a, b);
+        // Mirror row j: its own column at 0, then the dummies of the rows with an entry in j.
         let mut per_col = std::mem::take(&mut self.mirror_offs);
         per_col.clear();
         per_col.resize(nc + 1, 0);
-        for (i, &ai) in a.iter().enumerate() {
-            for (j, c) in costs.row(i) {
-                let r = c - ai - b[j];
-                if r < 0.0 {
-                    self.cols.push(j);
-                    self.vals.push(r);
-                    per_col[j + 1] += 1;
-                }
-            }
-            self.cols.push(nc + i);
-            self.vals.push(0.0);
-            self.offs.push(self.cols.len());
+        for &j in self.cols.iter().filter(|&&j| j < nc) {
+            per_col[j + 1] += 1;
         }
-        // Mirror row j: its own column at 0, then the dummies of the rows with an entry in j.
         for j in 0..nc {
             per_col[j + 1] += per_col[j] + 1;
         }
@@ -111,22 +98,7 @@ impl SparseWork {
         }
         self.offs.extend(per_col[1..].iter().map(|&o| base + o));
         (self.mirror_offs, self.mirror_fill) = (per_col, fill);
-        let n = nr + nc;
-        for (vec, fill) in [
-            (&mut self.u, 0.0),
-            (&mut self.v, 0.0),
-            (&mut self.dist, f64::INFINITY),
-        ] {
-            vec.clear();
-            vec.resize(n, fill);
-        }
-        for vec in [&mut self.path, &mut self.col4row, &mut self.row4col] {
-            vec.clear();
-            vec.resize(n, NONE);
-        }
-        self.scanned.clear();
-        self.scanned.resize(n, false);
-        self.reset();
+        self.size_for(nr + nc, nr + nc);
     }
 
     /// Row duals = each row's smallest reduced cost `c − v` (so every reduced cost is >= 0);
