@@ -6,10 +6,11 @@
 //!   gated-looking tuple set (each report in a handful of tuples);
 //! * the same on the shape `static_association.enumerate_candidates` produces (~1 200 and
 //!   ~38 000 candidates): nearly every report pair of two sensors is a candidate at one shared
-//!   cost, and ~0.7·n² triples, many nearly as cheap as the true ones.
+//!   cost, and ~0.7·n² triples, many nearly as cheap as the true ones;
+//! * warm-started against cold inner 2-D solves on that shape, S = 3 and 4.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use passive_assoc::assign::lagrangian::{self, LagrangianOptions};
+use passive_assoc::assign::lagrangian::{self, LagrangianOptions, WarmStart};
 use passive_assoc::assign::lap::solve_dense;
 use passive_assoc::assign::SdProblem;
 use rand::{RngExt, SeedableRng};
@@ -81,19 +82,34 @@ fn sd_scan(n: usize, seed: u64) -> SdProblem {
 /// probability 0.97 at a cost shared by that sensor pair; the true triples cost about -13.7,
 /// and ~0.7·n² ghost triples cost between that and -7.
 fn sd_gated(n: usize, seed: u64) -> SdProblem {
+    sd_gated_s(3, n, seed)
+}
+
+/// [`sd_gated`] for `s` sensors: every sensor pair's report pairs, true and ghost s-tuples
+/// with costs scaled by s/3 (for s = 3 exactly `sd_gated`'s problem).
+fn sd_gated_s(s: usize, n: usize, seed: u64) -> SdProblem {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut tuples, mut costs) = (Vec::new(), Vec::new());
-    for (pair, cost) in [((0, 1), -6.08), ((0, 2), -6.13), ((1, 2), -6.21)] {
+    let pairs: Vec<((usize, usize), f64)> = if s == 3 {
+        vec![((0, 1), -6.08), ((0, 2), -6.13), ((1, 2), -6.21)]
+    } else {
+        let all = (0..s).flat_map(|a| (a + 1..s).map(move |b| (a, b)));
+        all.enumerate()
+            .map(|(k, p)| (p, -6.08 - 0.03 * k as f64))
+            .collect()
+    };
+    let scale = s as f64 / 3.0;
+    for (pair, cost) in pairs {
         for i in 1..=n {
             for j in (1..=n).filter(|_| rng.random_bool(0.97)) {
-                let mut t = [0; 3];
+                let mut t = vec![0; s];
                 (t[pair.0], t[pair.1]) = (i, j);
                 tuples.extend_from_slice(&t);
                 costs.push(cost);
             }
         }
     }
-    let perms: Vec<Vec<usize>> = (0..3)
+    let perms: Vec<Vec<usize>> = (0..s)
         .map(|_| {
             let mut p: Vec<usize> = (1..=n).collect();
             for i in (1..n).rev() {
@@ -104,13 +120,13 @@ fn sd_gated(n: usize, seed: u64) -> SdProblem {
         .collect();
     for t in 0..n {
         tuples.extend(perms.iter().map(|p| p[t]));
-        costs.push(rng.random_range(-13.71..-13.0));
+        costs.push(rng.random_range(-13.71..-13.0) * scale);
     }
     for _ in 0..n * n * 7 / 10 {
-        tuples.extend((0..3).map(|_| rng.random_range(1..=n)));
-        costs.push(rng.random_range(-13.7..-7.0));
+        tuples.extend((0..s).map(|_| rng.random_range(1..=n)));
+        costs.push(rng.random_range(-13.7..-7.0) * scale);
     }
-    SdProblem::new(tuples, 3, costs, vec![n; 3]).expect("the generator builds valid input")
+    SdProblem::new(tuples, s, costs, vec![n; s]).expect("the generator builds valid input")
 }
 
 fn sd_lagrangian(c: &mut Criterion) {
@@ -130,5 +146,22 @@ fn sd_lagrangian(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, dense_lap, sd_lagrangian);
+/// The same problems with the inner 2-D solves warm-started and cold, in one run: the
+/// evidence for `WarmStart::Auto`'s policy.
+fn sd_lagrangian_warm(c: &mut Criterion) {
+    let mut group = c.benchmark_group("sd_lagrangian_warm");
+    for (s, n) in [(3usize, 18usize), (3, 100), (4, 50)] {
+        let problem = sd_gated_s(s, n, 42);
+        for (mode, warm) in [("warm", WarmStart::Always), ("cold", WarmStart::Never)] {
+            let options = LagrangianOptions::default().with_warm_start(warm);
+            let id = BenchmarkId::new(format!("s{s}_gated_{mode}"), n);
+            group.bench_with_input(id, &problem, |b, p| {
+                b.iter(|| lagrangian::solve(black_box(p), &options))
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, dense_lap, sd_lagrangian, sd_lagrangian_warm);
 criterion_main!(benches);

@@ -87,6 +87,21 @@ def test_linear_assignment_matches_scipy(shape: tuple[int, int]) -> None:
         assert len(set(rows)) == len(rows) == min(shape) and len(set(cols)) == len(cols)
 
 
+@pytest.mark.parametrize("warm_start", ["always", "never"])
+def test_lagrangian_bounds_hold_warm_and_cold(warm_start: str) -> None:
+    """The inner 2-D solves are exact warm or cold: the bound stays below the optimum and the
+    answer within its own gap of it, whichever is forced."""
+    rng = np.random.default_rng(7)
+    for s in (3, 4):
+        for _ in range(25):
+            tuples, costs, sizes = random_instance(rng, s)
+            optimum = milp_optimum(tuples, costs, sizes)
+            lag = pa.assign_sd(tuples, costs, sizes, method="lagrangian", warm_start=warm_start)
+            assert feasible_cost(tuples, costs, lag.chosen) == pytest.approx(lag.primal_cost, abs=1e-9)
+            assert lag.dual_bound <= optimum + 1e-7 * max(1.0, abs(optimum))
+            assert lag.primal_cost - optimum <= lag.gap * max(1.0, abs(lag.primal_cost)) + 1e-9
+
+
 @pytest.mark.parametrize(
     "call,exc,message",
     [
@@ -97,6 +112,7 @@ def test_linear_assignment_matches_scipy(shape: tuple[int, int]) -> None:
         (lambda: pa.assign_sd([[1, 1]], [np.nan], [1, 1]), ValueError, r"costs: non-finite value at index 0"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 10**9]), ValueError, r"sizes: 1000000000 exceeds the cap"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="greedy"), ValueError, "method"),
+        (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], warm_start="sometimes"), ValueError, "warm_start"),
         (lambda: pa.assign_sd([["a", "b"]], [-1.0], [1, 1]), TypeError, "tuples"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="exact", time_limit=-1.0), ValueError, "time_limit"),
         (lambda: pa.linear_assignment([[np.nan, 1.0]]), ValueError, "costs"),

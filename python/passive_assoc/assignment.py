@@ -54,6 +54,7 @@ def assign_sd(
     gap_tol: float = 1e-3,
     max_nodes: int = 10_000_000,
     time_limit: float | None = 10.0,
+    warm_start: Literal["auto", "always", "never"] = "auto",
 ) -> SdAssignment:
     """Sparse S-D assignment: choose candidate tuples of minimum total cost such that every
     report of every sensor is used at most once (like MATLAB's ``assignsd``, but on a sparse
@@ -75,6 +76,12 @@ def assign_sd(
         Lagrangian iteration cap and relative duality-gap target.
     max_nodes, time_limit
         Branch-and-bound limits (``time_limit=None``: none).
+    warm_start : {"auto", "always", "never"}
+        Whether each Lagrangian iteration's inner 2-D assignment starts from the previous
+        one's solution. It is exact either way, so only speed differs (and, between equally
+        good solutions, which one is found). "auto" warms up where that measured faster:
+        S = 3 with at least 50 reports on the first two sensors together
+        (``python benches/bench_warm_start.py`` compares the two on paper scans).
 
     Returns
     -------
@@ -94,9 +101,11 @@ def assign_sd(
     n = as_int_array("sizes", sizes, shape=(t.shape[1],))
     if method not in ("lagrangian", "exact"):
         raise ValueError(f"method: must be 'lagrangian' or 'exact', got {method!r}")
+    if warm_start not in ("auto", "always", "never"):
+        raise ValueError(f"warm_start: must be 'auto', 'always' or 'never', got {warm_start!r}")
     out = _core.assign_sd(t, c, n, method=method, max_iter=as_int_scalar("max_iter", max_iter, minimum=1),
                           gap_tol=float(gap_tol), max_nodes=as_int_scalar("max_nodes", max_nodes, minimum=1),
-                          time_limit=None if time_limit is None else float(time_limit))
+                          time_limit=None if time_limit is None else float(time_limit), warm_start=warm_start)
     return SdAssignment(out["chosen"], float(out["primal_cost"]), float(out["dual_bound"]), float(out["gap"]),
                         int(out["iterations"]), str(out["termination"]), bool(out["optimal"]))
 

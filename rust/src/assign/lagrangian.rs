@@ -37,7 +37,31 @@ pub struct LagrangianOptions {
     gap_tol: f64,
     step_scale: f64,
     stall_iters: usize,
+    warm_start: WarmStart,
 }
+
+/// Whether each iteration's inner 2-D assignment starts from the previous iteration's duals
+/// and pairs (a square, mirrored form; see the `sap` module docs). Either way the 2-D solve is
+/// exact, so iterations, bounds and answers are those of an exact solve; only the time differs
+/// (and, between optima of equal cost, which one is returned).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WarmStart {
+    /// Warm for S = 3 problems whose first two sensors have at least [`WARM_MIN_SIZE`]
+    /// reports between them, cold otherwise: where it measured faster. On `reproduce
+    /// intensity` scans (`python benches/bench_warm_start.py`) warm / cold was 0.66 at S = 3,
+    /// M = 100, 0.74 at M = 50, 1.12 at M = 18, and 1.00–1.06 at S = 4. With S >= 4 several
+    /// multiplier sets move each iteration, fewer pairs stay tight, and the square form's
+    /// longer searches cost more than they save; on small problems its set-up does. (The
+    /// synthetic criterion group `sd_lagrangian_warm` shows the small and S = 4 losses too,
+    /// but no gain on its S = 3 shape.)
+    #[default]
+    Auto,
+    Always,
+    Never,
+}
+
+/// Reports of the first two sensors together from which [`WarmStart::Auto`] starts warm.
+pub const WARM_MIN_SIZE: usize = 50;
 
 impl Default for LagrangianOptions {
     /// `max_iter = 200`, `gap_tol = 1e-3` (0.1 %, tight enough that the recovered solution is
@@ -48,6 +72,7 @@ impl Default for LagrangianOptions {
             gap_tol: 1e-3,
             step_scale: 1.0,
             stall_iters: 10,
+            warm_start: WarmStart::Auto,
         }
     }
 }
@@ -106,6 +131,16 @@ impl LagrangianOptions {
         Ok(self)
     }
 
+    /// Warm-started inner 2-D solves: automatic (the default), always or never.
+    pub fn with_warm_start(mut self, warm_start: WarmStart) -> Self {
+        self.warm_start = warm_start;
+        self
+    }
+
+    pub fn warm_start(&self) -> WarmStart {
+        self.warm_start
+    }
+
     pub fn max_iter(&self) -> usize {
         self.max_iter
     }
@@ -139,7 +174,7 @@ impl LagrangianOptions {
 /// assert!(s.dual_bound <= s.primal_cost + 1e-12);
 /// ```
 pub fn solve(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
-    let mut relax = Relaxation::new(problem);
+    let mut relax = Relaxation::new(problem, options.warm_start);
     let mut recovery = Recovery::new(problem);
     let mut mult: Vec<Vec<f64>> = problem.sizes().iter().map(|&n| vec![0.0; n + 1]).collect();
     let mut best = (Vec::new(), 0.0); // choosing nothing is feasible

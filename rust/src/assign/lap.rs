@@ -292,9 +292,6 @@ pub(crate) fn sparse_core(costs: &SparseCosts, a: &[f64], b: &[f64]) -> SparseAs
     solver.result
 }
 
-/// Rows plus columns from which [`SparseSolver::solve_warm`] starts warm.
-const WARM_MIN_SIZE: usize = 50;
-
 /// [`sparse_core`] with working memory kept between calls, for callers that solve one
 /// problem per iteration.
 pub(crate) struct SparseSolver {
@@ -328,20 +325,14 @@ impl SparseSolver {
 
     /// [`SparseSolver::solve`] starting from the previous warm solve's duals and matching when
     /// the shape is the same: the same optimum (possibly another of equal cost), found faster
-    /// when the problem changed little. Small problems are solved cold: the warm start's
-    /// square form doubles the graph, and on the Lagrangian's relaxations (`reproduce
-    /// intensity` scans) it only pays from about [`WARM_MIN_SIZE`] rows plus columns — at
-    /// 18 + 18 the cold solve was 10–20 % faster, at 25 + 25 they broke even, at 100 + 100
-    /// the warm one was 20–40 % faster.
+    /// when the problem changed little. Which callers should use it: see
+    /// [`super::lagrangian::WarmStart`].
     pub(crate) fn solve_warm(
         &mut self,
         costs: &SparseCosts,
         a: &[f64],
         b: &[f64],
     ) -> &SparseAssignment {
-        if costs.n_rows + costs.n_cols < WARM_MIN_SIZE {
-            return self.solve(costs, a, b);
-        }
         let col4row = sap::sparse_warm(&mut self.work, &mut self.warm, costs, a, b);
         finish(costs, a, b, col4row, &mut self.result);
         &self.result

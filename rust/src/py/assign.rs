@@ -26,7 +26,7 @@ fn to_usize(name: &str, values: &[i64]) -> PyResult<Vec<usize>> {
 
 /// Solve a sparse S-D assignment; see `passive_assoc.assign_sd` for the Python-level docs.
 #[pyfunction]
-#[pyo3(signature = (tuples, costs, sizes, *, method="lagrangian", max_iter=200, gap_tol=1e-3, max_nodes=10_000_000, time_limit=10.0))]
+#[pyo3(signature = (tuples, costs, sizes, *, method="lagrangian", max_iter=200, gap_tol=1e-3, max_nodes=10_000_000, time_limit=10.0, warm_start="auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn assign_sd<'py>(
     py: Python<'py>,
@@ -38,7 +38,18 @@ pub fn assign_sd<'py>(
     gap_tol: f64,
     max_nodes: i64,
     time_limit: Option<f64>,
+    warm_start: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let warm_start = match warm_start {
+        "auto" => lagrangian::WarmStart::Auto,
+        "always" => lagrangian::WarmStart::Always,
+        "never" => lagrangian::WarmStart::Never,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "warm_start: must be 'auto', 'always' or 'never', got {other:?}"
+            )))
+        }
+    };
     let n_sensors = tuples.shape()[1];
     let tuple_values = to_usize(
         "tuples",
@@ -54,7 +65,8 @@ pub fn assign_sd<'py>(
     )?;
     let root = lagrangian::LagrangianOptions::default()
         .with_max_iter(count("max_iter", max_iter, 1)?)?
-        .with_gap_tol(gap_tol)?;
+        .with_gap_tol(gap_tol)?
+        .with_warm_start(warm_start);
     let solution: SdSolution = match method {
         "lagrangian" => py.detach(|| lagrangian::solve(&problem, &root)),
         "exact" => {

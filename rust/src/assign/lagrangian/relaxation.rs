@@ -4,7 +4,7 @@
 
 use super::super::lap::{SparseCosts, SparseSolver};
 use super::super::SdProblem;
-use super::{keep_min, EMPTY};
+use super::{keep_min, WarmStart, EMPTY, WARM_MIN_SIZE};
 
 /// The fixed structure of the relaxed 2-D problem, built once per solve, and the buffers of
 /// its per-iteration evaluation.
@@ -37,15 +37,12 @@ pub(super) struct Relaxation {
     a: Vec<f64>,
     b: Vec<f64>,
     lap: SparseSolver,
-    /// Warm-start the 2-D solves (S = 3 only). With S >= 4 several multiplier sets move each
-    /// iteration, fewer previous pairs stay tight, and the warm form's longer searches cost
-    /// more than they save: measured on `reproduce intensity` scans, S = 4 (M = 50, 100) ran
-    /// 4–38 % and S = 5 (M = 50) 3–11 % slower warm, S = 3 (M = 30–100) 5–40 % faster.
+    /// Warm-start the 2-D solves (see [`WarmStart`]).
     warm: bool,
 }
 
 impl Relaxation {
-    pub(super) fn new(problem: &SdProblem) -> Self {
+    pub(super) fn new(problem: &SdProblem, warm_start: WarmStart) -> Self {
         let key = |k: usize| (problem.tuple(k)[0], problem.tuple(k)[1]);
         let pick = |f: &dyn Fn((usize, usize)) -> bool| {
             let active = problem.active().iter().copied();
@@ -108,7 +105,11 @@ impl Relaxation {
             a: Vec::with_capacity(n0),
             b: Vec::with_capacity(n1),
             lap: SparseSolver::default(),
-            warm: problem.n_sensors() == 3,
+            warm: match warm_start {
+                WarmStart::Auto => problem.n_sensors() == 3 && n0 + n1 >= WARM_MIN_SIZE,
+                WarmStart::Always => true,
+                WarmStart::Never => false,
+            },
         }
     }
 
@@ -222,7 +223,7 @@ mod tests {
         for seed in 0..40u64 {
             let s = 2 + seed as usize % 6; // every specialised width and the generic one
             let p = random_problem(seed, s, 5, 4, 30);
-            let mut relax = Relaxation::new(&p);
+            let mut relax = Relaxation::new(&p, WarmStart::Auto);
             let mult: Vec<Vec<f64>> = (p.sizes().iter())
                 .map(|&n| {
                     let draw = |i| match i {
