@@ -187,12 +187,7 @@ pub(super) fn sparse<'w>(
     b: &[f64],
 ) -> &'w [usize] {
     w.load(costs, a, b);
-    for cur in 0..costs.n_rows() {
-        let (sink, min_val) = w.shortest_path(cur);
-        w.update_duals(cur, min_val);
-        augment(sink, cur, &w.path, &mut w.row4col, &mut w.col4row);
-        w.reset();
-    }
+    w.assign_free_rows();
     &w.col4row
 }
 
@@ -271,10 +266,21 @@ impl SparseWork {
         self.reset();
     }
 
+    /// Crouse's outer loop: every row without a column, in order, gets one by a shortest
+    /// augmenting path (all rows after a cold `load`; those a warm start left free).
+    fn assign_free_rows(&mut self) {
+        for cur in 0..self.col4row.len() {
+            if self.col4row[cur] != NONE {
+                continue;
+            }
+            let (sink, min_val) = self.shortest_path(cur);
+            self.update_duals(cur, min_val);
+            augment(sink, cur, &self.path, &mut self.row4col, &mut self.col4row);
+            self.reset();
+        }
+    }
+
     /// Dijkstra from row `cur` to the nearest free column; returns it and its distance.
-    // The hot loop of both the cold and the warm solve: inlined into each, as it was into the
-    // cold solve alone before the warm one shared it.
-    #[inline(always)]
     fn shortest_path(&mut self, cur: usize) -> (usize, f64) {
         let (mut i, mut min_val) = (cur, 0.0);
         loop {

@@ -21,7 +21,7 @@
 //! each previous pair that is still tight, and runs the usual searches only for the rows left
 //! without one.
 
-use super::{augment, SparseWork, NONE};
+use super::{SparseWork, NONE};
 use crate::assign::lap::SparseCosts;
 
 /// What one solve hands the next: the square problem's column duals and matching.
@@ -44,20 +44,14 @@ pub(in crate::assign) fn sparse_warm<'w>(
 ) -> &'w [usize] {
     let shape = (costs.n_rows(), costs.n_cols());
     w.load_mirrored(costs, a, b);
-    let previous = (warm.shape == shape).then(|| {
+    let previous = if warm.shape == shape {
         w.v.copy_from_slice(&warm.v);
-        warm.col4row.as_slice()
-    });
+        Some(warm.col4row.as_slice())
+    } else {
+        None
+    };
     w.start_from(previous);
-    for cur in 0..w.col4row.len() {
-        if w.col4row[cur] != NONE {
-            continue;
-        }
-        let (sink, min_val) = w.shortest_path(cur);
-        w.update_duals(cur, min_val);
-        augment(sink, cur, &w.path, &mut w.row4col, &mut w.col4row);
-        w.reset();
-    }
+    w.assign_free_rows();
     warm.shape = shape;
     warm.v.clone_from(&w.v);
     warm.col4row.clone_from(&w.col4row);
