@@ -160,8 +160,8 @@ mod tests {
         let m =
             closest_points(&oa, &direction(a1, e1), &ob, &direction(a2, e2)).expect("not parallel");
         assert!(m.distance < 1e-6 && m.in_front());
-        for k in 0..3 {
-            assert!((m.midpoint()[k] - target[k]).abs() < 1e-6);
+        for (got, want) in m.midpoint().iter().zip(target) {
+            assert!((got - want).abs() < 1e-6);
         }
     }
 

@@ -11,6 +11,7 @@ use crate::error::{ensure_finite, CoreError, CoreResult};
 /// * an all-zero tuple (the dummy, cost 0 by definition) is accepted and ignored;
 /// * a tuple with cost `>= 0` is never chosen: dropping it never raises the objective;
 /// * duplicate tuples are allowed; the solvers simply never need more than the cheapest.
+///
 /// Upper bound on reports per sensor accepted by [`SdProblem::new`].
 pub const MAX_REPORTS_PER_SENSOR: usize = 10_000_000;
 

@@ -347,11 +347,8 @@ mod tests {
         let start = [1800.0, 13000.0, 1500.0, 150.0, -70.0, 10.0];
         let out = fit(&layout, &obs, &start, &FitOptions::default());
         assert_eq!(out.termination, Termination::Converged);
-        for k in 0..6 {
-            assert!(
-                (out.estimate[k] - truth[k]).abs() <= 1e-8 * truth[k].abs().max(1.0),
-                "{k}"
-            );
+        for (k, (got, want)) in out.estimate.iter().zip(truth).enumerate() {
+            assert!((got - want).abs() <= 1e-8 * want.abs().max(1.0), "{k}");
         }
         assert!(out.chi2 < 1e-12);
     }

@@ -3,12 +3,12 @@
 
 use std::time::Duration;
 
-use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::convert::{count, slice1, to_numpy};
+use super::convert::{count, slice1, to_numpy, I64Array};
 use crate::assign::{branch_bound, lagrangian, lap, SdProblem, SdSolution};
 
 /// Non-negative int64 → usize, naming the argument and index of the first negative entry.
@@ -111,11 +111,7 @@ pub fn assign_sd<'py>(
 pub fn assign_2d<'py>(
     py: Python<'py>,
     costs: PyReadonlyArray2<'py, f64>,
-) -> PyResult<(
-    Bound<'py, PyArrayDyn<i64>>,
-    Bound<'py, PyArrayDyn<i64>>,
-    f64,
-)> {
+) -> PyResult<(I64Array<'py>, I64Array<'py>, f64)> {
     let (n_rows, n_cols) = (costs.shape()[0], costs.shape()[1]);
     let values = costs
         .as_slice()

@@ -10,6 +10,10 @@ use pyo3::prelude::*;
 use crate::data::{Measurements, Sensors};
 use crate::model::{Motion, Space, StateLayout};
 
+/// The NumPy arrays the bindings return (owned by Python, filled without a copy).
+pub type F64Array<'py> = Bound<'py, PyArrayDyn<f64>>;
+pub type I64Array<'py> = Bound<'py, PyArrayDyn<i64>>;
+
 /// A contiguous view of a 1-D array, or a `ValueError` naming the argument.
 pub fn slice1<'a, T: Element>(name: &str, array: &'a PyReadonlyArray1<'_, T>) -> PyResult<&'a [T]> {
     array

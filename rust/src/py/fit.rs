@@ -4,13 +4,14 @@
 use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
-use super::convert::{count, layout, slice1, threads, to_numpy, MeasurementArrays, SensorArrays};
+use super::convert::{
+    count, layout, slice1, threads, to_numpy, F64Array, MeasurementArrays, SensorArrays,
+};
 use crate::fisher;
 use crate::fit::batch::{fit_batch as core_fit_batch, Problems};
 use crate::fit::FitOptions;
 use crate::parallel::with_threads;
 
-type F64Array<'py> = Bound<'py, PyArrayDyn<f64>>;
 type FitArrays<'py> = (
     F64Array<'py>,
     F64Array<'py>,

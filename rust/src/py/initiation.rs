@@ -1,13 +1,14 @@
 //! Bindings for fuzzy track initiation (METHODS §1) and its closeness function: extract,
 //! validate, `py.detach`, delegate to the core, return arrays.
 
-use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::convert::{
-    count, slice1, slice2, space, threads, to_numpy, MeasurementArrays, SensorArrays,
+    count, slice1, slice2, space, threads, to_numpy, F64Array, I64Array, MeasurementArrays,
+    SensorArrays,
 };
 use crate::error::ensure_finite;
 use crate::initiation::closeness::closeness_batch;
@@ -16,8 +17,6 @@ use crate::initiation::{
     initiate as core_initiate, DescentOptions, InitiationOptions, Precomputed, Scaling, Spreads,
 };
 use crate::parallel::with_threads;
-
-type F64Array<'py> = Bound<'py, PyArrayDyn<f64>>;
 
 /// Fuzzy track initiation. `pairs` is (K, 2) sensor indices; an empty (0, 2) array means every
 /// pair a < b. Returns a dict (see the keys below and `_core.pyi`).
@@ -229,12 +228,7 @@ pub fn maximize_closeness<'py>(
     scaling: &str,
     max_iter: i64,
     n_threads: Option<i64>,
-) -> PyResult<(
-    F64Array<'py>,
-    F64Array<'py>,
-    Bound<'py, PyArrayDyn<i64>>,
-    Bound<'py, PyArrayDyn<i64>>,
-)> {
+) -> PyResult<(F64Array<'py>, F64Array<'py>, I64Array<'py>, I64Array<'py>)> {
     let space = space(ndim)?;
     let pre = precompute(
         space,
