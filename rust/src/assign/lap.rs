@@ -1,7 +1,7 @@
 //! Exact min-cost 2-D linear assignment, dense and sparse: the public types, input
 //! validation and result assembly. The algorithms themselves are in `sap.rs`.
 
-use super::sap;
+use super::{csr, sap};
 use crate::error::{CoreError, CoreResult};
 
 /// A dense assignment: `row_to_col[i]` is the column of row `i` (`None` only when there are
@@ -156,20 +156,8 @@ impl SparseCosts {
                 format!("entry {k} has row {i} but n_rows is {n_rows}"),
             ));
         }
-        let mut row_offsets = vec![0usize; n_rows + 1];
-        for t in triplets {
-            row_offsets[t.0 + 1] += 1;
-        }
-        for r in 0..n_rows {
-            row_offsets[r + 1] += row_offsets[r];
-        }
-        let mut fill = row_offsets.clone();
-        let (mut col_indices, mut values) = (vec![0; triplets.len()], vec![0.0; triplets.len()]);
-        for &(i, j, c) in triplets {
-            col_indices[fill[i]] = j;
-            values[fill[i]] = c;
-            fill[i] += 1;
-        }
+        let (row_offsets, entries) = csr(n_rows, triplets.iter().map(|&(i, j, c)| (i, (j, c))));
+        let (col_indices, values) = entries.into_iter().unzip();
         Self::new(n_rows, n_cols, row_offsets, col_indices, values)
     }
 
@@ -236,7 +224,7 @@ impl SparseCosts {
 
 /// A sparse assignment: each row has its column or `None` (left unassigned), each column its
 /// row or `None`; `cost` counts assigned entries plus the unassigned costs.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SparseAssignment {
     pub row_to_col: Vec<Option<usize>>,
     pub col_to_row: Vec<Option<usize>>,
@@ -294,25 +282,11 @@ pub(crate) fn sparse_core(costs: &SparseCosts, a: &[f64], b: &[f64]) -> SparseAs
 
 /// [`sparse_core`] with working memory kept between calls, for callers that solve one
 /// problem per iteration.
+#[derive(Default)]
 pub(crate) struct SparseSolver {
     work: sap::SparseWork,
     warm: sap::WarmState,
     result: SparseAssignment,
-}
-
-impl Default for SparseSolver {
-    fn default() -> Self {
-        let result = SparseAssignment {
-            row_to_col: Vec::new(),
-            col_to_row: Vec::new(),
-            cost: 0.0,
-        };
-        Self {
-            work: sap::SparseWork::default(),
-            warm: sap::WarmState::default(),
-            result,
-        }
-    }
 }
 
 impl SparseSolver {

@@ -109,6 +109,25 @@ pub(crate) fn closes_gap(primal: f64, dual: f64) -> bool {
     primal - dual <= OPTIMAL_RTOL * primal.abs().max(1.0)
 }
 
+/// CSR of `(key, value)` pairs over keys `0..n_keys` by a counting sort: `offs[k]..offs[k + 1]`
+/// are key `k`'s values, in input order.
+pub(crate) fn csr<T: Copy + Default>(
+    n_keys: usize,
+    pairs: impl Iterator<Item = (usize, T)> + Clone,
+) -> (Vec<usize>, Vec<T>) {
+    let mut offs = vec![0; n_keys + 1];
+    pairs.clone().for_each(|(k, _)| offs[k + 1] += 1);
+    for k in 0..n_keys {
+        offs[k + 1] += offs[k];
+    }
+    let (mut fill, mut vals) = (offs.clone(), vec![T::default(); offs[n_keys]]);
+    for (k, v) in pairs {
+        vals[fill[k]] = v;
+        fill[k] += 1;
+    }
+    (offs, vals)
+}
+
 /// Random instances and an independent exhaustive solver, shared by the solver tests.
 #[cfg(test)]
 pub(crate) mod test_support {

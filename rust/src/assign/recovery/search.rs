@@ -5,7 +5,7 @@
 //! out flat, a quick bound rejects most tuples without looking at their conflicts, and passes
 //! after the first visit only tuples whose neighbourhood changed.
 
-use super::super::SdProblem;
+use super::super::{csr, SdProblem};
 
 const NONE: usize = usize::MAX;
 
@@ -270,24 +270,6 @@ impl Search {
         }
         true
     }
-}
-
-/// CSR of `(key, value)` pairs over keys `0..n_keys`, values in input order.
-fn csr(
-    n_keys: usize,
-    pairs: impl Iterator<Item = (usize, usize)> + Clone,
-) -> (Vec<usize>, Vec<usize>) {
-    let mut offs = vec![0; n_keys + 1];
-    pairs.clone().for_each(|(k, _)| offs[k + 1] += 1);
-    for k in 0..n_keys {
-        offs[k + 1] += offs[k];
-    }
-    let (mut fill, mut vals) = (offs.clone(), vec![0; offs[n_keys]]);
-    for (k, v) in pairs {
-        vals[fill[k]] = v;
-        fill[k] += 1;
-    }
-    (offs, vals)
 }
 
 #[cfg(test)]
