@@ -13,8 +13,9 @@
 //!
 //! Speed: every iteration touches every candidate tuple, so the per-solve structures
 //! (`Relaxation`, `Recovery`) are built once and their buffers reused, and work
-//! whose result is already known is skipped (a repeated relaxed solution or search start). The
-//! result is the same, bit for bit, as a plain implementation of the steps above.
+//! whose result is already known is skipped (a repeated relaxed solution or search start). With
+//! cold 2-D solves the result is the same, bit for bit, as a plain implementation of the steps
+//! above; warm ones may pick another 2-D optimum of equal cost (see [`WarmStart`]).
 
 use super::recovery::Recovery;
 use super::{closes_gap, relative_gap, SdProblem, SdSolution, Termination};
@@ -41,9 +42,9 @@ pub struct LagrangianOptions {
 }
 
 /// Whether each iteration's inner 2-D assignment starts from the previous iteration's duals
-/// and pairs (a square, mirrored form; see the `sap` module docs). Either way the 2-D solve is
-/// exact, so iterations, bounds and answers are those of an exact solve; only the time differs
-/// (and, between optima of equal cost, which one is returned).
+/// and pairs (a square, mirrored form; see the private module `sap::warm`). Either way the
+/// 2-D solve is exact, so iterations, bounds and answers are those of an exact solve; only the
+/// time differs (and, between optima of equal cost, which one is returned).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum WarmStart {
     /// Warm for S = 3 problems whose first two sensors have at least [`WARM_MIN_SIZE`]

@@ -166,7 +166,7 @@ mod tests {
 
     /// Quarter steps keep every sum exact, and integer-heavy costs make ties common: the
     /// warm solve must reach the cold optimum through problems that drift and change shape.
-    /// (Sizes below `lap`'s warm threshold too: this tests the method, not the policy.)
+    /// (Sizes below the Lagrangian's `WARM_MIN_SIZE` too: this tests the method, not the policy.)
     #[test]
     fn warm_solves_equal_cold_ones_through_a_changing_problem() {
         let mut rng = ChaCha8Rng::seed_from_u64(21);
