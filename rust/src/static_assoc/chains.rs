@@ -117,15 +117,28 @@ impl Level {
         };
         let mut run = 0;
         for chunk in ranks.chunks(batch) {
-            let blocks: Vec<Vec<u32>> = chunk
+            // Summed as the blocks finish, not collected: a full vote may run thousands of
+            // blocks, each with a count per candidate. Integer sums do not depend on the order.
+            let counts = chunk
                 .par_chunks(LANES)
-                .map(|block| self.chain.run_block(block))
-                .collect();
-            for block in &blocks {
-                for (total, &v) in by_rank.iter_mut().zip(block) {
-                    *total += v as usize;
-                }
-            }
+                .fold(
+                    || vec![0usize; self.len()],
+                    |mut sum, block| {
+                        let votes = self.chain.run_block(block);
+                        sum.iter_mut()
+                            .zip(votes)
+                            .for_each(|(t, v)| *t += v as usize);
+                        sum
+                    },
+                )
+                .reduce(
+                    || vec![0usize; self.len()],
+                    |mut a, b| {
+                        add(&mut a, &b);
+                        a
+                    },
+                );
+            add(&mut by_rank, &counts);
             run += chunk.len();
             let left = (starts.len() - run) as f64;
             if early_exit
@@ -138,6 +151,13 @@ impl Level {
         }
         let votes = self.rank.iter().map(|&r| by_rank[r as usize]).collect();
         (votes, run)
+    }
+}
+
+/// `total[k] += part[k]` for every candidate.
+fn add(total: &mut [usize], part: &[usize]) {
+    for (t, &v) in total.iter_mut().zip(part) {
+        *t += v;
     }
 }
 
