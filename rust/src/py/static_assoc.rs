@@ -95,7 +95,9 @@ pub fn enumerate_static<'py>(
 /// The paper's intensity-ordered search over enumerated candidates: valid airspace, chains,
 /// vote, then the next lower intensity. `chosen` indexes the rows of `tuples`. `max_chains`
 /// (not in the paper; default None = one chain per point of H) caps the chains per level.
-/// Chains run in parallel on `n_threads` (None: all cores); the result is the same for any.
+/// Chains run in parallel blocks of 64 on `n_threads` (None: all cores); with the default
+/// τ = 0.5 the vote runs two blocks at a time, so more than two threads help only a vote
+/// with τ < 0.5. The result is the same for any thread count.
 #[pyfunction]
 #[pyo3(signature = (tuples, positions, costs, sizes, *, vote_fraction=0.5, valid_airspace=true, max_chains=None, n_threads=None))]
 #[allow(clippy::too_many_arguments)]

@@ -44,7 +44,8 @@ impl ChainData {
         self.ids.len() / self.stride.max(1)
     }
 
-    fn ids(&self, r: usize) -> &[u32] {
+    /// Rank `r`'s measurement ids.
+    pub fn ids(&self, r: usize) -> &[u32] {
         &self.ids[r * self.stride..(r + 1) * self.stride]
     }
 

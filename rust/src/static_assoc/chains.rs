@@ -13,15 +13,12 @@ use super::measurement_ids::MeasurementIds;
 /// (cost, member index), the chain's tie-break — inside the chains, so that "best rank" is
 /// "first in a pass".
 pub(super) struct Level {
-    stride: usize,
-    /// Candidate c's measurement ids at `ids[c*stride..]` (member order).
-    ids: Vec<u32>,
     pub costs: Vec<f64>,
     /// Exclusive rays of each member at the start of the level.
     initial_m: Vec<u32>,
     /// Rank of each member.
     rank: Vec<u32>,
-    /// The chains' view, in rank order.
+    /// The chains' view, in rank order (the only copy of the incidence).
     chain: ChainData,
 }
 
@@ -63,8 +60,6 @@ impl Level {
         }
         let chain = ChainData::new(rank_ids, stride, n_meas);
         Level {
-            stride,
-            ids,
             costs,
             initial_m,
             rank,
@@ -76,8 +71,9 @@ impl Level {
         self.costs.len()
     }
 
+    /// Member `c`'s measurement ids.
     pub fn ids(&self, c: usize) -> &[u32] {
-        &self.ids[c * self.stride..(c + 1) * self.stride]
+        self.chain.ids(self.rank[c] as usize)
     }
 
     /// H: the candidates of maximal m, ascending; if there are more than `max_chains`, the

@@ -38,7 +38,8 @@
 //!    `lowest_intensity` if asked (default S − 1, at least 2; the paper has S = 3). Result
 //!    `T = T_S ∪ T_{S−1}`. Input tuples of other intensities are ignored.
 //!
-//! Everything is deterministic: chains run in parallel but are collected by start index.
+//! Everything is deterministic: chains run in parallel blocks whose vote counts are summed,
+//! and integer sums do not depend on the order.
 
 use super::airspace::PointIndex;
 use super::chains::Level;
@@ -183,7 +184,7 @@ pub struct IntensityOptions {
     pub lowest_intensity: Option<usize>,
     /// Run at most this many chains per level (`None` = one from every point of H, the
     /// paper's rule). When H is larger, its best points by (cost, index) start the chains and
-    /// the vote threshold is τ times the chains actually run.
+    /// the vote threshold is τ times `max_chains` (the starts, even when the vote stops early).
     pub max_chains: Option<usize>,
 }
 
