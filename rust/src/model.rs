@@ -127,7 +127,7 @@ pub fn angle_gradients(
     line_of_sight(space, sensor, target).map(|los| los.gradient)
 }
 
-/// The sensor-to-target vector, its horizontal range and the angle gradients, computed once
+/// The sensor-to-target vector, its horizontal range (spatial only) and the angle gradients, computed once
 /// and with one division per angle: divisions, not multiplications, bound the residual
 /// kernel's latency.
 #[derive(Clone, Copy)]
@@ -147,14 +147,14 @@ fn line_of_sight(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> Option<L
     }
     let inv_rho2 = 1.0 / rho2;
     let d_azimuth = [-dy * inv_rho2, dx * inv_rho2, 0.0];
-    let rho = rho2.sqrt();
     if space == Space::Planar {
         return Some(LineOfSight {
             delta,
-            rho,
+            rho: 0.0, // only elevation needs it
             gradient: [d_azimuth, [0.0; 3]],
         });
     }
+    let rho = rho2.sqrt();
     let r2 = rho2 + dz * dz;
     let k = 1.0 / (r2 * rho);
     let d_elevation = [-dx * dz * k, -dy * dz * k, rho2 * k];

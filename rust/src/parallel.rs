@@ -1,6 +1,6 @@
 //! Thread-count control. Work runs on rayon's global pool unless the caller asks for a
 //! specific count, in which case a pool of that size runs it; results never depend on the
-//! count because every parallel stage collects in input order.
+//! count because every parallel stage collects in input order or sums integers.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -8,6 +8,10 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use crate::error::{CoreError, CoreResult};
+
+/// Pool sizes kept at once. A caller uses one or two sizes over and over; one sweeping
+/// `n_threads` over many values would otherwise leave every pool's threads parked for good.
+const MAX_CACHED_POOLS: usize = 4;
 
 /// Pools by size, built once: starting threads costs more than a small call's work
 /// (a per-scan association or a single fit asked for on one thread).
@@ -28,8 +32,17 @@ fn pool(threads: usize) -> CoreResult<Arc<ThreadPool>> {
         .map_err(|e| {
             CoreError::out_of_range("n_threads", format!("cannot start {threads} threads: {e}"))
         })?;
-    pools.insert(threads, Arc::clone(&pool));
+    remember(&mut pools, threads, Arc::clone(&pool));
     Ok(pool)
+}
+
+/// Caches `pool` under `threads`, first forgetting every pool if the cache is full (a pool
+/// still running work lives on in its callers' handles).
+fn remember<P>(pools: &mut HashMap<usize, P>, threads: usize, pool: P) {
+    if pools.len() >= MAX_CACHED_POOLS {
+        pools.clear();
+    }
+    pools.insert(threads, pool);
 }
 
 /// Largest thread count accepted: far above any machine, low enough that a typo cannot ask
@@ -68,5 +81,19 @@ mod tests {
         assert!(Arc::ptr_eq(&a, &b));
         assert!(with_threads(Some(0), || ()).is_err());
         assert!(with_threads(Some(MAX_THREADS + 1), || ()).is_err());
+    }
+
+    #[test]
+    fn a_sweep_over_thread_counts_keeps_few_pools() {
+        let mut pools = HashMap::new();
+        for threads in 1..=3 * MAX_CACHED_POOLS {
+            remember(&mut pools, threads, ());
+            assert!(
+                pools.len() <= MAX_CACHED_POOLS,
+                "{threads}: {} pools",
+                pools.len()
+            );
+            assert!(pools.contains_key(&threads));
+        }
     }
 }
