@@ -36,9 +36,10 @@ class FitResult:
     estimates : ndarray, shape (P, D)
         ML state estimates; D is 2/3 (static, 2-D/3-D) or 4/6 (constant velocity).
     covariances : ndarray, shape (P, D, D)
-        Inverse Fisher information at each estimate (NaN where singular).
+        Inverse Fisher information at each estimate (NaN where singular); on convergence,
+        evaluated before the final step, which is below ``step_sigmas`` standard deviations.
     chi2 : ndarray, shape (P,)
-        Sum of squared normalised residuals at the estimate.
+        Sum of squared normalised residuals at the estimate (likewise).
     iterations : ndarray, shape (P,)
         Gauss-Newton iterations taken.
     termination : ndarray of uint8, shape (P,)

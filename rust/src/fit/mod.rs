@@ -117,7 +117,9 @@ impl FitOptions {
 }
 
 /// The result of one fit. `covariance` is row-major `dim × dim`, the inverse Fisher
-/// information at the estimate (NaN when singular).
+/// information (NaN when singular). On convergence it and `chi2` are evaluated at the last
+/// iterate, which the final, untested step moved by less than `step_sigmas` standard
+/// deviations (or `xtol`): re-evaluating would cost an evaluation for no visible change.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOutcome {
     pub estimate: Vec<f64>,
