@@ -123,6 +123,7 @@ def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture
     assert all(0.0 <= cells[m]["accuracy_pct"] <= 100.0 for m in METHODS)
     assert [row["M"] for row in record["timing"] if row["S"] == 3] == [6, 12]
     assert all(row["scans"] == 2 for row in record["timing"])
+    assert all(1 <= row["lagrangian_iterations"] <= 200 for row in record["timing"])
     assert out_png.stat().st_size > 10_000
 
 
