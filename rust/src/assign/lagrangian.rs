@@ -50,9 +50,10 @@ pub enum WarmStart {
     /// Warm for S = 3 problems whose first two sensors have at least [`WARM_MIN_SIZE`]
     /// reports between them, cold otherwise: where it measured faster. On `reproduce
     /// intensity` scans (`python benches/bench_warm_start.py`) warm / cold was 0.66 at S = 3,
-    /// M = 100, 0.74 at M = 50, 1.12 at M = 18, and 1.00–1.06 at S = 4. With S >= 4 several
-    /// multiplier sets move each iteration, fewer pairs stay tight, and the square form's
-    /// longer searches cost more than they save; on small problems its set-up does. (The
+    /// M = 100, 0.74 at M = 50, 1.12 at M = 18, and 1.00–1.06 at S = 4 (medians of per-scan
+    /// ratios). A likely reason, not measured: with S >= 4 several multiplier sets move each
+    /// iteration, so fewer pairs stay tight, and on small problems the square form's set-up
+    /// costs more than the searches it saves. (The
     /// synthetic criterion group `sd_lagrangian_warm` shows the small and S = 4 losses too,
     /// but no gain on its S = 3 shape.)
     #[default]
