@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import time
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -24,6 +25,20 @@ PAPER_ACCURACY = {5: {"lagrangian": 35.0, "intensity": 39.0}, 15: {"lagrangian":
 PAPER_SECONDS = {6: {"exact": 16.6, "lagrangian": 0.4, "intensity": 0.3},
                  12: {"lagrangian": 3.2, "intensity": 1.5}, 18: {"lagrangian": 11.7, "intensity": 3.1}}
 GOSPA_CUTOFF_M = 1000.0
+
+
+@dataclass(frozen=True)
+class Solvers:
+    """The solver settings every table's calls share (see :func:`associate_static`)."""
+
+    time_limit: float = 2.0
+    valid_airspace: bool = True
+    max_iter: int = 200
+    gap_tol: float = 1e-3
+
+    def kwargs(self) -> dict[str, Any]:
+        return {"time_limit": self.time_limit, "valid_airspace": self.valid_airspace, "max_iter": self.max_iter,
+                "gap_tol": self.gap_tol}
 
 
 def true_tuples(scan: StaticScan) -> list[tuple[int, ...]]:
@@ -47,15 +62,13 @@ def ghosts(scan: StaticScan, cands: dict[str, Any]) -> int:
     return len(full) - sum(1 for t in true_tuples(scan) if t in full)
 
 
-def score(scan: StaticScan, cands: dict[str, Any], method: str, time_limit: float,
-          valid_airspace: bool = True) -> dict[str, float]:
+def score(scan: StaticScan, cands: dict[str, Any], method: str, solvers: Solvers) -> dict[str, float]:
     """Accuracy (observable targets whose full tuple, misses included, is exactly recovered)
     and GOSPA of one method on one scan; for the exact method also whether the truth's own
     eq. 2 cost is higher than the proven optimum (then no optimiser of eq. 2 can return it).
     ``cands`` are the scan's enumerated candidates, to price the truth."""
     # The paper's configuration: the intensity method with its valid-airspace step.
-    result = associate_static(scan.measurements, scan.sensors, method, time_limit=time_limit, n_threads=1,
-                              valid_airspace=valid_airspace)
+    result = associate_static(scan.measurements, scan.sensors, method, n_threads=1, **solvers.kwargs())
     found = {tuple(row) for row in result.tuples.tolist()}
     hits = [t in found for t in true_tuples(scan)]
     g = gospa(result.positions, scan.targets[scan.observable()], c=GOSPA_CUTOFF_M)
@@ -96,8 +109,8 @@ def bayes_map(scan: StaticScan, cands: dict[str, Any], time_limit: float) -> dic
     return out
 
 
-def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, workers: int,
-                   time_limit: float, valid_airspace: bool = True, bayes: bool = False) -> dict[str, Any]:
+def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, workers: int, solvers: Solvers,
+                   bayes: bool = False) -> dict[str, Any]:
     table: dict[str, Any] = {}
     for ratio in ratios:
         seeds = run_seeds(seed + int(ratio * 1000), runs)
@@ -105,9 +118,9 @@ def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, wo
         def work(r: int, ratio: float = ratio, seeds: list = seeds) -> dict[str, dict[str, float]]:
             scan = static_scan(np.random.default_rng(seeds[r]), n_targets=n_targets, ratio=ratio)
             cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
-            out = {m: score(scan, cands, m, time_limit, valid_airspace) for m in METHODS}
+            out = {m: score(scan, cands, m, solvers) for m in METHODS}
             if bayes:
-                out["bayes"] = bayes_map(scan, cands, time_limit)
+                out["bayes"] = bayes_map(scan, cands, solvers.time_limit)
             return out
 
         per_run = map_runs(work, runs, workers, desc=f"accuracy R={ratio:g}")
@@ -135,25 +148,25 @@ FULL_VOTE_MAX_M = 18
 MAX_CHAINS = 64
 
 
-def _timed(scan: StaticScan, method: str, time_limit: float, repeats: int, valid_airspace: bool) -> tuple[float, Any]:
+def _timed(scan: StaticScan, method: str, solvers: Solvers, repeats: int) -> tuple[float, Any]:
     best, result = np.inf, None
     max_chains = None if len(scan.targets) <= FULL_VOTE_MAX_M else MAX_CHAINS
     for _ in range(repeats):
         start = time.perf_counter()
-        result = associate_static(scan.measurements, scan.sensors, method, time_limit=time_limit, n_threads=1,
-                                  max_chains=max_chains, valid_airspace=valid_airspace)
+        result = associate_static(scan.measurements, scan.sensors, method, n_threads=1, max_chains=max_chains,
+                                  **solvers.kwargs())
         best = min(best, time.perf_counter() - start)
     return best, result
 
 
-def _time_scan(scan: StaticScan, time_limit: float, valid_airspace: bool) -> dict[str, Any]:
+def _time_scan(scan: StaticScan, solvers: Solvers) -> dict[str, Any]:
     """Every method on one scan: best-of-repeats seconds and the solver reports."""
     repeats = 3 if len(scan.targets) <= 50 else 1
     out: dict[str, Any] = {}
     for method in METHODS:
         if method == "exact" and len(scan.targets) > 100:
             continue  # far beyond what branch-and-bound can prove
-        seconds, result = _timed(scan, method, time_limit, repeats, valid_airspace)
+        seconds, result = _timed(scan, method, solvers, repeats)
         out[f"{method}_s"] = seconds
         out["candidates"] = result.report["candidates"]
         if method != "intensity":
@@ -168,8 +181,8 @@ def _time_scan(scan: StaticScan, time_limit: float, valid_airspace: bool) -> dic
     return out
 
 
-def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, time_limit: float,
-                 valid_airspace: bool = True, scans: int = 5) -> list[dict[str, Any]]:
+def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, solvers: Solvers,
+                 scans: int = 5) -> list[dict[str, Any]]:
     """Per (S, M): the median over ``scans`` random scans (one beyond M = 100) of each
     method's time, of the candidate count and of the gaps — a single scan's figure depends on
     how many ghosts it happens to have."""
@@ -179,7 +192,7 @@ def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, time_lim
         for k in range(scans if n_targets <= 100 else 1):
             scan = static_scan(seed + 7 * n_targets + n_sensors + 1000 * k, n_targets=n_targets,
                                n_sensors=n_sensors, ratio=ratio)
-            per_scan.append((len(scan.measurements), _time_scan(scan, time_limit, valid_airspace)))
+            per_scan.append((len(scan.measurements), _time_scan(scan, solvers)))
 
         def median(key: str) -> float | None:
             values = [t[key] for _, t in per_scan if t.get(key) is not None]
@@ -252,6 +265,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="run the intensity method without its valid-airspace step (the library default)")
     parser.add_argument("--bayes-bound", action="store_true",
                         help="also solve each scan exactly under the scenario's true prior: what any method can expect")
+    parser.add_argument("--max-iter", type=int, default=200,
+                        help="Lagrangian iteration cap (default 200; MATLAB assignsd: 100)")
+    parser.add_argument("--gap-tol", type=float, default=1e-3,
+                        help="Lagrangian relative-gap target (default 1e-3; MATLAB assignsd: 0.01)")
     parser.add_argument("--timing-scans", type=int, default=5, help="scans per Table 1 row, median reported (default 5)")
     parser.add_argument("--max-m", type=int, default=500, help="largest M in Table 1 (default 500)")
     parser.add_argument("--plot", metavar="FILE", help="save a picture of one scan: lines of sight, candidates, accepted targets")
@@ -259,20 +276,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.runs < 1 or args.timing_scans < 1:
-        raise SystemExit("--runs and --timing-scans must be at least 1")
+    if args.runs < 1 or args.timing_scans < 1 or args.max_iter < 1:
+        raise SystemExit("--runs, --timing-scans and --max-iter must be at least 1")
+    if not args.gap_tol >= 0:
+        raise SystemExit("--gap-tol must be >= 0")
     print("intensity — paper 001: 2-D sensors at (-15,0), (0,-5), (15,0) km; targets uniform in "
           "[-10,10] x [20,40] km; Pd 0.95, P_FA 0.05 (Poisson false bearings over each sensor's sector)\n")
-    airspace = not args.no_airspace
-    accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, args.time_limit, airspace,
-                              args.bayes_bound)
+    solvers = Solvers(args.time_limit, not args.no_airspace, args.max_iter, args.gap_tol)
+    accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, solvers, args.bayes_bound)
     print_accuracy(accuracy, args.runs, args.targets)
     timing: list[dict[str, Any]] = []
     if not args.no_timing:
         cases = [(3, m) for m in (6, 12, 18, 50, 100, 200, 500) if m <= args.max_m]
         cases += [(s, m) for s in (4, 5) for m in (18, 50, 100) if m <= args.max_m]
-        timing = timing_table(args.seed, cases, ratio=15.0, time_limit=args.time_limit, valid_airspace=airspace,
-                              scans=args.timing_scans)
+        timing = timing_table(args.seed, cases, ratio=15.0, solvers=solvers, scans=args.timing_scans)
         print_timing(timing)
     if args.json:
         settings = {k: v for k, v in vars(args).items() if k not in ("run", "command", "experiment")}
