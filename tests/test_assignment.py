@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 import passive_assoc as pa
 import pytest
-from scipy.optimize import Bounds, LinearConstraint, linear_sum_assignment, milp
+from passive_assoc.static_association import enumerate_candidates
+from passive_assoc.static_scenarios import static_scan
+from scipy.optimize import Bounds, LinearConstraint, linear_sum_assignment, linprog, milp
 from scipy.sparse import csr_matrix
 
 
@@ -87,19 +89,51 @@ def test_linear_assignment_matches_scipy(shape: tuple[int, int]) -> None:
         assert len(set(rows)) == len(rows) == min(shape) and len(set(cols)) == len(cols)
 
 
-@pytest.mark.parametrize("warm_start", ["always", "never"])
-def test_lagrangian_bounds_hold_warm_and_cold(warm_start: str) -> None:
-    """The inner 2-D solves are exact warm or cold: the bound stays below the optimum and the
-    answer within its own gap of it, whichever is forced."""
+@pytest.mark.parametrize("option", [{"warm_start": "always"}, {"warm_start": "never"}, {"sensor_order": "given"}])
+def test_lagrangian_bounds_hold_under_every_option(option: dict[str, str]) -> None:
+    """The inner 2-D solves are exact warm or cold, and any sensor may be the relaxed one: the
+    bound stays below the optimum and the answer within its own gap of it, whichever is forced
+    (the defaults are checked on 200 instances above)."""
     rng = np.random.default_rng(7)
     for s in (3, 4):
         for _ in range(25):
             tuples, costs, sizes = random_instance(rng, s)
             optimum = milp_optimum(tuples, costs, sizes)
-            lag = pa.assign_sd(tuples, costs, sizes, method="lagrangian", warm_start=warm_start)
+            lag = pa.assign_sd(tuples, costs, sizes, method="lagrangian", **option)
             assert feasible_cost(tuples, costs, lag.chosen) == pytest.approx(lag.primal_cost, abs=1e-9)
             assert lag.dual_bound <= optimum + 1e-7 * max(1.0, abs(optimum))
             assert lag.primal_cost - optimum <= lag.gap * max(1.0, abs(lag.primal_cost)) + 1e-9
+
+
+def lp_optimum(tuples: np.ndarray, costs: np.ndarray, sizes: np.ndarray) -> float:
+    """The LP relaxation (0 <= x <= 1) of the same problem: the value every Lagrangian dual
+    bound of it converges to from below, whichever sensors are relaxed."""
+    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    used = [np.nonzero(tuples[:, s])[0] for s in range(tuples.shape[1])]
+    rows = np.concatenate([offsets[s] + tuples[u, s] - 1 for s, u in enumerate(used)])
+    a = csr_matrix((np.ones(len(rows)), (rows, np.concatenate(used))), shape=(offsets[-1], len(costs)))
+    res = linprog(costs, A_ub=a, b_ub=np.ones(offsets[-1]), bounds=(0, 1), method="highs")
+    assert res.status == 0
+    return float(res.fun)
+
+
+@pytest.mark.parametrize("sensor_order", ["auto", "given"])
+def test_lagrangian_dual_stays_below_the_lp_bound_on_paper_scans(sensor_order: str) -> None:
+    """On reproduce-intensity scans (S = 3, the first two sensors not always the smallest, so
+    "auto" really reorders): the dual bound never passes the LP optimum, which no Lagrangian
+    bound can, and the primal is feasible and not below it."""
+    reordered = 0
+    for seed in range(6):
+        scan = static_scan(seed, n_targets=10, n_sensors=3, ratio=15.0)
+        cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
+        tuples, costs, sizes = cands["tuples"], cands["costs"], cands["sizes"]
+        lp = lp_optimum(tuples, costs, sizes)
+        lag = pa.assign_sd(tuples, costs, sizes, sensor_order=sensor_order)
+        assert lag.dual_bound <= lp + 1e-7 * abs(lp)
+        assert feasible_cost(tuples, costs, lag.chosen) == pytest.approx(lag.primal_cost, abs=1e-9)
+        assert lag.primal_cost >= lp - 1e-7 * abs(lp)
+        reordered += int(np.argmax(sizes[::-1]) != 0)  # the last maximum is not sensor 3
+    assert reordered > 0, "no scan exercised the reordering"
 
 
 @pytest.mark.parametrize(
@@ -113,6 +147,7 @@ def test_lagrangian_bounds_hold_warm_and_cold(warm_start: str) -> None:
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 10**9]), ValueError, r"sizes: 1000000000 exceeds the cap"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="greedy"), ValueError, "method"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], warm_start="sometimes"), ValueError, "warm_start"),
+        (lambda: pa.assign_sd([[1, 1, 1]], [-1.0], [1, 1, 1], sensor_order="largest"), ValueError, "sensor_order"),
         (lambda: pa.assign_sd([["a", "b"]], [-1.0], [1, 1]), TypeError, "tuples"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="exact", time_limit=-1.0), ValueError, "time_limit"),
         (lambda: pa.linear_assignment([[np.nan, 1.0]]), ValueError, "costs"),

@@ -95,6 +95,7 @@ def assign_sd(
     max_nodes: int = 10_000_000,
     time_limit: float | None = 10.0,
     warm_start: str = "auto",
+    sensor_order: str = "auto",
 ) -> dict[str, Any]: ...
 def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
 def maximize_closeness(

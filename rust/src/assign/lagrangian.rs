@@ -9,7 +9,8 @@
 //! "unassigned" costs), solved exactly by [`lap`](super::lap), so `L(u)` is a valid lower bound.
 //! The bound is raised by projected subgradient ascent with a Polyak step aimed at the best
 //! primal; a feasible solution is recovered each iteration by successive 2-D assignments and
-//! polished by a local search (private module `recovery`).
+//! polished by a local search (private module `recovery`). Which sensors play 0 and 1 is
+//! [`SensorOrder`]'s choice: by default, at S = 3, the two with the fewest reports.
 //!
 //! Speed: every iteration touches every candidate tuple, so the per-solve structures
 //! (`Relaxation`, `Recovery`) are built once and their buffers reused, and work
@@ -20,8 +21,10 @@
 use super::recovery::Recovery;
 use super::{closes_gap, relative_gap, SdProblem, SdSolution, Termination};
 use crate::error::{CoreError, CoreResult};
+pub use order::SensorOrder;
 use relaxation::Relaxation;
 
+mod order;
 mod relaxation;
 
 /// Options of [`solve`], built with validated `with_*` setters.
@@ -39,6 +42,7 @@ pub struct LagrangianOptions {
     step_scale: f64,
     stall_iters: usize,
     warm_start: WarmStart,
+    sensor_order: SensorOrder,
 }
 
 /// Whether each iteration's inner 2-D assignment starts from the previous iteration's duals
@@ -47,8 +51,8 @@ pub struct LagrangianOptions {
 /// time differs (and, between optima of equal cost, which one is returned).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum WarmStart {
-    /// Warm for S = 3 problems whose first two sensors have at least [`WARM_MIN_SIZE`]
-    /// reports between them, cold otherwise: where it measured faster. On `reproduce
+    /// Warm for S = 3 problems whose two sensors kept in the 2-D problem (see
+    /// [`SensorOrder`]) have at least [`WARM_MIN_SIZE`] reports between them, cold otherwise: where it measured faster. On `reproduce
     /// intensity` scans (`python benches/bench_warm_start.py`) warm / cold was 0.66 at S = 3,
     /// M = 100, 0.74 at M = 50, 1.12 at M = 18, and 1.00–1.06 at S = 4 (medians of per-scan
     /// ratios). A likely reason, not measured: with S >= 4 several multiplier sets move each
@@ -62,7 +66,7 @@ pub enum WarmStart {
     Never,
 }
 
-/// Reports of the first two sensors together from which [`WarmStart::Auto`] starts warm.
+/// Reports of the two sensors kept in the 2-D problem together from which [`WarmStart::Auto`] starts warm.
 pub const WARM_MIN_SIZE: usize = 50;
 
 impl Default for LagrangianOptions {
@@ -75,6 +79,7 @@ impl Default for LagrangianOptions {
             step_scale: 1.0,
             stall_iters: 10,
             warm_start: WarmStart::Auto,
+            sensor_order: SensorOrder::Auto,
         }
     }
 }
@@ -139,6 +144,17 @@ impl LagrangianOptions {
         self
     }
 
+    /// Which sensors the relaxation keeps and which it relaxes: automatic (the default) or
+    /// as given.
+    pub fn with_sensor_order(mut self, sensor_order: SensorOrder) -> Self {
+        self.sensor_order = sensor_order;
+        self
+    }
+
+    pub fn sensor_order(&self) -> SensorOrder {
+        self.sensor_order
+    }
+
     pub fn warm_start(&self) -> WarmStart {
         self.warm_start
     }
@@ -176,6 +192,15 @@ impl LagrangianOptions {
 /// assert!(s.dual_bound <= s.primal_cost + 1e-12);
 /// ```
 pub fn solve(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
+    // Reordering sensors keeps tuple indices, so the solution needs no mapping back.
+    match order::working_order(problem, options.sensor_order) {
+        Some(order) => solve_in_order(&problem.reordered(&order), options),
+        None => solve_in_order(problem, options),
+    }
+}
+
+/// [`solve`] with sensors 0 and 1 as the 2-D problem and 2.. relaxed.
+fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
     let mut relax = Relaxation::new(problem, options.warm_start);
     let mut recovery = Recovery::new(problem);
     let mut mult: Vec<Vec<f64>> = problem.sizes().iter().map(|&n| vec![0.0; n + 1]).collect();
@@ -291,101 +316,4 @@ pub(super) fn keep_min(slot: &mut (f64, usize), cand: (f64, usize)) {
 pub(super) const EMPTY: (f64, usize) = (f64::INFINITY, usize::MAX);
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::assign::test_support::{brute_force, random_problem};
-
-    #[test]
-    fn bounds_bracket_the_optimum_and_usually_hit_it() {
-        let opts = LagrangianOptions::default();
-        let (mut hits, n) = (0, 150);
-        for seed in 0..n {
-            let s = 2 + seed as usize % 3;
-            let p = random_problem(seed, s, 4, 3, 8);
-            let opt = brute_force(&p);
-            let sol = solve(&p, &opts);
-            let scale = opt.abs().max(1.0);
-            assert_eq!(p.evaluate(&sol.chosen), Ok(sol.primal_cost), "seed {seed}");
-            assert!(
-                sol.primal_cost >= opt - 1e-9 * scale,
-                "seed {seed}: primal below optimum"
-            );
-            assert!(
-                sol.dual_bound <= opt + 1e-9 * scale,
-                "seed {seed}: bound above optimum"
-            );
-            assert_eq!(sol.gap, relative_gap(sol.primal_cost, sol.dual_bound));
-            assert!(sol.primal_cost - opt <= sol.gap * sol.primal_cost.abs().max(1.0) + 1e-9);
-            match sol.termination {
-                Termination::Optimal => {
-                    assert!((sol.primal_cost - opt).abs() <= 1e-9 * scale, "seed {seed}")
-                }
-                Termination::GapReached => assert!(sol.gap <= opts.gap_tol()),
-                _ => {}
-            }
-            if s == 2 {
-                assert_eq!(
-                    sol.termination,
-                    Termination::Optimal,
-                    "seed {seed}: S = 2 is exact"
-                );
-            }
-            hits += usize::from((sol.primal_cost - opt).abs() <= 1e-9 * scale);
-        }
-        assert!(
-            hits * 10 >= n as usize * 9,
-            "optimum found in only {hits} of {n}"
-        );
-    }
-
-    #[test]
-    fn is_deterministic_and_respects_max_iter() {
-        let p = random_problem(3, 4, 6, 4, 30);
-        let opts = LagrangianOptions::default()
-            .with_max_iter(3)
-            .unwrap()
-            .with_gap_tol(0.0)
-            .unwrap();
-        let a = solve(&p, &opts);
-        assert_eq!(a, solve(&p, &opts));
-        assert!(a.iterations <= 3);
-    }
-
-    #[test]
-    fn empty_problem_is_optimal_at_zero() {
-        let p = SdProblem::new(vec![0, 0, 0, 1, 1, 1], 3, vec![-1.0, 4.0], vec![1, 1, 1]).unwrap();
-        let s = solve(&p, &LagrangianOptions::default());
-        assert_eq!((s.chosen.len(), s.primal_cost, s.dual_bound), (0, 0.0, 0.0));
-        assert_eq!(s.termination, Termination::Optimal);
-    }
-
-    #[test]
-    fn options_reject_out_of_range_values() {
-        let d = LagrangianOptions::default();
-        assert!(matches!(
-            d.clone().with_max_iter(0),
-            Err(CoreError::OutOfRange {
-                arg: "max_iter",
-                ..
-            })
-        ));
-        assert!(matches!(
-            d.clone().with_gap_tol(f64::NAN),
-            Err(CoreError::OutOfRange { arg: "gap_tol", .. })
-        ));
-        assert!(matches!(
-            d.clone().with_step_scale(2.5),
-            Err(CoreError::OutOfRange {
-                arg: "step_scale",
-                ..
-            })
-        ));
-        assert!(matches!(
-            d.with_stall_iters(0),
-            Err(CoreError::OutOfRange {
-                arg: "stall_iters",
-                ..
-            })
-        ));
-    }
-}
+mod tests;

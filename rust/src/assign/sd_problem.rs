@@ -134,6 +134,28 @@ impl SdProblem {
         &self.active
     }
 
+    /// The same problem with its sensors in `order` (sensor `s` of the result is sensor
+    /// `order[s]` of `self`); tuple indices, costs and hence every solution are unchanged.
+    /// `order` must be a permutation of `0..n_sensors` (the solvers compute it themselves).
+    pub(crate) fn reordered(&self, order: &[usize]) -> Self {
+        debug_assert!({
+            let mut seen = order.to_vec();
+            seen.sort_unstable();
+            seen == (0..self.n_sensors).collect::<Vec<_>>()
+        });
+        let tuples = (0..self.n_tuples())
+            .flat_map(|k| order.iter().map(move |&s| (k, s)))
+            .map(|(k, s)| self.tuple(k)[s])
+            .collect();
+        Self {
+            n_sensors: self.n_sensors,
+            sizes: order.iter().map(|&s| self.sizes[s]).collect(),
+            tuples,
+            costs: self.costs.clone(),
+            active: self.active.clone(),
+        }
+    }
+
     /// Total cost of `chosen` after checking it is feasible: indices in range, no duplicates,
     /// no real report used twice. Errors name the offending position.
     pub fn evaluate(&self, chosen: &[usize]) -> CoreResult<f64> {

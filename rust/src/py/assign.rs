@@ -26,7 +26,7 @@ fn to_usize(name: &str, values: &[i64]) -> PyResult<Vec<usize>> {
 
 /// Solve a sparse S-D assignment; see `passive_assoc.assign_sd` for the Python-level docs.
 #[pyfunction]
-#[pyo3(signature = (tuples, costs, sizes, *, method="lagrangian", max_iter=200, gap_tol=1e-3, max_nodes=10_000_000, time_limit=10.0, warm_start="auto"))]
+#[pyo3(signature = (tuples, costs, sizes, *, method="lagrangian", max_iter=200, gap_tol=1e-3, max_nodes=10_000_000, time_limit=10.0, warm_start="auto", sensor_order="auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn assign_sd<'py>(
     py: Python<'py>,
@@ -39,6 +39,7 @@ pub fn assign_sd<'py>(
     max_nodes: i64,
     time_limit: Option<f64>,
     warm_start: &str,
+    sensor_order: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let warm_start = match warm_start {
         "auto" => lagrangian::WarmStart::Auto,
@@ -47,6 +48,15 @@ pub fn assign_sd<'py>(
         other => {
             return Err(PyValueError::new_err(format!(
                 "warm_start: must be 'auto', 'always' or 'never', got {other:?}"
+            )))
+        }
+    };
+    let sensor_order = match sensor_order {
+        "auto" => lagrangian::SensorOrder::Auto,
+        "given" => lagrangian::SensorOrder::Given,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "sensor_order: must be 'auto' or 'given', got {other:?}"
             )))
         }
     };
@@ -66,7 +76,8 @@ pub fn assign_sd<'py>(
     let root = lagrangian::LagrangianOptions::default()
         .with_max_iter(count("max_iter", max_iter, 1)?)?
         .with_gap_tol(gap_tol)?
-        .with_warm_start(warm_start);
+        .with_warm_start(warm_start)
+        .with_sensor_order(sensor_order);
     let solution: SdSolution = match method {
         "lagrangian" => py.detach(|| lagrangian::solve(&problem, &root)),
         "exact" => {
