@@ -83,7 +83,7 @@ def assign_sd(
         Whether each Lagrangian iteration's inner 2-D assignment starts from the previous
         one's solution. It is exact either way, so only speed differs (and, between equally
         good solutions, which one is found). "auto" warms up where that measured faster:
-        S = 3 with at least 50 reports on the first two sensors together
+        S = 3 with at least 50 reports on the two sensors it keeps (see ``sensor_order``)
         (``python benches/bench_warm_start.py`` compares the two on paper scans).
     sensor_order : {"auto", "given"}
         Which sensors the Lagrangian relaxation keeps as its 2-D problem (the rest have their

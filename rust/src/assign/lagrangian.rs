@@ -52,21 +52,23 @@ pub struct LagrangianOptions {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum WarmStart {
     /// Warm for S = 3 problems whose two sensors kept in the 2-D problem (see
-    /// [`SensorOrder`]) have at least [`WARM_MIN_SIZE`] reports between them, cold otherwise: where it measured faster. On `reproduce
-    /// intensity` scans (`python benches/bench_warm_start.py`) warm / cold was 0.66 at S = 3,
-    /// M = 100, 0.74 at M = 50, 1.12 at M = 18, and 1.00–1.06 at S = 4 (medians of per-scan
-    /// ratios). A likely reason, not measured: with S >= 4 several multiplier sets move each
-    /// iteration, so fewer pairs stay tight, and on small problems the square form's set-up
-    /// costs more than the searches it saves. (The
-    /// synthetic criterion group `sd_lagrangian_warm` shows the small and S = 4 losses too,
-    /// but no gain on its S = 3 shape.)
+    /// [`SensorOrder`]) have at least [`WARM_MIN_SIZE`] reports between them, cold otherwise:
+    /// where it measured faster. On `reproduce intensity` scans
+    /// (`python benches/bench_warm_start.py`) warm / cold was 0.62 at S = 3, M = 100, 0.89 at
+    /// M = 50, 1.11 at M = 18, and 0.99–1.06 at S = 4 (medians of per-scan ratios;
+    /// docs/performance.md). A likely reason, not measured: with S >= 4 several multiplier
+    /// sets move each iteration, so fewer pairs stay tight, and on small problems the square
+    /// form's set-up costs more than the searches it saves. (The synthetic criterion group
+    /// `sd_lagrangian_warm` shows the small and S = 4 losses too, but no gain on its S = 3
+    /// shape.)
     #[default]
     Auto,
     Always,
     Never,
 }
 
-/// Reports of the two sensors kept in the 2-D problem together from which [`WarmStart::Auto`] starts warm.
+/// Reports of the two sensors kept in the 2-D problem, together, from which
+/// [`WarmStart::Auto`] starts warm.
 pub const WARM_MIN_SIZE: usize = 50;
 
 impl Default for LagrangianOptions {
