@@ -66,7 +66,7 @@ def write_json(path: str | Path, record: dict[str, Any]) -> None:
     Path(path).write_text(json.dumps(_jsonable(record), indent=2) + "\n")
 
 
-def fmt(value: float, digits: int = 3) -> str:
+def fmt(value: float | None, digits: int = 3) -> str:
     """A number for a table cell, with a fixed number of significant digits."""
     if value is None or not math.isfinite(value):
         return "-"

@@ -16,11 +16,11 @@ import numpy as np
 
 from ..assignment import assign_sd
 from ..metrics import gospa
-from ..static_association import associate_static, enumerate_candidates
+from ..static_association import Method, associate_static, enumerate_candidates
 from ..static_scenarios import SQUARE_X, SQUARE_Y, StaticScan, static_scan
 from .common import fmt, map_runs, print_rows, run_seeds, write_json
 
-METHODS = ("intensity", "lagrangian", "exact")
+METHODS: tuple[Method, ...] = ("intensity", "lagrangian", "exact")
 PAPER_ACCURACY = {5: {"lagrangian": 35.0, "intensity": 39.0}, 15: {"lagrangian": 58.0, "intensity": 67.0}}
 PAPER_SECONDS = {6: {"exact": 16.6, "lagrangian": 0.4, "intensity": 0.3},
                  12: {"lagrangian": 3.2, "intensity": 1.5}, 18: {"lagrangian": 11.7, "intensity": 3.1}}
@@ -63,7 +63,7 @@ def ghosts(scan: StaticScan, cands: dict[str, Any]) -> int:
     return len(full) - sum(1 for t in true_tuples(scan) if t in full)
 
 
-def score(scan: StaticScan, cands: dict[str, Any], method: str, solvers: Solvers) -> dict[str, float]:
+def score(scan: StaticScan, cands: dict[str, Any], method: Method, solvers: Solvers) -> dict[str, float]:
     """Accuracy (observable targets whose full tuple, misses included, is exactly recovered)
     and GOSPA of one method on one scan; for the exact method also whether the truth's own
     eq. 2 cost is higher than the proven optimum (then no optimiser of eq. 2 can return it).
@@ -119,7 +119,7 @@ def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, wo
         def work(r: int, ratio: float = ratio, seeds: list = seeds) -> dict[str, dict[str, float]]:
             scan = static_scan(np.random.default_rng(seeds[r]), n_targets=n_targets, ratio=ratio)
             cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
-            out = {m: score(scan, cands, m, solvers) for m in METHODS}
+            out: dict[str, dict[str, float]] = {m: score(scan, cands, m, solvers) for m in METHODS}
             if bayes:
                 out["bayes"] = bayes_map(scan, cands, solvers.time_limit)
             return out
@@ -149,7 +149,7 @@ FULL_VOTE_MAX_M = 18
 MAX_CHAINS = 64
 
 
-def _timed(scan: StaticScan, method: str, solvers: Solvers, repeats: int) -> tuple[float, Any]:
+def _timed(scan: StaticScan, method: Method, solvers: Solvers, repeats: int) -> tuple[float, Any]:
     best, result = np.inf, None
     max_chains = None if len(scan.targets) <= FULL_VOTE_MAX_M else MAX_CHAINS
     for _ in range(repeats):
