@@ -96,6 +96,7 @@ def assign_sd(
     time_limit: float | None = 10.0,
     warm_start: str = "auto",
     sensor_order: str = "auto",
+    polish: bool = False,
 ) -> dict[str, Any]: ...
 def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
 def maximize_closeness(

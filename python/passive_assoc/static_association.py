@@ -136,6 +136,7 @@ def associate_static(
     gap_tol: float = 1e-3,
     time_limit: float | None = 10.0,
     sensor_order: Literal["auto", "given"] = "auto",
+    polish: bool = False,
     max_candidates: int = 1_000_000,
     n_threads: int | None = None,
 ) -> StaticAssociation:
@@ -176,7 +177,7 @@ def associate_static(
         rule. Where ghosts are dense every point has 0 exclusive rays, H is the whole level,
         and the vote grows quadratically in the number of candidates; a cap such as 64 keeps
         large scans fast (``reproduce intensity`` uses 64 beyond M = 18).
-    max_iter, gap_tol, time_limit, sensor_order
+    max_iter, gap_tol, time_limit, sensor_order, polish
         Solver settings, as in :func:`passive_assoc.assign_sd`.
     max_candidates : int
         Refuse with a ValueError rather than enumerate more candidates than this.
@@ -203,7 +204,8 @@ def associate_static(
         report.update(out)
     else:
         solved = assign_sd(cands["tuples"], cands["costs"], cands["sizes"], method=method, max_iter=max_iter,
-                           gap_tol=gap_tol, time_limit=time_limit, sensor_order=sensor_order)
+                           gap_tol=gap_tol, time_limit=time_limit, sensor_order=sensor_order,
+                           polish=polish)
         chosen = solved.chosen
         report.update(primal_cost=solved.primal_cost, dual_bound=solved.dual_bound, gap=solved.gap,
                       iterations=solved.iterations, termination=solved.termination, optimal=solved.optimal)

@@ -9,7 +9,8 @@
 //! "unassigned" costs), solved exactly by [`lap`](super::lap), so `L(u)` is a valid lower bound.
 //! The bound is raised by projected subgradient ascent with a Polyak step aimed at the best
 //! primal; a feasible solution is recovered each iteration by successive 2-D assignments and
-//! polished by a local search (private module `recovery`). Which sensors play 0 and 1 is
+//! polished by a local search, and, if asked, the best one once at the end by compound moves
+//! (private module `recovery`). Which sensors play 0 and 1 is
 //! [`SensorOrder`]'s choice: by default, at S = 3, the two with the fewest reports.
 //!
 //! Speed: every iteration touches every candidate tuple, so the per-solve structures
@@ -18,7 +19,7 @@
 //! cold 2-D solves the result is the same, bit for bit, as a plain implementation of the steps
 //! above; warm ones may pick another 2-D optimum of equal cost (see [`WarmStart`]).
 
-use super::recovery::Recovery;
+use super::recovery::{polish, Recovery};
 use super::{closes_gap, relative_gap, SdProblem, SdSolution, Termination};
 use crate::error::{CoreError, CoreResult};
 pub use order::SensorOrder;
@@ -43,6 +44,7 @@ pub struct LagrangianOptions {
     stall_iters: usize,
     warm_start: WarmStart,
     sensor_order: SensorOrder,
+    polish: bool,
 }
 
 /// Whether each iteration's inner 2-D assignment starts from the previous iteration's duals
@@ -82,6 +84,7 @@ impl Default for LagrangianOptions {
             stall_iters: 10,
             warm_start: WarmStart::Auto,
             sensor_order: SensorOrder::Auto,
+            polish: false,
         }
     }
 }
@@ -153,6 +156,18 @@ impl LagrangianOptions {
         self
     }
 
+    /// Whether the best solution gets the compound-move polish at the end (off by default):
+    /// a markedly better primal on large scans for a large share of the solve's time
+    /// (`python benches/bench_sensor_order.py`, docs/performance.md).
+    pub fn with_polish(mut self, polish: bool) -> Self {
+        self.polish = polish;
+        self
+    }
+
+    pub fn polish(&self) -> bool {
+        self.polish
+    }
+
     pub fn sensor_order(&self) -> SensorOrder {
         self.sensor_order
     }
@@ -183,8 +198,10 @@ impl LagrangianOptions {
 /// For S = 2 the relaxation is the problem itself, so one exact sparse 2-D assignment answers
 /// it (`Termination::Optimal`). For S >= 3 each iteration evaluates `L(u)`, recovers a feasible
 /// solution, and stops on a closed gap (`Optimal`), `gap <= gap_tol` (`GapReached`), a vanished
-/// step (`Stalled`) or `max_iter` (`MaxIterations`). The primal never exceeds 0: choosing
-/// nothing is feasible.
+/// step (`Stalled`) or `max_iter` (`MaxIterations`). With `polish` on and no proof of
+/// optimality, the best solution then gets the compound-move polish, and the termination
+/// becomes `Optimal` or `GapReached` if the polished cost meets that test. The primal never exceeds 0: choosing nothing is
+/// feasible.
 ///
 /// ```
 /// use passive_assoc::assign::{lagrangian, SdProblem};
@@ -237,6 +254,15 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
         if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, alpha * (best.1 - dual)) {
             termination = Termination::Stalled;
             break;
+        }
+    }
+    if options.polish && termination != Termination::Optimal {
+        // Compound moves the per-iteration search cannot make (module `recovery::polish`).
+        best = polish(problem, &best.0);
+        if closes_gap(best.1, dual_bound) {
+            termination = Termination::Optimal;
+        } else if relative_gap(best.1, dual_bound) <= options.gap_tol {
+            termination = Termination::GapReached;
         }
     }
     finish(

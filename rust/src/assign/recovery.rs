@@ -1,6 +1,6 @@
 //! Primal recovery for the Lagrangian solver: turn a relaxed (infeasible) solution into a
 //! feasible one by successive 2-D assignments, then polish it with a swap local search
-//! ([`search`]).
+//! ([`search`]); once per solve, the best solution gets a compound-move polish ([`polish`]).
 //!
 //! This runs once per subgradient iteration, so [`Recovery`] indexes the tuples once per solve
 //! and keeps its buffers (an iteration allocates little beyond the solutions it returns), and
@@ -9,9 +9,11 @@
 use super::lagrangian::{keep_min, modified, EMPTY};
 use super::lap::{SparseCosts, SparseSolver};
 use super::SdProblem;
+pub(super) use polish::polish;
 use search::Search;
 use std::collections::HashSet;
 
+mod polish;
 mod search;
 
 const NONE: usize = usize::MAX;

@@ -26,7 +26,7 @@ fn to_usize(name: &str, values: &[i64]) -> PyResult<Vec<usize>> {
 
 /// Solve a sparse S-D assignment; see `passive_assoc.assign_sd` for the Python-level docs.
 #[pyfunction]
-#[pyo3(signature = (tuples, costs, sizes, *, method="lagrangian", max_iter=200, gap_tol=1e-3, max_nodes=10_000_000, time_limit=10.0, warm_start="auto", sensor_order="auto"))]
+#[pyo3(signature = (tuples, costs, sizes, *, method="lagrangian", max_iter=200, gap_tol=1e-3, max_nodes=10_000_000, time_limit=10.0, warm_start="auto", sensor_order="auto", polish=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn assign_sd<'py>(
     py: Python<'py>,
@@ -40,6 +40,7 @@ pub fn assign_sd<'py>(
     time_limit: Option<f64>,
     warm_start: &str,
     sensor_order: &str,
+    polish: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let warm_start = match warm_start {
         "auto" => lagrangian::WarmStart::Auto,
@@ -77,7 +78,8 @@ pub fn assign_sd<'py>(
         .with_max_iter(count("max_iter", max_iter, 1)?)?
         .with_gap_tol(gap_tol)?
         .with_warm_start(warm_start)
-        .with_sensor_order(sensor_order);
+        .with_sensor_order(sensor_order)
+        .with_polish(polish);
     let solution: SdSolution = match method {
         "lagrangian" => py.detach(|| lagrangian::solve(&problem, &root)),
         "exact" => {

@@ -8,6 +8,7 @@ fn bounds_bracket_the_optimum_and_usually_hit_it() {
     for order in [SensorOrder::Auto, SensorOrder::Given] {
         bracket_and_hit(&LagrangianOptions::default().with_sensor_order(order));
     }
+    bracket_and_hit(&LagrangianOptions::default().with_polish(true));
 }
 
 fn bracket_and_hit(opts: &LagrangianOptions) {
