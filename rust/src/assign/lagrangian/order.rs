@@ -5,13 +5,13 @@ use super::super::SdProblem;
 /// Which sensors' "at most once" constraints the relaxation moves into the objective. The
 /// dual bound converges to the same LP value whatever the choice, but not equally fast.
 ///
-/// Relaxing the S = 3 sensor with the most reports converged much closer to that value, in
-/// fewer iterations, on `reproduce intensity` scans: `python benches/bench_sensor_order.py`
+/// Relaxing the S = 3 sensor with the most reports converged much closer to that value, in the
+/// same or less time, on `reproduce intensity` scans: `python benches/bench_sensor_order.py`
 /// compares both orders with the LP bound from `scipy.optimize.linprog` (docs/performance.md).
 /// A likely reason, not measured: the 2-D problem between the two smaller sensors caps the
 /// number of tuples the relaxed solution picks, so the largest sensor's reports are the least
-/// contested and the fewest of its constraints are violated. At S = 4 the same measurement
-/// showed no gain, so there the given order stands.
+/// contested and the fewest of its constraints are violated. At S = 4 no gain has been
+/// measured, so there the given order stands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SensorOrder {
     /// S = 3: relax the sensor with the most reports (on a tie the later one) and keep the
