@@ -7,7 +7,8 @@
 //! * the same on the shape `static_association.enumerate_candidates` produces (~1 200 and
 //!   ~38 000 candidates): nearly every report pair of two sensors is a candidate at one shared
 //!   cost, and ~0.7·n² triples, many nearly as cheap as the true ones;
-//! * warm-started against cold inner 2-D solves on that shape, S = 3 and 4.
+//! * warm-started against cold inner 2-D solves on that shape, S = 3 and 4;
+//! * the gated shape with the end-of-solve polish on and off (`with_polish`), in one run.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use passive_assoc::assign::lagrangian::{self, LagrangianOptions, WarmStart};
@@ -163,5 +164,27 @@ fn sd_lagrangian_warm(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, dense_lap, sd_lagrangian, sd_lagrangian_warm);
+/// The gated shape with and without the end-of-solve polish, in one run: what it costs.
+fn sd_lagrangian_polish(c: &mut Criterion) {
+    let mut group = c.benchmark_group("sd_lagrangian_polish");
+    for n in [18usize, 100] {
+        let problem = sd_gated(n, 42);
+        for (mode, polish) in [("on", true), ("off", false)] {
+            let options = LagrangianOptions::default().with_polish(polish);
+            let id = BenchmarkId::new(format!("s3_gated_{mode}"), n);
+            group.bench_with_input(id, &problem, |b, p| {
+                b.iter(|| lagrangian::solve(black_box(p), &options))
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    dense_lap,
+    sd_lagrangian,
+    sd_lagrangian_warm,
+    sd_lagrangian_polish
+);
 criterion_main!(benches);
