@@ -172,6 +172,13 @@ impl<'p> Polish<'p> {
         std::mem::swap(&mut self.conflicts, &mut self.key);
         let costs = self.problem.costs();
         let mut delta = costs[a] - self.conflicts.iter().map(|&c| costs[c]).sum::<f64>();
+        self.gather_candidates(a);
+        // The refill is a subset of the candidates, so their negative costs bound what it can
+        // win: most moves end here, before any sorting or marking.
+        let bound: f64 = self.candidates.iter().map(|&b| costs[b].min(0.0)).sum();
+        if delta + bound >= -tol {
+            return false;
+        }
         delta += self.plan_refill(a);
         let keep = delta < -tol;
         if keep {
@@ -183,13 +190,9 @@ impl<'p> Polish<'p> {
         keep
     }
 
-    /// Greedily picks the cheapest tuples whose owners are all in the conflicts and that fit
-    /// beside `a` and each other, into `refill`; returns their summed cost. Leaves `used`
-    /// marking the reports of `a` and of the refill.
-    fn plan_refill(&mut self, a: usize) -> f64 {
-        for r in self.reports(a).collect::<Vec<_>>() {
-            self.used[r] = true;
-        }
+    /// The unchosen tuples (other than `a`) whose chosen owners are a non-empty subset of the
+    /// conflicts, into `candidates`.
+    fn gather_candidates(&mut self, a: usize) {
         self.candidates.clear();
         let n = self.conflicts.len();
         for mask in 1..(1usize << n) {
@@ -204,6 +207,21 @@ impl<'p> Polish<'p> {
                 self.candidates.extend(list.iter().filter(|&&b| b != a));
             }
         }
+    }
+
+    /// Sets the `used` mark of `k`'s reports.
+    fn mark(&mut self, k: usize, value: bool) {
+        let t = self.problem.tuple(k);
+        for s in (0..t.len()).filter(|&s| t[s] > 0) {
+            self.used[self.report_offs[s] + t[s] - 1] = value;
+        }
+    }
+
+    /// Greedily picks, cheapest first, the candidates that fit beside `a` and each other, into
+    /// `refill`; returns their summed cost. Leaves `used` marking the reports of `a` and of
+    /// the refill.
+    fn plan_refill(&mut self, a: usize) -> f64 {
+        self.mark(a, true);
         let costs = self.problem.costs();
         self.candidates
             .sort_by(|&x, &y| costs[x].total_cmp(&costs[y]).then(x.cmp(&y)));
@@ -212,9 +230,7 @@ impl<'p> Polish<'p> {
         for at in 0..self.candidates.len() {
             let b = self.candidates[at];
             if self.reports(b).all(|r| !self.used[r]) {
-                for r in self.reports(b).collect::<Vec<_>>() {
-                    self.used[r] = true;
-                }
+                self.mark(b, true);
                 self.refill.push(b);
                 added += costs[b];
             }
@@ -224,13 +240,9 @@ impl<'p> Polish<'p> {
 
     /// Clears the `used` marks of `a` and the planned refill.
     fn unmark(&mut self, a: usize) {
-        let marked: Vec<usize> = std::iter::once(a)
-            .chain(self.refill.iter().copied())
-            .collect();
-        for k in marked {
-            for r in self.reports(k).collect::<Vec<_>>() {
-                self.used[r] = false;
-            }
+        self.mark(a, false);
+        for at in 0..self.refill.len() {
+            self.mark(self.refill[at], false);
         }
     }
 
