@@ -113,7 +113,7 @@ def test_bad_inputs() -> None:
 def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out_json, out_png = tmp_path / "intensity.json", tmp_path / "intensity.png"
     argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--max-m", "12", "--time-limit", "0.5", "--timing-scans", "2",
-            "--max-iter", "50", "--json", str(out_json), "--plot", str(out_png)]
+            "--max-iter", "50", "--sensor-order", "given", "--polish", "--json", str(out_json), "--plot", str(out_png)]
     assert cli_main(argv) == 0
     printed = capsys.readouterr().out
     assert "Table 1" in printed and "Table 2" in printed
@@ -124,6 +124,7 @@ def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture
     assert [row["M"] for row in record["timing"] if row["S"] == 3] == [6, 12]
     assert all(row["scans"] == 2 for row in record["timing"])
     assert all(1 <= row["lagrangian_iterations"] <= 50 for row in record["timing"])  # --max-iter reaches the solver
+    assert (record["settings"]["sensor_order"], record["settings"]["polish"]) == ("given", True)
     assert out_png.stat().st_size > 10_000
 
 

@@ -36,10 +36,11 @@ class Solvers:
     max_iter: int = 200
     gap_tol: float = 1e-3
     sensor_order: Literal["auto", "given"] = "auto"
+    polish: bool = False
 
     def kwargs(self) -> dict[str, Any]:
         return {"time_limit": self.time_limit, "valid_airspace": self.valid_airspace, "max_iter": self.max_iter,
-                "gap_tol": self.gap_tol, "sensor_order": self.sensor_order}
+                "gap_tol": self.gap_tol, "sensor_order": self.sensor_order, "polish": self.polish}
 
 
 def true_tuples(scan: StaticScan) -> list[tuple[int, ...]]:
@@ -273,6 +274,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sensor-order", choices=("auto", "given"), default="auto",
                         help="sensors the Lagrangian relaxation keeps as its 2-D problem (default auto: the two "
                              "with the fewest reports; given: the first two)")
+    parser.add_argument("--polish", action="store_true",
+                        help="end the Lagrangian (and the exact solver's root) with the compound-move polish")
     parser.add_argument("--timing-scans", type=int, default=5, help="scans per Table 1 row, median reported (default 5)")
     parser.add_argument("--max-m", type=int, default=500, help="largest M in Table 1 (default 500)")
     parser.add_argument("--plot", metavar="FILE", help="save a picture of one scan: lines of sight, candidates, accepted targets")
@@ -286,7 +289,8 @@ def main(args: argparse.Namespace) -> int:
         raise SystemExit("--gap-tol must be >= 0")
     print("intensity — paper 001: 2-D sensors at (-15,0), (0,-5), (15,0) km; targets uniform in "
           "[-10,10] x [20,40] km; Pd 0.95, P_FA 0.05 (Poisson false bearings over each sensor's sector)\n")
-    solvers = Solvers(args.time_limit, not args.no_airspace, args.max_iter, args.gap_tol, args.sensor_order)
+    solvers = Solvers(args.time_limit, not args.no_airspace, args.max_iter, args.gap_tol, args.sensor_order,
+                      args.polish)
     accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, solvers, args.bayes_bound)
     print_accuracy(accuracy, args.runs, args.targets)
     timing: list[dict[str, Any]] = []
