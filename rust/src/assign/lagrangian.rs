@@ -198,14 +198,16 @@ impl LagrangianOptions {
 /// For S = 2 the relaxation is the problem itself, so one exact sparse 2-D assignment answers
 /// it (`Termination::Optimal`). For S >= 3 each iteration evaluates `L(u)`, recovers a feasible
 /// solution, and stops on a closed gap (`Optimal`), `gap <= gap_tol` (`GapReached`), a vanished
-/// step (`Stalled`) or `max_iter` (`MaxIterations`). With `polish` on and no proof of
-/// optimality, the best solution then gets the compound-move polish, and the termination
-/// becomes `Optimal` or `GapReached` if the polished cost meets that test. The primal never exceeds 0: choosing nothing is
+/// step (`Stalled`) or `max_iter` (`MaxIterations`). With `polish` on, after those last two
+/// the best solution gets the compound-move polish (not bounded by any time limit: its passes
+/// end when no move improves), and the termination becomes `Optimal` or `GapReached` if the
+/// polished cost meets that test. The primal never exceeds 0: choosing nothing is
 /// feasible.
 ///
 /// ```
 /// use passive_assoc::assign::{lagrangian, SdProblem};
-/// let p = SdProblem::new(vec![1, 1, 1, 1, 1, 0, 0, 0, 1], 3, vec![-5.0, -3.0, -1.0], vec![1, 1, 1]).unwrap();
+/// let tuples = vec![1, 1, 1, 1, 1, 0, 0, 0, 1];
+/// let p = SdProblem::new(tuples, 3, vec![-5.0, -3.0, -1.0], vec![1, 1, 1]).unwrap();
 /// let s = lagrangian::solve(&p, &Default::default());
 /// assert_eq!(s.chosen, vec![0]);
 /// assert!(s.dual_bound <= s.primal_cost + 1e-12);
@@ -256,7 +258,12 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
             break;
         }
     }
-    if options.polish && termination != Termination::Optimal {
+    // Not after `GapReached`: the caller's precision is met, and the polish is not free.
+    let unfinished = matches!(
+        termination,
+        Termination::MaxIterations | Termination::Stalled
+    );
+    if options.polish && unfinished {
         // Compound moves the per-iteration search cannot make (module `recovery::polish`).
         best = polish(problem, &best.0);
         if closes_gap(best.1, dual_bound) {

@@ -54,15 +54,25 @@ fn bracket_and_hit(opts: &LagrangianOptions) {
 
 #[test]
 fn is_deterministic_and_respects_max_iter() {
-    let p = random_problem(3, 4, 6, 4, 30);
-    let opts = LagrangianOptions::default()
+    let base = LagrangianOptions::default()
         .with_max_iter(3)
         .unwrap()
         .with_gap_tol(0.0)
         .unwrap();
-    let a = solve(&p, &opts);
-    assert_eq!(a, solve(&p, &opts));
-    assert!(a.iterations <= 3);
+    for p in [
+        random_problem(3, 4, 6, 4, 30),
+        random_problem(5, 3, 8, 5, 40),
+    ] {
+        for opts in [
+            base.clone(),
+            base.clone().with_polish(true),
+            base.clone().with_sensor_order(SensorOrder::Given),
+        ] {
+            let a = solve(&p, &opts);
+            assert_eq!(a, solve(&p, &opts));
+            assert!(a.iterations <= 3);
+        }
+    }
 }
 
 #[test]

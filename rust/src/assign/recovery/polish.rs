@@ -20,6 +20,10 @@ use rustc_hash::FxHashMap;
 
 const NONE: usize = usize::MAX;
 
+/// Moves whose tuple conflicts with more chosen tuples than this are skipped: a move looks up
+/// 2^|C| − 1 owner sets, and |C| can reach the number of sensors.
+const MAX_CONFLICTS: usize = 6;
+
 /// The polished solution (ascending) and its cost; never costlier than `chosen` (beyond
 /// round-off in the sum), which must be feasible.
 pub(in crate::assign) fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<usize>, f64) {
@@ -170,6 +174,9 @@ impl<'p> Polish<'p> {
         }
         self.owners_into_key(a);
         std::mem::swap(&mut self.conflicts, &mut self.key);
+        if self.conflicts.len() > MAX_CONFLICTS {
+            return false;
+        }
         let costs = self.problem.costs();
         let mut delta = costs[a] - self.conflicts.iter().map(|&c| costs[c]).sum::<f64>();
         self.gather_candidates(a);
