@@ -121,8 +121,8 @@ def lp_optimum(tuples: np.ndarray, costs: np.ndarray, sizes: np.ndarray) -> floa
 
 
 def test_polish_never_raises_the_primal_on_paper_scans() -> None:
-    """The end-of-solve polish starts from the solver's best and only applies improving moves;
-    on these scans it finds some (seed 1 reaches the milp optimum, -228.09)."""
+    """The end-of-solve polish starts from the solver's best and only applies improving moves,
+    and on these scans it finds some."""
     improved = 0
     for seed in range(4):
         scan = static_scan(seed, n_targets=18, n_sensors=3, ratio=15.0)
@@ -168,6 +168,7 @@ def test_lagrangian_dual_stays_below_the_lp_bound_on_paper_scans(sensor_order: L
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="greedy"), ValueError, "method"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], warm_start="sometimes"), ValueError, "warm_start"),
         (lambda: pa.assign_sd([[1, 1, 1]], [-1.0], [1, 1, 1], sensor_order="largest"), ValueError, "sensor_order"),
+        (lambda: pa.assign_sd([[1, 1, 1]], [-1.0], [1, 1, 1], polish="false"), TypeError, "polish"),
         (lambda: pa.assign_sd([["a", "b"]], [-1.0], [1, 1]), TypeError, "tuples"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="exact", time_limit=-1.0), ValueError, "time_limit"),
         (lambda: pa.linear_assignment([[np.nan, 1.0]]), ValueError, "costs"),

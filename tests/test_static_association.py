@@ -13,6 +13,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from passive_assoc.cli import main as cli_main
+from passive_assoc.static_association import associate_static, enumerate_candidates
 from passive_assoc.static_scenarios import StaticScan, static_scan
 
 METHODS = ("intensity", "lagrangian", "exact")
@@ -108,6 +109,24 @@ def test_bad_inputs() -> None:
         pa.associate_static(scan.measurements.to_arrays(), scan.sensors)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="empty"):
         pa.associate_static(scan.measurements.select(np.array([], dtype=np.int64)), scan.sensors)
+
+
+def test_solver_settings_reach_assign_sd_through_associate_static() -> None:
+    """``associate_static`` hands ``sensor_order`` and ``polish`` to the solver: its report
+    equals ``assign_sd`` on the same candidates with the same settings, for every setting, and
+    the settings do change the answer here (so the comparison can tell them apart)."""
+    scan = static_scan(1, n_targets=18, n_sensors=3, ratio=15.0)
+    cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
+    costs = set()
+    for order in ("auto", "given"):
+        for polish in (False, True):
+            direct = pa.assign_sd(cands["tuples"], cands["costs"], cands["sizes"], sensor_order=order, polish=polish)
+            result = associate_static(scan.measurements, scan.sensors, "lagrangian", n_threads=1,
+                                      sensor_order=order, polish=polish)
+            assert result.report["primal_cost"] == direct.primal_cost
+            assert result.report["dual_bound"] == direct.dual_bound
+            costs.add(direct.primal_cost)
+    assert len(costs) > 1
 
 
 def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -98,7 +98,9 @@ def assign_sd(
         search cannot make (bring in a tuple, evict what it conflicts with, refill the freed
         reports). On paper scans it cut the primal's distance from the LP bound by 38-59 % from
         M = 18 to 100, at 1.25-1.7 times the solve's time
-        (``python benches/bench_sensor_order.py``); off by default for speed.
+        (``python benches/bench_sensor_order.py``); off by default for speed. It runs only
+        when the solve ended on ``max_iter`` or a stalled step, and ``time_limit`` does not
+        bound it.
 
     Returns
     -------
@@ -122,6 +124,8 @@ def assign_sd(
         raise ValueError(f"warm_start: must be 'auto', 'always' or 'never', got {warm_start!r}")
     if sensor_order not in ("auto", "given"):
         raise ValueError(f"sensor_order: must be 'auto' or 'given', got {sensor_order!r}")
+    if not isinstance(polish, (bool, np.bool_)):
+        raise TypeError(f"polish: must be a bool, got {type(polish).__name__}")
     out = _core.assign_sd(t, c, n, method=method, max_iter=as_int_scalar("max_iter", max_iter, minimum=1),
                           gap_tol=float(gap_tol), max_nodes=as_int_scalar("max_nodes", max_nodes, minimum=1),
                           time_limit=None if time_limit is None else float(time_limit), warm_start=warm_start,
