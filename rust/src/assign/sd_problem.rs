@@ -23,6 +23,18 @@ pub struct SdProblem {
     costs: Vec<f64>,
     /// Tuples worth choosing: not all-zero and with negative cost, ascending.
     active: Vec<usize>,
+    /// Prefix sums of `sizes`: sensor `s`'s report `i > 0` has flat id `report_offs[s] + i − 1`.
+    report_offs: Vec<usize>,
+}
+
+/// Prefix sums of the sizes, from 0: the first flat report id of each sensor, then the total.
+fn prefix_sums(sizes: &[usize]) -> Vec<usize> {
+    std::iter::once(0)
+        .chain(sizes.iter().scan(0, |total, &n| {
+            *total += n;
+            Some(*total)
+        }))
+        .collect()
 }
 
 impl SdProblem {
@@ -97,6 +109,7 @@ impl SdProblem {
             .collect();
         Ok(Self {
             n_sensors,
+            report_offs: prefix_sums(&sizes),
             sizes,
             tuples,
             costs,
@@ -134,6 +147,32 @@ impl SdProblem {
         &self.active
     }
 
+    /// All sensors' reports together: flat report ids are `0..n_reports()`.
+    pub(crate) fn n_reports(&self) -> usize {
+        self.report_offs[self.n_sensors]
+    }
+
+    /// Sensor `s`'s report `i > 0` has flat id `report_offsets()[s] + i − 1`.
+    pub(crate) fn report_offsets(&self) -> &[usize] {
+        &self.report_offs
+    }
+
+    /// The flat ids of tuple `k`'s real reports (see [`Self::report_offsets`]).
+    pub(crate) fn flat_reports(&self, k: usize) -> impl Iterator<Item = usize> + Clone + '_ {
+        let t = self.tuple(k);
+        (0..t.len())
+            .filter(move |&s| t[s] > 0)
+            .map(move |s| self.report_offs[s] + t[s] - 1)
+    }
+
+    /// The active tuples by ascending cost, ties by index: the local searches' scan order.
+    pub(crate) fn active_by_cost(&self) -> Vec<usize> {
+        let c = &self.costs;
+        let mut by_cost = self.active.clone();
+        by_cost.sort_by(|&a, &b| c[a].total_cmp(&c[b]).then(a.cmp(&b)));
+        by_cost
+    }
+
     /// The same problem with its sensors in `order` (sensor `s` of the result is sensor
     /// `order[s]` of `self`); tuple indices, costs and hence every solution are unchanged.
     /// `order` must be a permutation of `0..n_sensors` (the solvers compute it themselves).
@@ -147,9 +186,11 @@ impl SdProblem {
             .flat_map(|k| order.iter().map(move |&s| (k, s)))
             .map(|(k, s)| self.tuple(k)[s])
             .collect();
+        let sizes: Vec<usize> = order.iter().map(|&s| self.sizes[s]).collect();
         Self {
             n_sensors: self.n_sensors,
-            sizes: order.iter().map(|&s| self.sizes[s]).collect(),
+            report_offs: prefix_sums(&sizes),
+            sizes,
             tuples,
             costs: self.costs.clone(),
             active: self.active.clone(),

@@ -27,8 +27,9 @@ const MAX_CONFLICTS: usize = 6;
 /// The polished solution (ascending) and its cost; never costlier than `chosen` (beyond
 /// round-off in the sum), which must be feasible.
 pub(in crate::assign) fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<usize>, f64) {
+    let start: f64 = chosen.iter().map(|&k| problem.costs()[k]).sum();
+    let tol = 1e-12 * start.abs().max(1.0);
     let mut state = Polish::new(problem, chosen);
-    let tol = 1e-12 * state.total.abs().max(1.0);
     // First improvement, in ascending cost: a full pass, then passes over the tuples whose
     // reports changed owner in the pass before, until one changes nothing. (Not a fixpoint:
     // a move can also gain through a conflict's refill list changing; catching that would
@@ -60,17 +61,14 @@ pub(in crate::assign) fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<u
 /// The polish's indexes and current solution.
 struct Polish<'p> {
     problem: &'p SdProblem,
-    /// Flat report id of sensor `s`, report `i > 0`: `report_offs[s] + i − 1`.
-    report_offs: Vec<usize>,
     /// Active tuples by ascending cost (ties by index): the scan order.
     by_cost: Vec<usize>,
-    /// Per flat report: the active tuples using it (CSR).
+    /// Per flat report ([`SdProblem::flat_reports`]): the active tuples using it (CSR).
     inc_offs: Vec<usize>,
     inc: Vec<usize>,
     /// Per flat report: the chosen tuple using it; per tuple: whether chosen.
     owner: Vec<usize>,
     chosen: Vec<bool>,
-    total: f64,
     /// Unchosen active tuples by their sorted set of chosen owners (never empty).
     by_owners: FxHashMap<Vec<usize>, Vec<usize>>,
     /// Tuples to look at in the next pass: those whose reports changed owner in this one.
@@ -85,23 +83,19 @@ struct Polish<'p> {
 
 impl<'p> Polish<'p> {
     fn new(problem: &'p SdProblem, chosen: &[usize]) -> Self {
-        let mut report_offs = vec![0];
-        for &n in problem.sizes() {
-            report_offs.push(report_offs.last().copied().unwrap_or(0) + n);
-        }
-        let n_reports = report_offs.last().copied().unwrap_or(0);
-        let costs = problem.costs();
-        let mut by_cost = problem.active().to_vec();
-        by_cost.sort_by(|&x, &y| costs[x].total_cmp(&costs[y]).then(x.cmp(&y)));
+        let n_reports = problem.n_reports();
+        let pairs = problem
+            .active()
+            .iter()
+            .flat_map(|&k| problem.flat_reports(k).map(move |r| (r, k)));
+        let (inc_offs, inc) = csr(n_reports, pairs);
         let mut state = Self {
             problem,
-            report_offs,
-            by_cost,
-            inc_offs: Vec::new(),
-            inc: Vec::new(),
+            by_cost: problem.active_by_cost(),
+            inc_offs,
+            inc,
             owner: vec![NONE; n_reports],
             chosen: vec![false; problem.n_tuples()],
-            total: chosen.iter().map(|&k| costs[k]).sum(),
             by_owners: FxHashMap::default(),
             dirty: vec![true; problem.n_tuples()],
             conflicts: Vec::new(),
@@ -110,17 +104,8 @@ impl<'p> Polish<'p> {
             refill: Vec::new(),
             used: vec![false; n_reports],
         };
-        let pairs: Vec<(usize, usize)> = problem
-            .active()
-            .iter()
-            .flat_map(|&k| state.reports(k).map(move |r| (r, k)))
-            .collect();
-        (state.inc_offs, state.inc) = csr(n_reports, pairs.into_iter());
         for &k in chosen {
-            state.chosen[k] = true;
-            for r in state.reports(k).collect::<Vec<_>>() {
-                state.owner[r] = k;
-            }
+            state.take(k);
         }
         for at in 0..state.by_cost.len() {
             state.index(state.by_cost[at], true);
@@ -128,20 +113,27 @@ impl<'p> Polish<'p> {
         state
     }
 
-    /// The flat report ids of tuple `k`.
-    fn reports(&self, k: usize) -> impl Iterator<Item = usize> + '_ {
-        let t = self.problem.tuple(k);
-        (0..t.len())
-            .filter(move |&s| t[s] > 0)
-            .map(move |s| self.report_offs[s] + t[s] - 1)
+    /// Makes `k` chosen, the owner of its reports.
+    fn take(&mut self, k: usize) {
+        self.chosen[k] = true;
+        for r in self.problem.flat_reports(k) {
+            self.owner[r] = k;
+        }
+    }
+
+    /// Makes `k` unchosen, its reports free.
+    fn drop_tuple(&mut self, k: usize) {
+        self.chosen[k] = false;
+        for r in self.problem.flat_reports(k) {
+            self.owner[r] = NONE;
+        }
     }
 
     /// Distinct chosen owners of `k`'s reports, sorted, into `key`.
     fn owners_into_key(&mut self, k: usize) {
         self.key.clear();
-        let t = self.problem.tuple(k);
-        for s in (0..t.len()).filter(|&s| t[s] > 0) {
-            let o = self.owner[self.report_offs[s] + t[s] - 1];
+        for r in self.problem.flat_reports(k) {
+            let o = self.owner[r];
             if o != NONE && !self.key.contains(&o) {
                 self.key.push(o);
             }
@@ -190,7 +182,6 @@ impl<'p> Polish<'p> {
         let keep = delta < -tol;
         if keep {
             self.apply(a);
-            self.total += delta;
         } else {
             self.unmark(a);
         }
@@ -218,9 +209,8 @@ impl<'p> Polish<'p> {
 
     /// Sets the `used` mark of `k`'s reports.
     fn mark(&mut self, k: usize, value: bool) {
-        let t = self.problem.tuple(k);
-        for s in (0..t.len()).filter(|&s| t[s] > 0) {
-            self.used[self.report_offs[s] + t[s] - 1] = value;
+        for r in self.problem.flat_reports(k) {
+            self.used[r] = value;
         }
     }
 
@@ -236,7 +226,7 @@ impl<'p> Polish<'p> {
         let mut added = 0.0;
         for at in 0..self.candidates.len() {
             let b = self.candidates[at];
-            if self.reports(b).all(|r| !self.used[r]) {
+            if self.problem.flat_reports(b).all(|r| !self.used[r]) {
                 self.mark(b, true);
                 self.refill.push(b);
                 added += costs[b];
@@ -261,29 +251,19 @@ impl<'p> Polish<'p> {
             .chain(self.refill.iter().copied())
             .collect();
         let evicted = std::mem::take(&mut self.conflicts);
-        let moved: Vec<usize> = added.iter().chain(&evicted).copied().collect();
-        let mut touched: Vec<usize> = moved
-            .iter()
-            .flat_map(|&k| self.reports(k).collect::<Vec<_>>())
-            .flat_map(|r| self.inc[self.inc_offs[r]..self.inc_offs[r + 1]].to_vec())
-            .collect();
+        let mut touched = Vec::new();
+        for &k in added.iter().chain(&evicted) {
+            for r in self.problem.flat_reports(k) {
+                touched.extend_from_slice(&self.inc[self.inc_offs[r]..self.inc_offs[r + 1]]);
+            }
+        }
         touched.sort_unstable();
         touched.dedup();
         for &k in &touched {
             self.index(k, false);
         }
-        for c in evicted {
-            self.chosen[c] = false;
-            for r in self.reports(c).collect::<Vec<_>>() {
-                self.owner[r] = NONE;
-            }
-        }
-        for k in added {
-            self.chosen[k] = true;
-            for r in self.reports(k).collect::<Vec<_>>() {
-                self.owner[r] = k;
-            }
-        }
+        evicted.into_iter().for_each(|c| self.drop_tuple(c));
+        added.into_iter().for_each(|k| self.take(k));
         for &k in &touched {
             self.index(k, true);
             self.dirty[k] = true;

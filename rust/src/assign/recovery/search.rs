@@ -39,16 +39,12 @@ pub(super) struct Search {
 impl Search {
     pub(super) fn new(problem: &SdProblem) -> Self {
         let c = problem.costs();
-        let mut by_cost = problem.active().to_vec();
-        by_cost.sort_by(|&a, &b| c[a].total_cmp(&c[b]).then(a.cmp(&b)));
+        let by_cost = problem.active_by_cost();
         let s = problem.n_sensors();
-        let mut base = vec![0];
-        for &n in problem.sizes() {
-            base.push(base.last().copied().unwrap_or(0) + n);
-        }
-        let missed = base[s];
+        let base = problem.report_offsets();
+        let missed = problem.n_reports();
         let flat: Vec<usize> = (by_cost.iter())
-            .flat_map(|&k| problem.tuple(k).iter().zip(&base))
+            .flat_map(|&k| problem.tuple(k).iter().zip(base))
             .map(|(&i, &b)| if i == 0 { missed } else { b + i - 1 })
             .collect();
         let reports = flat.iter().enumerate().filter(|e| *e.1 != missed);
