@@ -30,18 +30,17 @@ def random_instance(rng: np.random.Generator, s: int) -> tuple[np.ndarray, np.nd
     return tuples, costs, sizes
 
 
+def report_incidence(tuples: np.ndarray, sizes: np.ndarray) -> csr_matrix:
+    """One row per report of every sensor, one column per tuple: 1 where the tuple uses it."""
+    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    used = [np.nonzero(tuples[:, s])[0] for s in range(tuples.shape[1])]
+    rows = np.concatenate([offsets[s] + tuples[u, s] - 1 for s, u in enumerate(used)])
+    return csr_matrix((np.ones(len(rows)), (rows, np.concatenate(used))), shape=(offsets[-1], len(tuples)))
+
+
 def milp_optimum(tuples: np.ndarray, costs: np.ndarray, sizes: np.ndarray) -> float:
-    k, s = tuples.shape
-    rows, cols = [], []
-    offset = 0
-    for j in range(s):
-        for k_idx in range(k):
-            if tuples[k_idx, j] > 0:
-                rows.append(offset + tuples[k_idx, j] - 1)
-                cols.append(k_idx)
-        offset += sizes[j]
-    a = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(offset, k))
-    res = milp(costs, constraints=LinearConstraint(a, -np.inf, 1), integrality=np.ones(k), bounds=Bounds(0, 1))
+    a = report_incidence(tuples, sizes)
+    res = milp(costs, constraints=LinearConstraint(a, -np.inf, 1), integrality=np.ones(len(costs)), bounds=Bounds(0, 1))
     assert res.status == 0
     return float(res.fun)
 
@@ -111,11 +110,8 @@ def test_lagrangian_bounds_hold_under_every_option(option: dict[str, str]) -> No
 def lp_optimum(tuples: np.ndarray, costs: np.ndarray, sizes: np.ndarray) -> float:
     """The LP relaxation (0 <= x <= 1) of the same problem: the value every Lagrangian dual
     bound of it converges to from below, whichever sensors are relaxed."""
-    offsets = np.concatenate([[0], np.cumsum(sizes)])
-    used = [np.nonzero(tuples[:, s])[0] for s in range(tuples.shape[1])]
-    rows = np.concatenate([offsets[s] + tuples[u, s] - 1 for s, u in enumerate(used)])
-    a = csr_matrix((np.ones(len(rows)), (rows, np.concatenate(used))), shape=(offsets[-1], len(costs)))
-    res = linprog(costs, A_ub=a, b_ub=np.ones(offsets[-1]), bounds=(0, 1), method="highs")
+    a = report_incidence(tuples, sizes)
+    res = linprog(costs, A_ub=a, b_ub=np.ones(a.shape[0]), bounds=(0, 1), method="highs")
     assert res.status == 0
     return float(res.fun)
 

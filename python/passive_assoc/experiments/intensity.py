@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 import time
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -39,8 +39,8 @@ class Solvers:
     polish: bool = False
 
     def kwargs(self) -> dict[str, Any]:
-        return {"time_limit": self.time_limit, "valid_airspace": self.valid_airspace, "max_iter": self.max_iter,
-                "gap_tol": self.gap_tol, "sensor_order": self.sensor_order, "polish": self.polish}
+        """The settings as keyword arguments of :func:`associate_static` (one per field)."""
+        return asdict(self)
 
 
 def true_tuples(scan: StaticScan) -> list[tuple[int, ...]]:
