@@ -2,18 +2,22 @@
 networks, with the numerical hot paths in Rust.
 
 Angles are radians, positions metres, times seconds (METHODS §0).
+
+Subpackages, each depending only on those before it: :mod:`.data` (measurements, sensors),
+:mod:`.estimation` (ML fitting, CRLB), :mod:`.assignment` (S-D and 2-D solvers), :mod:`.fti`
+(fuzzy track initiation) and :mod:`.static_los` (static line-of-sight association),
+:mod:`.simulation` (scenarios with truth), :mod:`.evaluation` (metrics, reference fits),
+:mod:`.experiments` (paper reproductions). This namespace re-exports the main entry points.
 """
 
 from __future__ import annotations
 
 from ._core import __version__
 from .assignment import SdAssignment, assign_sd, linear_assignment
-from .closeness import ClosenessOptima, closeness, maximize_closeness
-from .fitting import TERMINATION_NAMES, FitResult, crlb, fisher_and_crlb, fit_ml
-from .initiation import FuzzyTrackInitiator, InitiationResult, Track
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
-from .simulate import (
+from .data import MeasurementTable, SensorNetwork
+from .estimation import TERMINATION_NAMES, FitResult, crlb, fisher_and_crlb, fit_ml
+from .fti import ClosenessOptima, FuzzyTrackInitiator, InitiatedTrack, InitiationResult, closeness, maximize_closeness
+from .simulation import (
     PAPER_FTI_TARGETS,
     ConstantVelocityTarget,
     Scenario,
@@ -21,7 +25,10 @@ from .simulate import (
     paper_fti_scenario,
     simulate,
 )
-from .static_association import StaticAssociation, associate_static, enumerate_candidates
+from .static_los import StaticAssociation, associate_static, enumerate_candidates
+
+#: The fuzzy initiator's track under its pre-subpackage name (``passive_assoc.fti.InitiatedTrack``).
+Track = InitiatedTrack
 
 __all__ = [
     "StaticAssociation",
@@ -32,6 +39,7 @@ __all__ = [
     "maximize_closeness",
     "FuzzyTrackInitiator",
     "InitiationResult",
+    "InitiatedTrack",
     "Track",
     "SdAssignment",
     "assign_sd",

@@ -8,8 +8,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
+from .data import MeasurementTable, SensorNetwork
 
 
 class CoreColumns(NamedTuple):

@@ -16,7 +16,7 @@ import numpy as np
 from . import __version__
 from .evaluation import perfect_association_fit, target_crlbs
 from .experiments import fti, intensity
-from .simulate import paper_fti_scenario
+from .simulation import paper_fti_scenario
 
 #: (name, module with add_arguments/main, one-line summary) of every `reproduce` experiment.
 _EXPERIMENTS = [

@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from .initiation import InitiationResult
-from .simulate import Scenario
+from .fti import InitiationResult
+from .simulation import Scenario
 
 
 def _pyplot() -> Any:
@@ -72,7 +72,7 @@ def plot_static_scan(scan: Any, path: str) -> None:
     """One static scan: every line of sight (false bearings grey), every gated candidate
     coloured by its intensity (lines of sight through it), the true targets, and the points
     each method accepts."""
-    from .static_association import associate_static, enumerate_candidates
+    from .static_los import associate_static, enumerate_candidates
 
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(9, 8))

@@ -18,8 +18,8 @@ from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 from ..evaluation import perfect_association_fit, target_crlbs
-from ..initiation import FuzzyTrackInitiator, InitiationResult
-from ..simulate import Scenario, paper_fti_scenario
+from ..fti import FuzzyTrackInitiator, InitiationResult
+from ..simulation import Scenario, paper_fti_scenario
 from .common import fmt, map_runs, print_rows, run_seeds, write_json
 
 COMPONENTS = ("x0", "y0", "z0", "vx", "vy", "vz")

@@ -15,9 +15,10 @@ from typing import Any, Literal
 import numpy as np
 
 from ..assignment import assign_sd
-from ..metrics import gospa
-from ..static_association import Method, associate_static, enumerate_candidates
-from ..static_scenarios import SQUARE_X, SQUARE_Y, StaticScan, static_scan
+from ..evaluation import gospa
+from ..simulation.static_los import SQUARE_X, SQUARE_Y, StaticScan, static_scan
+from ..static_los import associate_static, enumerate_candidates
+from ..static_los.associator import Method
 from .common import fmt, map_runs, print_rows, run_seeds, write_json
 
 METHODS: tuple[Method, ...] = ("intensity", "lagrangian", "exact")

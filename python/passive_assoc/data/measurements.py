@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import as_float_array, as_int_array, readonly, require_finite
+from .._validation import as_float_array, as_int_array, readonly, require_finite
 from .sensors import SensorNetwork
 
 __all__ = ["MeasurementTable", "ATTRIBUTE_PREFIX"]

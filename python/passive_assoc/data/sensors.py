@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import cKDTree
 
-from ._validation import (
+from .._validation import (
     as_float_array,
     as_int_array,
     readonly,

@@ -16,12 +16,11 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _core
-from ._inputs import check_network, core_columns
-from ._validation import as_float_array, as_float_scalar, as_int_scalar
-from .assignment import assign_sd
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
+from .. import _core
+from .._inputs import check_network, core_columns
+from .._validation import as_float_array, as_float_scalar, as_int_scalar
+from ..assignment import assign_sd
+from ..data import MeasurementTable, SensorNetwork
 
 Method = Literal["intensity", "lagrangian", "exact"]
 #: χ²(1 dof) at 99 %: default gate on each normalised squared angle residual (eq. 3).

@@ -1,42 +1,30 @@
 """Static bearing-only association (METHODS §2): exact recovery without noise, the partition
-invariant, thread invariance, bad input and a smoke run of `reproduce intensity`."""
+invariant, thread invariance and bad input (`reproduce intensity` is smoke-tested in test_cli)."""
 
 from __future__ import annotations
 
-import dataclasses
-import json
-from pathlib import Path
+from collections.abc import Callable
 
 import numpy as np
 import passive_assoc as pa
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from passive_assoc.cli import main as cli_main
-from passive_assoc.static_association import associate_static, enumerate_candidates
-from passive_assoc.static_scenarios import StaticScan, static_scan
+from passive_assoc.simulation import StaticScan, static_scan
+from passive_assoc.static_los import associate_static, enumerate_candidates
 
 METHODS = ("intensity", "lagrangian", "exact")
 
-
-def noiseless(seed: int, n_targets: int, n_sensors: int = 3, sigma: float = 1e-3) -> StaticScan:
-    """Pd = 1, no false bearings, no noise — seen by a network that believes sigma."""
-    raw = static_scan(seed, n_targets=n_targets, n_sensors=n_sensors, pd=1.0, p_false=0.0, sigma=1e-10)
-    return dataclasses.replace(raw, sensors=pa.SensorNetwork.planar(raw.sensors.positions[:, :2], sigma))
-
-
-def assert_partition(result: pa.StaticAssociation, n_rows: int) -> None:
-    used = result.tuples[result.tuples >= 0]
-    assert len(np.unique(used)) == len(used), "a report is in two tuples"
-    assert np.array_equal(np.sort(np.concatenate([used, result.false_alarms])), np.arange(n_rows))
-    for k, rows in enumerate(result.tuples):
-        assert np.all(result.labels[rows[rows >= 0]] == k)
+#: conftest fixtures
+PartitionCheck = Callable[[pa.StaticAssociation, int], None]
+NoiselessScan = Callable[..., StaticScan]
 
 
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("seed", [1, 2, 3])
-def test_noiseless_scan_is_recovered_exactly(method: str, seed: int) -> None:
-    scan = noiseless(seed, n_targets=6)
+def test_noiseless_scan_is_recovered_exactly(method: str, seed: int, noiseless_static_scan: NoiselessScan,
+                                            assert_partition: PartitionCheck) -> None:
+    scan = noiseless_static_scan(seed, n_targets=6)
     result = pa.associate_static(scan.measurements, scan.sensors, method, pd=0.99)
     assert_partition(result, len(scan.measurements))
     assert sorted(map(tuple, result.tuples.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
@@ -44,8 +32,8 @@ def test_noiseless_scan_is_recovered_exactly(method: str, seed: int) -> None:
     np.testing.assert_allclose(result.positions[order], scan.targets, atol=1e-3)
 
 
-def test_four_sensors_noiseless() -> None:
-    scan = noiseless(9, n_targets=5, n_sensors=4)
+def test_four_sensors_noiseless(noiseless_static_scan: NoiselessScan) -> None:
+    scan = noiseless_static_scan(9, n_targets=5, n_sensors=4)
     for method in METHODS:
         result = pa.associate_static(scan.measurements, scan.sensors, method, pd=0.99)
         assert sorted(map(tuple, result.tuples.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
@@ -54,7 +42,8 @@ def test_four_sensors_noiseless() -> None:
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**31), n_targets=st.integers(1, 8), n_sensors=st.integers(2, 4),
        ratio=st.sampled_from([5.0, 15.0, 60.0]))
-def test_every_report_ends_in_one_tuple_or_the_false_alarms(seed: int, n_targets: int, n_sensors: int, ratio: float) -> None:
+def test_every_report_ends_in_one_tuple_or_the_false_alarms(seed: int, n_targets: int, n_sensors: int, ratio: float,
+                                                            assert_partition: PartitionCheck) -> None:
     scan = static_scan(seed, n_targets=n_targets, n_sensors=n_sensors, ratio=ratio)
     assume(len(scan.measurements) > 0)  # an empty scan is refused (test_bad_inputs)
     for method in METHODS:
@@ -127,40 +116,3 @@ def test_solver_settings_reach_assign_sd_through_associate_static() -> None:
             assert result.report["dual_bound"] == direct.dual_bound
             costs.add(direct.primal_cost)
     assert len(costs) > 1
-
-
-def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    out_json, out_png = tmp_path / "intensity.json", tmp_path / "intensity.png"
-    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--max-m", "12", "--time-limit", "0.5", "--timing-scans", "2",
-            "--max-iter", "50", "--sensor-order", "given", "--polish", "--json", str(out_json), "--plot", str(out_png)]
-    assert cli_main(argv) == 0
-    printed = capsys.readouterr().out
-    assert "Table 1" in printed and "Table 2" in printed
-    record = json.loads(out_json.read_text())
-    cells = record["accuracy"]["15"]
-    assert set(cells) == {*METHODS, "truth_costlier_than_optimum_pct", "exact_proven_runs", "ghosts_per_scan_median"}
-    assert all(0.0 <= cells[m]["accuracy_pct"] <= 100.0 for m in METHODS)
-    assert [row["M"] for row in record["timing"] if row["S"] == 3] == [6, 12]
-    assert all(row["scans"] == 2 for row in record["timing"])
-    assert all(1 <= row["lagrangian_iterations"] <= 50 for row in record["timing"])  # --max-iter reaches the solver
-    assert (record["settings"]["sensor_order"], record["settings"]["polish"]) == ("given", True)
-    assert out_png.stat().st_size > 10_000
-
-
-def test_bayes_bound_recovers_a_noiseless_scan() -> None:
-    from passive_assoc.experiments.intensity import bayes_map
-
-    scan = noiseless(4, n_targets=6)
-    cands = pa.enumerate_candidates(scan.measurements, scan.sensors)
-    assert bayes_map(scan, cands, time_limit=5.0) == {"accuracy": 1.0, "truth_beaten": 0.0}
-
-
-def test_reproduce_intensity_bayes_bound_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    out_json = tmp_path / "bound.json"
-    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--no-timing", "--time-limit", "0.5",
-            "--bayes-bound", "--json", str(out_json)]
-    assert cli_main(argv) == 0
-    assert "exact MAP under the scenario's own model" in capsys.readouterr().out
-    bound = json.loads(out_json.read_text())["accuracy"]["15"]["bayes_map"]
-    assert set(bound) == {"accuracy_pct", "truth_costlier_pct", "proven_runs"}
-    assert 0.0 <= bound["accuracy_pct"] <= 100.0

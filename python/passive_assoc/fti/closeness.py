@@ -1,6 +1,6 @@
 """The fuzzy synthetic closeness R of METHODS §1 (eq. 17–18) and its steepest-ascent search
 (eq. 19), exposed on their own: evaluate R and ∂R/∂X0 at many states, or climb to the local
-maxima of R from given starts. :class:`~passive_assoc.initiation.FuzzyTrackInitiator` uses
+maxima of R from given starts. :class:`~passive_assoc.fti.FuzzyTrackInitiator` uses
 the same kernels internally.
 """
 
@@ -12,11 +12,10 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _core
-from ._inputs import core_columns
-from ._validation import as_float_array, as_float_scalar, as_int_scalar
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
+from .. import _core
+from .._inputs import core_columns
+from .._validation import as_float_array, as_float_scalar, as_int_scalar
+from ..data import MeasurementTable, SensorNetwork
 
 
 def _columns(measurements: MeasurementTable, sensors: SensorNetwork, spread_factor: float) -> tuple:

@@ -20,8 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
+from ..data import MeasurementTable, SensorNetwork
 
 SQUARE_X = (-10e3, 10e3)
 SQUARE_Y = (20e3, 40e3)

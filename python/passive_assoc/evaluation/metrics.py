@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 
-from ._validation import (
+from .._validation import (
     as_float_array,
     as_float_scalar,
     as_int_array,

@@ -1,40 +1,25 @@
 """Fuzzy track initiation (METHODS §1): exactness without noise, the partition invariant on
-random scenarios, thread invariance, bad input, and a smoke run of `reproduce fti`."""
+random scenarios, thread invariance and bad input (`reproduce fti` is smoke-tested in test_cli)."""
 
 from __future__ import annotations
 
-import dataclasses
-import json
-from pathlib import Path
+from collections.abc import Callable
 
 import numpy as np
 import passive_assoc as pa
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from passive_assoc.cli import main as cli_main
-from passive_assoc.initiation import FuzzyTrackInitiator, InitiationResult
+from passive_assoc.fti import FuzzyTrackInitiator, InitiationResult
 
-
-def with_nominal_sigma(scenario: pa.Scenario, sigma: float) -> pa.Scenario:
-    """The same (noiseless) data seen by a network that believes its noise std is `sigma`."""
-    s = scenario.sensors
-    sig_el = None if s.ndim == 2 else np.full(s.n_sensors, sigma)
-    network = pa.SensorNetwork(s.positions, np.full(s.n_sensors, sigma), sig_el, s.ndim)
-    return dataclasses.replace(scenario, sensors=network)
-
-
-def assert_partition(result: InitiationResult, n_rows: int) -> None:
-    """Every row is in exactly one track or in the clutter set."""
-    parts = [t.measurements for t in result.tracks] + [result.clutter]
-    joined = np.concatenate(parts) if parts else np.empty(0, dtype=np.int64)
-    assert np.array_equal(np.sort(joined), np.arange(n_rows)), "a row is lost or in two places"
-    for k, t in enumerate(result.tracks):
-        assert np.all(result.labels[t.measurements] == k)
+#: conftest fixtures
+PartitionCheck = Callable[[InitiationResult, int], None]
+NominalSigma = Callable[[pa.Scenario, float], pa.Scenario]
 
 
 @pytest.mark.parametrize("planar", [False, True])
-def test_noiseless_scenario_gives_exact_targets_and_assignment(planar: bool) -> None:
+def test_noiseless_scenario_gives_exact_targets_and_assignment(planar: bool, with_nominal_sigma: NominalSigma,
+                                                                assert_partition: PartitionCheck) -> None:
     if planar:
         raw = pa.bearing_only_2d_scenario(seed=4, n_targets=3, clutter_ratio=0.0, sigma=1e-9)
     else:
@@ -59,7 +44,7 @@ def test_noiseless_scenario_gives_exact_targets_and_assignment(planar: bool) -> 
         np.testing.assert_allclose(track.state, scenario.true_states[k], rtol=1e-6, atol=1e-3)
 
 
-def test_paper_run_with_clutter_finds_the_four_targets() -> None:
+def test_paper_run_with_clutter_finds_the_four_targets(assert_partition: PartitionCheck) -> None:
     scenario = pa.paper_fti_scenario(seed=11)
     result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors, t0=0.0)
     assert_partition(result, len(scenario.measurements))
@@ -92,7 +77,8 @@ def test_all_pruning_off_gives_the_same_targets_on_a_small_case() -> None:
        n_scans=st.integers(2, 6), clutter=st.sampled_from([0.0, 0.5, 2.0]), pd=st.sampled_from([0.7, 1.0]),
        planar=st.booleans())
 def test_random_scenarios_keep_the_partition_and_never_panic(seed: int, n_targets: int, n_sensors: int, n_scans: int,
-                                                             clutter: float, pd: float, planar: bool) -> None:
+                                                             clutter: float, pd: float, planar: bool,
+                                                             assert_partition: PartitionCheck) -> None:
     if planar:
         scenario = pa.bearing_only_2d_scenario(seed=seed, n_targets=n_targets, n_sensors=n_sensors, n_scans=n_scans,
                                                clutter_ratio=clutter, pd=pd)
@@ -142,14 +128,3 @@ def test_bad_inputs_are_refused() -> None:
         ini.initiate(one_scan, scenario.sensors)
     with pytest.raises(ValueError, match="t0"):
         ini.initiate(scenario.measurements, scenario.sensors, t0=float("inf"))
-
-
-def test_reproduce_fti_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    out_json, out_png = tmp_path / "fti.json", tmp_path / "fti.png"
-    assert cli_main(["reproduce", "fti", "--runs", "3", "--json", str(out_json), "--plot", str(out_png)]) == 0
-    printed = capsys.readouterr().out
-    assert "Table 2" in printed and "Table 3" in printed and "CRLB" in printed
-    record = json.loads(out_json.read_text())
-    assert record["runs"] == 3 and len(record["found_per_run"]) == 3
-    assert np.array(record["rms_perfect"]).shape == (4, 6)
-    assert out_png.stat().st_size > 10_000

@@ -18,11 +18,10 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _core
-from ._inputs import core_columns
-from ._validation import as_float_scalar, as_int_array, as_int_scalar
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
+from .. import _core
+from .._inputs import core_columns
+from .._validation import as_float_scalar, as_int_array, as_int_scalar
+from ..data import MeasurementTable, SensorNetwork
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
@@ -30,7 +29,7 @@ CHI2_2DOF_999 = 13.815510557964274
 
 
 @dataclass(frozen=True)
-class Track:
+class InitiatedTrack:
     """One initiated target.
 
     Attributes
@@ -72,7 +71,7 @@ class InitiationResult:
     holds that partition as one array (track index, or -1 for clutter).
     """
 
-    tracks: list[Track]
+    tracks: list[InitiatedTrack]
     labels: NDArray[np.int64]
     t0: float
     diagnostics: InitiationDiagnostics = field(repr=False)
@@ -239,7 +238,7 @@ class FuzzyTrackInitiator:
         )
         labels = out["labels"]
         tracks = [
-            Track(out["estimates"][k], out["covariances"][k], float(out["closeness"][k]),
+            InitiatedTrack(out["estimates"][k], out["covariances"][k], float(out["closeness"][k]),
                   float(out["chi2"][k]), np.flatnonzero(labels == k))
             for k in range(len(out["closeness"]))
         ]

@@ -1,7 +1,7 @@
 """Maximum-likelihood fitting of angle measurements (METHODS §1 "Final estimate", §6).
 
 :func:`fit_ml` fits many independent problems in one call: each problem is a group of rows
-of one shared :class:`~passive_assoc.measurements.MeasurementTable`. The work runs in the
+of one shared :class:`~passive_assoc.data.MeasurementTable`. The work runs in the
 Rust core, in parallel and with the GIL released; results do not depend on the thread count.
 :func:`crlb` gives the Cramér-Rao bound of a true state for the same model.
 """
@@ -15,11 +15,10 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _core
-from ._inputs import check_network, core_columns
-from ._validation import as_float_array, as_float_scalar, as_int_array
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
+from .. import _core
+from .._inputs import check_network, core_columns
+from .._validation import as_float_array, as_float_scalar, as_int_array
+from ..data import MeasurementTable, SensorNetwork
 
 Motion = Literal["static", "cv"]
 

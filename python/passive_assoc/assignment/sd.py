@@ -1,5 +1,4 @@
-"""Assignment solvers: sparse S-D assignment (METHODS §2 baselines A and B) and dense 2-D
-linear assignment, both in the Rust core with the GIL released."""
+"""Sparse S-D assignment (METHODS §2 baselines A and B), in the Rust core with the GIL released."""
 
 from __future__ import annotations
 
@@ -9,8 +8,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _core
-from ._validation import as_float_array, as_int_array, as_int_scalar
+from .. import _core
+from .._validation import as_float_array, as_int_array, as_int_scalar
 
 
 @dataclass(frozen=True)
@@ -133,12 +132,3 @@ def assign_sd(
     return SdAssignment(out["chosen"], float(out["primal_cost"]), float(out["dual_bound"]), float(out["gap"]),
                         int(out["iterations"]), str(out["termination"]), bool(out["optimal"]))
 
-
-def linear_assignment(costs: ArrayLike) -> tuple[NDArray[np.int64], NDArray[np.int64], float]:
-    """Dense min-cost rectangular 2-D assignment (Jonker-Volgenant shortest augmenting path).
-
-    Same contract as :func:`scipy.optimize.linear_sum_assignment` (``+inf`` forbids a pair),
-    plus the total cost. Returns ``(row_ind, col_ind, total)``.
-    """
-    matrix = as_float_array("costs", costs, ndim=2)
-    return _core.assign_2d(matrix)

@@ -1,4 +1,4 @@
-"""Tests of the scenario simulator."""
+"""Tests of the scenario simulator (the paper-000 scenario's own spec is in test_fti)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from passive_assoc.sensors import SensorNetwork
-from passive_assoc.simulate import (
-    PAPER_FTI_TARGETS,
+from passive_assoc.data import SensorNetwork
+from passive_assoc.simulation import (
     ConstantVelocityTarget,
     bearing_only_2d_scenario,
     paper_fti_scenario,
@@ -61,31 +60,6 @@ def test_constant_velocity_target() -> None:
         ConstantVelocityTarget([1.0, 2.0, 3.0])
     with pytest.raises(ValueError, match=r"^initial_state\[1\] = nan"):
         ConstantVelocityTarget([0.0, np.nan, 0.0, 0.0])
-
-
-def test_paper_scenario_matches_spec() -> None:
-    scen = paper_fti_scenario(seed=1)
-    assert PAPER_FTI_TARGETS.shape == (4, 6)
-    assert PAPER_FTI_TARGETS[0].tolist() == [1340, 15000, 1000, 173.2, -100, 0]
-    assert scen.sensors.positions.tolist() == [[0, 0, 0], [20000, 0, 0]]
-    assert np.all(scen.sensors.sigma_azimuth == 5e-3)
-    assert np.all(scen.sensors.sigma_elevation == 5e-3)
-    assert scen.scan_times[0].tolist() == [15.0 * k for k in range(8)]
-    assert scen.scan_times[1].tolist() == [5.0 + 15.0 * k for k in range(8)]
-    assert scen.t0 == 0.0 and np.array_equal(scen.true_states, PAPER_FTI_TARGETS)
-    m = scen.measurements
-    assert len(m) == 2 * 8 * (4 + 8) and m.ndim == 3
-    for j in range(2):
-        for t in scen.scan_times[j]:
-            scan = (m.sensor == j) & (m.time == t)
-            assert np.sum(m.truth[scan] == -1) == 8  # clutter = 2 x 4 targets, exactly
-            assert sorted(m.truth[scan][m.truth[scan] >= 0]) == [0, 1, 2, 3]
-    clutter = m.truth == -1
-    assert np.all((m.azimuth[clutter] >= 0) & (m.azimuth[clutter] <= math.pi))
-    assert np.all((m.elevation[clutter] >= 0) & (m.elevation[clutter] <= math.pi / 2))
-    m.validate_against(scen.sensors)
-    groups = scen.true_groups()
-    assert [g.size for g in groups] == [16] * 4 and np.all(m.truth[groups[2]] == 2)
 
 
 def test_rows_sorted_and_shuffled_within_scan() -> None:

@@ -1,5 +1,5 @@
-"""S-D assignment against an independent exact solver (scipy.optimize.milp), and the 2-D
-solver against scipy.optimize.linear_sum_assignment (issue: static association)."""
+"""S-D assignment against an independent exact solver (scipy.optimize.milp) and the LP bound
+(issue: static association)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from typing import Literal
 import numpy as np
 import passive_assoc as pa
 import pytest
-from passive_assoc.static_association import enumerate_candidates
-from passive_assoc.static_scenarios import static_scan
-from scipy.optimize import Bounds, LinearConstraint, linear_sum_assignment, linprog, milp
+from passive_assoc.simulation import static_scan
+from passive_assoc.static_los import enumerate_candidates
+from scipy.optimize import Bounds, LinearConstraint, linprog, milp
 from scipy.sparse import csr_matrix
 
 
@@ -74,20 +74,6 @@ def test_exact_and_lagrangian_against_milp_on_200_instances() -> None:
             hits += abs(lag.primal_cost - optimum) <= 1e-9 * max(1.0, abs(optimum))
             n += 1
     assert hits / n >= 0.9, f"Lagrangian optimal in {hits}/{n}"
-
-
-@pytest.mark.parametrize("shape", [(1, 1), (5, 5), (7, 4), (4, 9), (60, 60)])
-def test_linear_assignment_matches_scipy(shape: tuple[int, int]) -> None:
-    rng = np.random.default_rng(sum(shape))
-    for _ in range(20):
-        c = rng.uniform(0, 100, shape)
-        if rng.random() < 0.5:
-            c = np.round(c / 10)  # ties
-        rows, cols, total = pa.linear_assignment(c)
-        r_ref, c_ref = linear_sum_assignment(c)
-        assert total == pytest.approx(c[r_ref, c_ref].sum(), rel=1e-12)
-        assert c[rows, cols].sum() == pytest.approx(total, rel=1e-12)
-        assert len(set(rows)) == len(rows) == min(shape) and len(set(cols)) == len(cols)
 
 
 @pytest.mark.parametrize("option", [{"warm_start": "always"}, {"warm_start": "never"}, {"sensor_order": "given"},
@@ -167,10 +153,8 @@ def test_lagrangian_dual_stays_below_the_lp_bound_on_paper_scans(sensor_order: L
         (lambda: pa.assign_sd([[1, 1, 1]], [-1.0], [1, 1, 1], polish="false"), TypeError, "polish"),
         (lambda: pa.assign_sd([["a", "b"]], [-1.0], [1, 1]), TypeError, "tuples"),
         (lambda: pa.assign_sd([[1, 1]], [-1.0], [1, 1], method="exact", time_limit=-1.0), ValueError, "time_limit"),
-        (lambda: pa.linear_assignment([[np.nan, 1.0]]), ValueError, "costs"),
-        (lambda: pa.linear_assignment([1.0, 2.0]), ValueError, "costs"),
     ],
 )
-def test_assignment_bad_input(call, exc, message) -> None:  # type: ignore[no-untyped-def]
+def test_sd_assignment_bad_input(call, exc, message) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(exc, match=message):
         call()

@@ -2,21 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import passive_assoc as pa
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-
-def _noiseless_table(sensors: pa.SensorNetwork, state: np.ndarray, times: np.ndarray, which: np.ndarray) -> pa.MeasurementTable:
-    """Exact angles of a constant-velocity target (t0 = 0) seen by sensor `which[k]` at `times[k]`."""
-    d = sensors.ndim
-    pos = state[:d] + times[:, None] * state[d:]
-    rel = pos - sensors.positions[which, :d]
-    az = np.arctan2(rel[:, 1], rel[:, 0])
-    el = np.arctan2(rel[:, 2], np.hypot(rel[:, 0], rel[:, 1])) if d == 3 else None
-    return pa.MeasurementTable.from_arrays(which, times, az, el)
+#: The conftest fixture: exact angles of a CV target, (sensors, state, times, which) -> table.
+NoiselessTable = Callable[[pa.SensorNetwork, np.ndarray, np.ndarray, np.ndarray], pa.MeasurementTable]
 
 
 def _spatial_pair() -> pa.SensorNetwork:
@@ -25,7 +20,7 @@ def _spatial_pair() -> pa.SensorNetwork:
 
 @pytest.mark.parametrize("motion", ["cv", "static"])
 @pytest.mark.parametrize("ndim", [2, 3])
-def test_noiseless_fit_recovers_truth(motion: str, ndim: int) -> None:
+def test_noiseless_fit_recovers_truth(motion: str, ndim: int, noiseless_table: NoiselessTable) -> None:
     if ndim == 3:
         sensors = _spatial_pair()
         state = np.array([1340.0, 15000.0, 1000.0, 173.2, -100.0, 0.0])
@@ -36,7 +31,7 @@ def test_noiseless_fit_recovers_truth(motion: str, ndim: int) -> None:
         state[ndim:] = 0.0
     times = np.repeat(np.arange(8) * 15.0, 3) + np.tile([0.0, 5.0, 7.0], 8)
     which = np.tile([0, 1, 2], 8)
-    table = _noiseless_table(sensors, state, times, which)
+    table = noiseless_table(sensors, state, times, which)
     truth = state if motion == "cv" else state[:ndim]
     start = truth * 1.03 + 50.0  # a poor start, not the pseudo-linear one
     for initial in (None, start[None, :]):
@@ -114,7 +109,7 @@ def test_degenerate_group_gets_a_status_not_an_exception() -> None:
 coordinate = st.floats(-30e3, 30e3)
 
 
-def _random_problem(seed: int) -> tuple[pa.SensorNetwork, pa.MeasurementTable, np.ndarray]:
+def _random_problem(seed: int, noiseless_table: NoiselessTable) -> tuple[pa.SensorNetwork, pa.MeasurementTable, np.ndarray]:
     rng = np.random.default_rng(seed)
     positions = rng.uniform(-20e3, 20e3, (3, 3)) * [1, 1, 0.01]
     sensors = pa.SensorNetwork.spatial(positions, 2e-3, 2e-3)
@@ -122,7 +117,7 @@ def _random_problem(seed: int) -> tuple[pa.SensorNetwork, pa.MeasurementTable, n
     state[:2] += [0, 40e3]  # keep the target away from the sensors
     times = np.repeat(np.arange(6) * 10.0, 3) + np.tile([0.0, 3.0, 6.0], 6)
     which = np.tile([0, 1, 2], 6)
-    exact = _noiseless_table(sensors, state, times, which)
+    exact = noiseless_table(sensors, state, times, which)
     az = exact.azimuth + rng.normal(0, 2e-3, len(exact))
     el = exact.elevation + rng.normal(0, 2e-3, len(exact))
     return sensors, pa.MeasurementTable.from_arrays(which, times, az, el), state
@@ -130,8 +125,9 @@ def _random_problem(seed: int) -> tuple[pa.SensorNetwork, pa.MeasurementTable, n
 
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**31), shift=st.tuples(coordinate, coordinate, st.floats(-500, 500)))
-def test_translating_the_geometry_translates_the_estimate(seed: int, shift: tuple[float, float, float]) -> None:
-    sensors, table, truth = _random_problem(seed)
+def test_translating_the_geometry_translates_the_estimate(seed: int, shift: tuple[float, float, float],
+                                                          noiseless_table: NoiselessTable) -> None:
+    sensors, table, truth = _random_problem(seed, noiseless_table)
     base = pa.fit_ml(table, sensors, [np.arange(len(table))], initial=truth[None])
     moved = pa.SensorNetwork.spatial(sensors.positions + shift, sensors.sigma_azimuth, sensors.sigma_elevation)
     start = truth + np.concatenate([shift, [0, 0, 0]])
@@ -142,8 +138,8 @@ def test_translating_the_geometry_translates_the_estimate(seed: int, shift: tupl
 
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**31), angle=st.floats(-np.pi, np.pi))
-def test_rotating_the_geometry_rotates_the_estimate(seed: int, angle: float) -> None:
-    sensors, table, truth = _random_problem(seed)
+def test_rotating_the_geometry_rotates_the_estimate(seed: int, angle: float, noiseless_table: NoiselessTable) -> None:
+    sensors, table, truth = _random_problem(seed, noiseless_table)
     c, s = np.cos(angle), np.sin(angle)
     rot = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
     big = np.kron(np.eye(2), rot)
@@ -157,8 +153,8 @@ def test_rotating_the_geometry_rotates_the_estimate(seed: int, angle: float) -> 
 
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**31), perm_seed=st.integers(0, 2**31))
-def test_permuting_measurements_changes_nothing(seed: int, perm_seed: int) -> None:
-    sensors, table, truth = _random_problem(seed)
+def test_permuting_measurements_changes_nothing(seed: int, perm_seed: int, noiseless_table: NoiselessTable) -> None:
+    sensors, table, truth = _random_problem(seed, noiseless_table)
     perm = np.random.default_rng(perm_seed).permutation(len(table))
     base = pa.fit_ml(table, sensors, [np.arange(len(table))], initial=truth[None])
     shuffled = pa.fit_ml(table.select(perm), sensors, [np.arange(len(table))], initial=truth[None])

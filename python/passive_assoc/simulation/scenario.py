@@ -1,4 +1,6 @@
-"""Scenario simulator: constant-velocity targets seen by passive angle-only sensors.
+"""Scenario simulator: constant-velocity targets seen by passive angle-only sensors, and a
+generic 2-D bearing-only scenario (the fuzzy-track-initiation paper's scenario is in
+:mod:`passive_assoc.simulation.fti`).
 
 All randomness comes from ``numpy.random.default_rng(seed)`` with an explicit ``seed``, so a
 scenario is reproducible from its arguments alone. Geometry follows METHODS §0:
@@ -14,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import (
+from .._validation import (
     as_float_array,
     as_float_scalar,
     as_int_scalar,
@@ -22,26 +24,15 @@ from ._validation import (
     readonly,
     require_finite,
 )
-from .measurements import MeasurementTable
-from .sensors import SensorNetwork
+from ..data import MeasurementTable, SensorNetwork
 
 __all__ = [
     "ConstantVelocityTarget",
     "Scenario",
     "simulate",
-    "paper_fti_scenario",
     "bearing_only_2d_scenario",
-    "PAPER_FTI_TARGETS",
     "wrap_angle",
 ]
-
-#: METHODS §1 Table 1: (x0, y0, z0, vx, vy, vz) in m and m/s at t0 = 0.
-PAPER_FTI_TARGETS: NDArray[np.float64] = readonly(np.array([
-    [1340.0, 15000.0, 1000.0, 173.2, -100.0, 0.0],
-    [1340.0, 5000.0, 1000.0, 173.2, 100.0, 0.0],
-    [6000.0, 1000.0, 1000.0, 0.0, 200.0, 0.0],
-    [1340.0, 16000.0, 1000.0, 173.2, -100.0, 0.0],
-]))
 
 Seed = int | np.random.Generator
 
@@ -337,44 +328,6 @@ def _staggered_times(
     k = np.arange(as_int_scalar("n_scans", n_scans, minimum=1)) * period
     dt = as_float_scalar("offset", offset, finite=True)
     return [np.asarray(j * dt + k, dtype=np.float64) for j in range(n_sensors)]
-
-
-def paper_fti_scenario(
-    seed: Seed,
-    *,
-    pd: float = 1.0,
-    clutter_ratio: float = 2.0,
-    scan_period: float = 15.0,
-    n_scans: int = 8,
-    offset: float = 5.0,
-    sigma: float = 5e-3,
-) -> Scenario:
-    """The fuzzy-track-initiation experiment of METHODS §1 / EXPERIMENTS ``fti``.
-
-    Two 3-D sensors at (0, 0, 0) and (20 km, 0, 0) with ``sigma`` on both angles; the four
-    targets of :data:`PAPER_FTI_TARGETS` with t0 = 0 (sensor 1's first sample); sensor 1
-    scans at ``k * scan_period``, sensor 2 at ``offset + k * scan_period``,
-    ``k = 0..n_scans-1``; per sensor and scan ``round(clutter_ratio * 4)`` clutter reports
-    with azimuth U[0, pi] and elevation U[0, pi/2].
-
-    Parameters
-    ----------
-    seed : int or numpy.random.Generator
-    pd, clutter_ratio, scan_period, n_scans, offset, sigma
-        See above; defaults are the paper's (T = 15 s fixed by EXPERIMENTS.md).
-
-    Returns
-    -------
-    Scenario
-    """
-    sensors = SensorNetwork.spatial([[0.0, 0.0, 0.0], [20000.0, 0.0, 0.0]], sigma, sigma)
-    targets = [ConstantVelocityTarget(s, t0=0.0) for s in PAPER_FTI_TARGETS]
-    times = _staggered_times(2, n_scans, scan_period, offset)
-    return simulate(  # t0 = 0 is sensor 1's first sample (EXPERIMENTS fti)
-        sensors, targets, times, pd=pd,
-        clutter_per_scan=_clutter_from_ratio(clutter_ratio, len(targets)),
-        azimuth_window=(0.0, math.pi), elevation_window=(0.0, math.pi / 2), t0=0.0, seed=seed,
-    )
 
 
 def bearing_only_2d_scenario(

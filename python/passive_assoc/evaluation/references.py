@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from .fitting import FitResult, crlb, fit_ml
-from .simulate import Scenario
+from ..estimation import FitResult, crlb, fit_ml
+from ..simulation import Scenario
 
 
 def target_crlbs(scenario: Scenario) -> NDArray[np.float64]:

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
-from passive_assoc.metrics import (
+from passive_assoc.evaluation import (
     association_accuracy,
     efficiency,
     gospa,

@@ -1,0 +1,16 @@
+"""Fuzzy track initiation (METHODS §1): the initiator and the fuzzy closeness it climbs."""
+
+from __future__ import annotations
+
+from .closeness import ClosenessOptima, closeness, maximize_closeness
+from .initiator import FuzzyTrackInitiator, InitiatedTrack, InitiationDiagnostics, InitiationResult
+
+__all__ = [
+    "ClosenessOptima",
+    "FuzzyTrackInitiator",
+    "InitiatedTrack",
+    "InitiationDiagnostics",
+    "InitiationResult",
+    "closeness",
+    "maximize_closeness",
+]

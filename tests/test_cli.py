@@ -1,0 +1,54 @@
+"""Smoke runs of the command line: `reproduce fti` and `reproduce intensity` end to end,
+through their JSON records and plots."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from passive_assoc.cli import main as cli_main
+
+#: The static-association methods `reproduce intensity` reports on.
+METHODS = ("intensity", "lagrangian", "exact")
+
+
+def test_reproduce_fti_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json, out_png = tmp_path / "fti.json", tmp_path / "fti.png"
+    assert cli_main(["reproduce", "fti", "--runs", "3", "--json", str(out_json), "--plot", str(out_png)]) == 0
+    printed = capsys.readouterr().out
+    assert "Table 2" in printed and "Table 3" in printed and "CRLB" in printed
+    record = json.loads(out_json.read_text())
+    assert record["runs"] == 3 and len(record["found_per_run"]) == 3
+    assert np.array(record["rms_perfect"]).shape == (4, 6)
+    assert out_png.stat().st_size > 10_000
+
+
+def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json, out_png = tmp_path / "intensity.json", tmp_path / "intensity.png"
+    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--max-m", "12", "--time-limit", "0.5", "--timing-scans", "2",
+            "--max-iter", "50", "--sensor-order", "given", "--polish", "--json", str(out_json), "--plot", str(out_png)]
+    assert cli_main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "Table 1" in printed and "Table 2" in printed
+    record = json.loads(out_json.read_text())
+    cells = record["accuracy"]["15"]
+    assert set(cells) == {*METHODS, "truth_costlier_than_optimum_pct", "exact_proven_runs", "ghosts_per_scan_median"}
+    assert all(0.0 <= cells[m]["accuracy_pct"] <= 100.0 for m in METHODS)
+    assert [row["M"] for row in record["timing"] if row["S"] == 3] == [6, 12]
+    assert all(row["scans"] == 2 for row in record["timing"])
+    assert all(1 <= row["lagrangian_iterations"] <= 50 for row in record["timing"])  # --max-iter reaches the solver
+    assert (record["settings"]["sensor_order"], record["settings"]["polish"]) == ("given", True)
+    assert out_png.stat().st_size > 10_000
+
+
+def test_reproduce_intensity_bayes_bound_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json = tmp_path / "bound.json"
+    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--no-timing", "--time-limit", "0.5",
+            "--bayes-bound", "--json", str(out_json)]
+    assert cli_main(argv) == 0
+    assert "exact MAP under the scenario's own model" in capsys.readouterr().out
+    bound = json.loads(out_json.read_text())["accuracy"]["15"]["bayes_map"]
+    assert set(bound) == {"accuracy_pct", "truth_costlier_pct", "proven_runs"}
+    assert 0.0 <= bound["accuracy_pct"] <= 100.0
