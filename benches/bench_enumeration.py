@@ -118,8 +118,17 @@ def _extend(keep, used, second, theta, x, y, sigma, gate) -> None:
 def rust(sensor, bearing, sigma, density, n_threads):
     s_count = len(SENSORS)
     return _core.enumerate_static(
-        sensor, bearing, np.zeros_like(bearing), SENSORS, np.full(s_count, sigma), np.full(s_count, sigma),
-        np.full(s_count, 0.95), density, ndim=2, gate=GATE, n_threads=n_threads,
+        sensor,
+        bearing,
+        np.zeros_like(bearing),
+        SENSORS,
+        np.full(s_count, sigma),
+        np.full(s_count, sigma),
+        np.full(s_count, 0.95),
+        density,
+        ndim=2,
+        gate=GATE,
+        n_threads=n_threads,
     )
 
 
@@ -146,8 +155,10 @@ def main() -> None:
     fast = rust(sensor, bearing, sigma, density, 1)["tuples"]
     as_set = lambda a: {tuple(int(v) for v in row) for row in a}
     differ = len(as_set(slow) ^ as_set(fast))
-    print(f"M = {args.targets}, R = {args.r:g}, σ = {1e3 * sigma:.3f} mrad, reports per sensor {sizes.tolist()}, "
-          f"{total} tuples in Π(n_s+1)")
+    print(
+        f"M = {args.targets}, R = {args.r:g}, σ = {1e3 * sigma:.3f} mrad, reports per sensor {sizes.tolist()}, "
+        f"{total} tuples in Π(n_s+1)"
+    )
     print(f"candidates: numpy {len(slow)}, rust {len(fast)}, differing {differ}")
     t_numpy = median_seconds(lambda: brute_force(sensor, bearing, sigma, GATE), args.repeats)
     t_one = median_seconds(lambda: rust(sensor, bearing, sigma, density, 1), args.repeats)

@@ -23,10 +23,16 @@ SCHEDULE = [(0, 0.0), (1, 5.0), (0, 105.0), (1, 110.0)]
 def make_problems(n: int, seed: int = 7) -> tuple[pa.MeasurementTable, np.ndarray, np.ndarray]:
     """Noisy measurements of n random CV targets; returns (table, groups (n, 4), initial (n, 6))."""
     rng = np.random.default_rng(seed)
-    truth = np.column_stack([
-        rng.uniform(-5e3, 25e3, n), rng.uniform(2e3, 30e3, n), rng.uniform(500, 3000, n),
-        rng.uniform(-250, 250, n), rng.uniform(-250, 250, n), np.zeros(n),
-    ])
+    truth = np.column_stack(
+        [
+            rng.uniform(-5e3, 25e3, n),
+            rng.uniform(2e3, 30e3, n),
+            rng.uniform(500, 3000, n),
+            rng.uniform(-250, 250, n),
+            rng.uniform(-250, 250, n),
+            np.zeros(n),
+        ]
+    )
     which = np.array([s for s, _ in SCHEDULE])
     times = np.array([t for _, t in SCHEDULE])
     pos = truth[:, None, :3] + times[None, :, None] * truth[:, None, 3:]
@@ -67,8 +73,12 @@ def scipy_fit(table: pa.MeasurementTable, rows: np.ndarray, x0: np.ndarray, meth
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--problems", type=int, default=10_000)
-    parser.add_argument("--scipy-problems", type=int, default=1_000,
-                        help="scipy is timed on the first N problems (it is slow) and scaled per fit")
+    parser.add_argument(
+        "--scipy-problems",
+        type=int,
+        default=1_000,
+        help="scipy is timed on the first N problems (it is slow) and scaled per fit",
+    )
     args = parser.parse_args()
     table, groups, initial = make_problems(args.problems)
 
@@ -94,10 +104,14 @@ def main() -> None:
     print(f"passive_assoc.fit_ml, 1 thread    : {ours_1:12,.0f} fits/s")
     print(f"passive_assoc.fit_ml, 2 threads   : {ours_2:12,.0f} fits/s  ({ours_2 / ours_1:.2f}x the 1-thread rate)")
     for method, rate in scipy_rates.items():
-        print(f"scipy least_squares loop, {method:<4}   : {rate:12,.0f} fits/s"
-              f"  -> speed-up {ours_1 / rate:6.0f}x (1 thread), {ours_2 / rate:6.0f}x (2 threads)")
-    print(f"converged: {fit.converged.mean():.4f}; median iterations {np.median(fit.iterations):.0f}; "
-          f"max |ours - scipy| / sigma on converged fits: {agree:.2e}")
+        print(
+            f"scipy least_squares loop, {method:<4}   : {rate:12,.0f} fits/s"
+            f"  -> speed-up {ours_1 / rate:6.0f}x (1 thread), {ours_2 / rate:6.0f}x (2 threads)"
+        )
+    print(
+        f"converged: {fit.converged.mean():.4f}; median iterations {np.median(fit.iterations):.0f}; "
+        f"max |ours - scipy| / sigma on converged fits: {agree:.2e}"
+    )
 
 
 if __name__ == "__main__":

@@ -42,7 +42,7 @@ def numpy_closeness(scenario: pa.Scenario, spread: float):  # noqa: ANN201 - ret
         rho, r2 = np.sqrt(rho2), rho2 + d[:, 2] ** 2
         da = np.angle(np.exp(1j * (az - np.arctan2(d[:, 1], d[:, 0])))) / spread
         de = np.angle(np.exp(1j * (el - np.arctan2(d[:, 2], rho)))) / spread
-        ea, ee = np.exp(-da**2), np.exp(-de**2)
+        ea, ee = np.exp(-(da**2)), np.exp(-(de**2))
         value = 0.5 * (ea.sum() + ee.sum()) / n
         ga = np.column_stack([-d[:, 1] / rho2, d[:, 0] / rho2, np.zeros(n)])
         ge = np.column_stack([-d[:, 0] * d[:, 2] / (r2 * rho), -d[:, 1] * d[:, 2] / (r2 * rho), rho / r2])
@@ -95,14 +95,20 @@ def main() -> None:
     same = np.all(np.abs(ours.states - theirs) <= 0.1 * sd, axis=1)
     per_ours, per_theirs = best / len(starts), scipy_seconds / len(starts)
     print(f"{len(starts)} searches from the chi2-gated candidates of one paper run ({len(m)} measurements)")
-    print(f"passive_assoc.maximize_closeness, 1 thread : {1e6 * per_ours:10.1f} us per search "
-          f"(mean {ours.evaluations.mean():.0f} R+gradient evaluations)")
-    print(f"  same, diagonal scaling (METHODS wording)  : {1e6 * diag_best / len(starts):10.1f} us per search "
-          f"(mean {diag.evaluations.mean():.0f} evaluations; {np.mean(diag.iterations == 100):.0%} at the iteration cap)")
+    print(
+        f"passive_assoc.maximize_closeness, 1 thread : {1e6 * per_ours:10.1f} us per search "
+        f"(mean {ours.evaluations.mean():.0f} R+gradient evaluations)"
+    )
+    print(
+        f"  same, diagonal scaling (METHODS wording)  : {1e6 * diag_best / len(starts):10.1f} us per search "
+        f"(mean {diag.evaluations.mean():.0f} evaluations; {np.mean(diag.iterations == 100):.0%} at the iteration cap)"
+    )
     print(f"numpy + scipy.optimize.minimize (BFGS)      : {1e6 * per_theirs:10.1f} us per search")
     print(f"speed-up: {per_theirs / per_ours:.0f}x")
-    print(f"same optimum (within 0.1 sd) in {same.mean():.0%} of searches; "
-          f"mean R ours {r_ours.mean():.5f}, scipy {r_theirs.mean():.5f}")
+    print(
+        f"same optimum (within 0.1 sd) in {same.mean():.0%} of searches; "
+        f"mean R ours {r_ours.mean():.5f}, scipy {r_theirs.mean():.5f}"
+    )
     v0, g0 = value_and_grad(scenario.true_states[0])
     r0, gr0 = pa.closeness(m, sensors, scenario.true_states[:1])
     assert abs(v0 - r0[0]) < 1e-12 and np.allclose(g0, gr0[0], rtol=1e-8, atol=1e-15), "NumPy R disagrees with the core"

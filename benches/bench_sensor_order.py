@@ -31,8 +31,11 @@ from passive_assoc.static_los import enumerate_candidates
 from passive_assoc.simulation import static_scan
 from scipy.optimize import linprog
 
-CONFIGS: dict[str, dict[str, Any]] = {"auto": {"sensor_order": "auto"}, "given": {"sensor_order": "given"},
-                                      "polish": {"sensor_order": "auto", "polish": True}}
+CONFIGS: dict[str, dict[str, Any]] = {
+    "auto": {"sensor_order": "auto"},
+    "given": {"sensor_order": "given"},
+    "polish": {"sensor_order": "auto", "polish": True},
+}
 
 
 def lp_bound(cands: dict[str, Any]) -> tuple[float, float]:
@@ -45,8 +48,9 @@ def lp_bound(cands: dict[str, Any]) -> tuple[float, float]:
         rows.append(offsets[s] + tuples[used, s] - 1)
         cols.append(used)
     start = time.perf_counter()
-    a = sp.csr_matrix((np.ones(sum(map(len, rows))), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(offsets[-1], len(costs)))
+    a = sp.csr_matrix(
+        (np.ones(sum(map(len, rows))), (np.concatenate(rows), np.concatenate(cols))), shape=(offsets[-1], len(costs))
+    )
     res = linprog(costs, A_ub=a, b_ub=np.ones(offsets[-1]), bounds=(0, 1), method="highs")
     if res.status != 0:
         raise RuntimeError(f"linprog failed: {res.message}")
@@ -69,11 +73,15 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--targets", type=int, nargs="+", default=[10, 18, 50, 100])
     args = parser.parse_args()
-    print(f"S = 3, R = 15, {args.scans} scans per M; times: median of per-scan bests; "
-          "dual/primal: mean % of |LP|; iterations: median")
-    print(f"{'M':>4} {'reordered':>9} {'auto ms':>9} {'given ms':>9} {'auto/given':>11} {'LP-dual auto':>13} {'given':>7} "
-          f"{'primal-LP auto':>15} {'given':>7} {'it. auto':>9} {'given':>6} {'HiGHS LP ms':>12} "
-          f"{'polish ms':>10} {'polish/auto':>12} {'primal-LP polish':>17}")
+    print(
+        f"S = 3, R = 15, {args.scans} scans per M; times: median of per-scan bests; "
+        "dual/primal: mean % of |LP|; iterations: median"
+    )
+    print(
+        f"{'M':>4} {'reordered':>9} {'auto ms':>9} {'given ms':>9} {'auto/given':>11} {'LP-dual auto':>13} {'given':>7} "
+        f"{'primal-LP auto':>15} {'given':>7} {'it. auto':>9} {'given':>6} {'HiGHS LP ms':>12} "
+        f"{'polish ms':>10} {'polish/auto':>12} {'primal-LP polish':>17}"
+    )
     for n_targets in args.targets:
         rec: dict[str, dict[str, list[float]]] = {o: {"t": [], "dual": [], "primal": [], "it": []} for o in CONFIGS}
         ratio, polish_ratio, lp_times = [], [], []
@@ -99,12 +107,14 @@ def main() -> None:
             if max(range(3), key=lambda s: (sizes[s], s)) != 2:  # auto relaxes another sensor
                 ratio.append(best["auto"] / best["given"])
         a, g = rec["auto"], rec["given"]
-        print(f"{n_targets:>4} {len(ratio):>9} {1e3 * np.median(a['t']):>9.2f} {1e3 * np.median(g['t']):>9.2f} "
-              f"{np.median(ratio) if ratio else np.nan:>11.2f} {np.mean(a['dual']):>13.3f} {np.mean(g['dual']):>7.3f} "
-              f"{np.mean(a['primal']):>15.3f} {np.mean(g['primal']):>7.3f} {np.median(a['it']):>9.0f} "
-              f"{np.median(g['it']):>6.0f} {1e3 * np.median(lp_times):>12.1f} "
-              f"{1e3 * np.median(rec['polish']['t']):>10.2f} {np.median(polish_ratio):>12.2f} "
-              f"{np.mean(rec['polish']['primal']):>17.3f}")
+        print(
+            f"{n_targets:>4} {len(ratio):>9} {1e3 * np.median(a['t']):>9.2f} {1e3 * np.median(g['t']):>9.2f} "
+            f"{np.median(ratio) if ratio else np.nan:>11.2f} {np.mean(a['dual']):>13.3f} {np.mean(g['dual']):>7.3f} "
+            f"{np.mean(a['primal']):>15.3f} {np.mean(g['primal']):>7.3f} {np.median(a['it']):>9.0f} "
+            f"{np.median(g['it']):>6.0f} {1e3 * np.median(lp_times):>12.1f} "
+            f"{1e3 * np.median(rec['polish']['t']):>10.2f} {np.median(polish_ratio):>12.2f} "
+            f"{np.mean(rec['polish']['primal']):>17.3f}"
+        )
 
 
 if __name__ == "__main__":

@@ -40,8 +40,9 @@ def main() -> None:
     for n_sensors, n_targets in CASES:
         warm, cold, ratio = [], [], []
         for k in range(args.scans):
-            scan = static_scan(2026 + 7 * n_targets + n_sensors + 1000 * k, n_targets=n_targets,
-                               n_sensors=n_sensors, ratio=15.0)
+            scan = static_scan(
+                2026 + 7 * n_targets + n_sensors + 1000 * k, n_targets=n_targets, n_sensors=n_sensors, ratio=15.0
+            )
             cands = enumerate_candidates(scan.measurements, scan.sensors)
             w, c = np.inf, np.inf
             for _ in range(2):  # interleaved, so both see the same machine
@@ -50,8 +51,10 @@ def main() -> None:
             warm.append(w)
             cold.append(c)
             ratio.append(w / c)
-        print(f"{n_sensors:>2} {n_targets:>4} {1e3 * np.median(warm):>9.2f} {1e3 * np.median(cold):>9.2f} "
-              f"{np.median(ratio):>10.2f}")
+        print(
+            f"{n_sensors:>2} {n_targets:>4} {1e3 * np.median(warm):>9.2f} {1e3 * np.median(cold):>9.2f} "
+            f"{np.median(ratio):>10.2f}"
+        )
 
 
 if __name__ == "__main__":

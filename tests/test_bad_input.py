@@ -12,7 +12,9 @@ import pytest
 from passive_assoc import _core
 
 SENSORS = pa.SensorNetwork.spatial([[0, 0, 0], [20e3, 0, 0]], 5e-3, 5e-3)
-TABLE = pa.MeasurementTable.from_arrays([0, 1, 0, 1], [0.0, 5.0, 15.0, 20.0], [1.0, 2.0, 1.0, 2.0], [0.1, 0.1, 0.1, 0.1])
+TABLE = pa.MeasurementTable.from_arrays(
+    [0, 1, 0, 1], [0.0, 5.0, 15.0, 20.0], [1.0, 2.0, 1.0, 2.0], [0.1, 0.1, 0.1, 0.1]
+)
 
 
 def _raw_fit_args() -> dict[str, Any]:
@@ -36,20 +38,39 @@ def _raw_fit(**change: Any) -> Any:
 
 
 RAW_CASES: list[tuple[str, dict[str, Any], type[Exception], str]] = [
-    ("nan azimuth", dict(azimuth=np.array([1.0, np.nan, 1.0, 2.0])), ValueError, r"azimuth: non-finite value at index 1"),
+    (
+        "nan azimuth",
+        dict(azimuth=np.array([1.0, np.nan, 1.0, 2.0])),
+        ValueError,
+        r"azimuth: non-finite value at index 1",
+    ),
     ("inf time", dict(time=np.array([0.0, 5.0, np.inf, 1.0])), ValueError, r"time: non-finite value at index 2"),
     ("short time", dict(time=np.array([0.0, 5.0])), ValueError, r"time: has 2 rows, sensor has 4"),
-    ("unknown sensor", dict(sensor=np.array([0, 1, 7, 1], dtype=np.int64)), ValueError, r"sensor: row 2 names sensor 7"),
+    (
+        "unknown sensor",
+        dict(sensor=np.array([0, 1, 7, 1], dtype=np.int64)),
+        ValueError,
+        r"sensor: row 2 names sensor 7",
+    ),
     ("negative sensor", dict(sensor=np.array([0, -1, 0, 1], dtype=np.int64)), ValueError, r"sensor: row 1"),
     ("zero std", dict(sigma_azimuth=np.array([5e-3, 0.0])), ValueError, r"sigma_azimuth: sensor 1 has std 0"),
     ("negative std", dict(sigma_elevation=np.array([-1.0, 5e-3])), ValueError, r"sigma_elevation: sensor 0"),
     ("coincident sensors", dict(sensor_positions=np.zeros((2, 3))), ValueError, r"sensors 0 and 1 coincide"),
-    ("positions 2 columns", dict(sensor_positions=np.zeros((2, 2))), ValueError, r"sensor_positions: expected 3 columns"),
+    (
+        "positions 2 columns",
+        dict(sensor_positions=np.zeros((2, 2))),
+        ValueError,
+        r"sensor_positions: expected 3 columns",
+    ),
     ("index out of range", dict(indices=np.array([0, 1, 2, 9], dtype=np.int64)), ValueError, r"indices: entry 3 is 9"),
     ("offsets wrong end", dict(offsets=np.array([0, 3], dtype=np.int64)), ValueError, r"offsets: last entry"),
     ("offsets decrease", dict(offsets=np.array([0, 3, 2, 4], dtype=np.int64)), ValueError, r"offsets: decreases"),
-    ("too few measurements", dict(indices=np.array([0, 1], dtype=np.int64), offsets=np.array([0, 2], dtype=np.int64)),
-     ValueError, r"problem 0 has 4 scalar measurements for 6 unknowns"),
+    (
+        "too few measurements",
+        dict(indices=np.array([0, 1], dtype=np.int64), offsets=np.array([0, 2], dtype=np.int64)),
+        ValueError,
+        r"problem 0 has 4 scalar measurements for 6 unknowns",
+    ),
     ("bad motion", dict(motion="spline"), ValueError, r"motion: must be 'static' or 'cv'"),
     ("bad ndim", dict(ndim=4), ValueError, r"ndim: must be 2 or 3"),
     ("zero threads", dict(n_threads=0), ValueError, r"n_threads: must be at least 1"),
@@ -71,15 +92,23 @@ def test_core_fit_batch_rejects(label: str, change: dict[str, Any], exc: type[Ex
 
 
 def test_core_crlb_rejects() -> None:
-    base = dict(sensor_positions=SENSORS.positions.copy(), sigma_azimuth=np.array([5e-3, 5e-3]),
-                sigma_elevation=np.array([5e-3, 5e-3]), sensor_index=np.array([0, 1, 0, 1], dtype=np.int64),
-                times=np.array([0.0, 5.0, 15.0, 20.0]), truth=np.array([1e3, 1e4, 1e3, 100.0, 0.0, 0.0]))
+    base = dict(
+        sensor_positions=SENSORS.positions.copy(),
+        sigma_azimuth=np.array([5e-3, 5e-3]),
+        sigma_elevation=np.array([5e-3, 5e-3]),
+        sensor_index=np.array([0, 1, 0, 1], dtype=np.int64),
+        times=np.array([0.0, 5.0, 15.0, 20.0]),
+        truth=np.array([1e3, 1e4, 1e3, 100.0, 0.0, 0.0]),
+    )
     cases = [
         (dict(truth=np.zeros(4)), r"truth: expected 6 values"),
         (dict(times=np.array([0.0, 1.0])), r"times: has 2 entries"),
         (dict(sensor_index=np.array([0, 1, 0, 5], dtype=np.int64)), r"sensor_index: entry 3 is 5"),
         (dict(truth=np.array([0.0, 0.0, 1e3, 0, 0, 0])), r"vertical axis"),
-        (dict(sensor_index=np.array([0, 1], dtype=np.int64), times=np.array([0.0, 1.0])), r"4 scalar measurements for 6"),
+        (
+            dict(sensor_index=np.array([0, 1], dtype=np.int64), times=np.array([0.0, 1.0])),
+            r"4 scalar measurements for 6",
+        ),
     ]
     for change, message in cases:
         args = base | change
@@ -88,19 +117,49 @@ def test_core_crlb_rejects() -> None:
 
 
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
-    ("fit_ml empty table", lambda: pa.fit_ml(TABLE.select(np.array([], dtype=np.int64)), SENSORS, [np.arange(0)]), ValueError, "measurements: the table is empty"),
-    ("fit_ml not a table", lambda: pa.fit_ml({"a": 1}, SENSORS, [np.arange(4)]), TypeError, "measurements: expected a MeasurementTable"),
+    (
+        "fit_ml empty table",
+        lambda: pa.fit_ml(TABLE.select(np.array([], dtype=np.int64)), SENSORS, [np.arange(0)]),
+        ValueError,
+        "measurements: the table is empty",
+    ),
+    (
+        "fit_ml not a table",
+        lambda: pa.fit_ml({"a": 1}, SENSORS, [np.arange(4)]),
+        TypeError,
+        "measurements: expected a MeasurementTable",
+    ),
     ("fit_ml not sensors", lambda: pa.fit_ml(TABLE, np.zeros((2, 3)), [np.arange(4)]), TypeError, "sensors"),
     ("fit_ml string groups", lambda: pa.fit_ml(TABLE, SENSORS, [np.array(["a", "b"])]), TypeError, r"groups\[0\]"),
     ("fit_ml float groups", lambda: pa.fit_ml(TABLE, SENSORS, [np.array([0.5, 1.0])]), ValueError, r"groups\[0\]"),
     ("fit_ml no groups", lambda: pa.fit_ml(TABLE, SENSORS, []), ValueError, "groups: no problems"),
     ("fit_ml group too small", lambda: pa.fit_ml(TABLE, SENSORS, [np.arange(2)]), ValueError, "problem 0 has 4 scalar"),
-    ("fit_ml initial shape", lambda: pa.fit_ml(TABLE, SENSORS, [np.arange(4)], initial=np.zeros((2, 6))), ValueError, "initial: expected shape"),
+    (
+        "fit_ml initial shape",
+        lambda: pa.fit_ml(TABLE, SENSORS, [np.arange(4)], initial=np.zeros((2, 6))),
+        ValueError,
+        "initial: expected shape",
+    ),
     ("fit_ml nan t0", lambda: pa.fit_ml(TABLE, SENSORS, [np.arange(4)], t0=float("nan")), ValueError, "t0"),
-    ("fit_ml 2-D table on 3-D network", lambda: pa.fit_ml(pa.MeasurementTable.from_arrays([0, 1], [0.0, 1.0], [0.1, 0.2]), SENSORS, [np.arange(2)]), ValueError, r"measurements: the table is 2-D \(elevation NaN\) but the sensor network is 3-D"),
+    (
+        "fit_ml 2-D table on 3-D network",
+        lambda: pa.fit_ml(pa.MeasurementTable.from_arrays([0, 1], [0.0, 1.0], [0.1, 0.2]), SENSORS, [np.arange(2)]),
+        ValueError,
+        r"measurements: the table is 2-D \(elevation NaN\) but the sensor network is 3-D",
+    ),
     ("crlb string truth", lambda: pa.crlb(SENSORS, [0, 1, 0, 1], [0.0, 1, 2, 3], ["x"] * 6), TypeError, "truth"),
-    ("crlb nan times", lambda: pa.crlb(SENSORS, [0, 1, 0, 1], [0.0, np.nan, 2, 3], np.ones(6) * 1e3), ValueError, "times"),
-    ("sensors zero std", lambda: pa.SensorNetwork.spatial([[0, 0, 0], [1, 0, 0]], 0.0, 1e-3), ValueError, "sigma_azimuth"),
+    (
+        "crlb nan times",
+        lambda: pa.crlb(SENSORS, [0, 1, 0, 1], [0.0, np.nan, 2, 3], np.ones(6) * 1e3),
+        ValueError,
+        "times",
+    ),
+    (
+        "sensors zero std",
+        lambda: pa.SensorNetwork.spatial([[0, 0, 0], [1, 0, 0]], 0.0, 1e-3),
+        ValueError,
+        "sigma_azimuth",
+    ),
     ("sensors coincident", lambda: pa.SensorNetwork.planar([[0, 0], [0, 0]], 1e-3), ValueError, "0 and 1"),
     ("sensors nan", lambda: pa.SensorNetwork.planar([[0, np.nan], [1, 0]], 1e-3), ValueError, "positions"),
     ("table mismatched", lambda: pa.MeasurementTable.from_arrays([0, 1], [0.0], [0.1, 0.2]), ValueError, "time"),

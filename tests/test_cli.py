@@ -27,8 +27,29 @@ def test_reproduce_fti_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str])
 
 def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out_json, out_png = tmp_path / "intensity.json", tmp_path / "intensity.png"
-    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--max-m", "12", "--time-limit", "0.5", "--timing-scans", "2",
-            "--max-iter", "50", "--sensor-order", "given", "--polish", "--json", str(out_json), "--plot", str(out_png)]
+    argv = [
+        "reproduce",
+        "intensity",
+        "--runs",
+        "2",
+        "--ratios",
+        "15",
+        "--max-m",
+        "12",
+        "--time-limit",
+        "0.5",
+        "--timing-scans",
+        "2",
+        "--max-iter",
+        "50",
+        "--sensor-order",
+        "given",
+        "--polish",
+        "--json",
+        str(out_json),
+        "--plot",
+        str(out_png),
+    ]
     assert cli_main(argv) == 0
     printed = capsys.readouterr().out
     assert "Table 1" in printed and "Table 2" in printed
@@ -45,8 +66,20 @@ def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture
 
 def test_reproduce_intensity_bayes_bound_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out_json = tmp_path / "bound.json"
-    argv = ["reproduce", "intensity", "--runs", "2", "--ratios", "15", "--no-timing", "--time-limit", "0.5",
-            "--bayes-bound", "--json", str(out_json)]
+    argv = [
+        "reproduce",
+        "intensity",
+        "--runs",
+        "2",
+        "--ratios",
+        "15",
+        "--no-timing",
+        "--time-limit",
+        "0.5",
+        "--bayes-bound",
+        "--json",
+        str(out_json),
+    ]
     assert cli_main(argv) == 0
     assert "exact MAP under the scenario's own model" in capsys.readouterr().out
     bound = json.loads(out_json.read_text())["accuracy"]["15"]["bayes_map"]

@@ -26,9 +26,7 @@ def _public_modules() -> list[str]:
 def _modules_with_examples() -> list[str]:
     finder = doctest.DocTestFinder()
     return [
-        name
-        for name in _public_modules()
-        if any(test.examples for test in finder.find(importlib.import_module(name)))
+        name for name in _public_modules() if any(test.examples for test in finder.find(importlib.import_module(name)))
     ]
 
 

@@ -13,9 +13,7 @@ from passive_assoc._validation import (
 )
 
 
-@pytest.mark.parametrize(
-    "value", ["abc", ["1.0", "2.0"], [1.0, None], np.array([1 + 2j]), [True, False]]
-)
+@pytest.mark.parametrize("value", ["abc", ["1.0", "2.0"], [1.0, None], np.array([1 + 2j]), [True, False]])
 def test_as_float_array_rejects_non_real_types(value: object) -> None:
     with pytest.raises(TypeError, match=r"^x: expected real numbers"):
         as_float_array("x", value)

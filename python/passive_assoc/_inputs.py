@@ -39,5 +39,12 @@ def core_columns(measurements: object, sensors: object) -> CoreColumns:
         raise ValueError("measurements: the table is empty")
     measurements.validate_against(network)
     elevation = np.zeros(len(measurements)) if network.ndim == 2 else measurements.elevation
-    return CoreColumns(measurements.sensor, measurements.time, measurements.azimuth, np.ascontiguousarray(elevation),
-                       network.positions, network.sigma_azimuth, network.sigma_elevation)
+    return CoreColumns(
+        measurements.sensor,
+        measurements.time,
+        measurements.azimuth,
+        np.ascontiguousarray(elevation),
+        network.positions,
+        network.sigma_azimuth,
+        network.sigma_elevation,
+    )

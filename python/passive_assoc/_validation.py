@@ -57,24 +57,19 @@ def _check_kind(name: str, arr: NDArray[Any], allowed: str, what: str) -> None:
         raise TypeError(f"{name}: expected {what}, got an array of dtype {arr.dtype}")
 
 
-def _check_shape(
-    name: str, arr: NDArray[Any], ndim: int | None, shape: ShapeSpec | None
-) -> None:
+def _check_shape(name: str, arr: NDArray[Any], ndim: int | None, shape: ShapeSpec | None) -> None:
     """Check the number of dimensions and, where given, each dimension's length."""
     if shape is not None:
         ndim = len(shape)
     if ndim is not None and arr.ndim != ndim:
-        raise ValueError(
-            f"{name}: expected a {ndim}-dimensional array, got shape {arr.shape}"
-        )
+        raise ValueError(f"{name}: expected a {ndim}-dimensional array, got shape {arr.shape}")
     if shape is not None:
         for axis, (want, got) in enumerate(zip(shape, arr.shape, strict=True)):
             if want is not None and want != got:
                 dims = ["*" if s is None else str(s) for s in shape]
                 pattern = f"({', '.join(dims)}{',' if len(dims) == 1 else ''})"
                 raise ValueError(
-                    f"{name}: expected shape {pattern}, got {arr.shape} "
-                    f"(axis {axis} has length {got}, expected {want})"
+                    f"{name}: expected shape {pattern}, got {arr.shape} (axis {axis} has length {got}, expected {want})"
                 )
 
 
@@ -157,9 +152,7 @@ def as_int_array(
         bad = ~np.isfinite(arr) | (arr != np.round(arr))
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
-            raise ValueError(
-                f"{_where(name, arr, i)} = {arr.flat[i].item()!r} is not an integer"
-            )
+            raise ValueError(f"{_where(name, arr, i)} = {arr.flat[i].item()!r} is not an integer")
     if arr.dtype.kind == "u" and arr.size and int(arr.max()) > np.iinfo(np.int64).max:
         raise ValueError(f"{name}: values exceed the int64 range")
     return np.array(arr, dtype=np.int64, order="C", copy=True)
@@ -199,9 +192,7 @@ def as_interval(name: str, value: ArrayLike) -> tuple[float, float]:
     lo_hi = as_float_array(name, value, shape=(2,))
     require_finite(name, lo_hi)
     if not lo_hi[0] < lo_hi[1]:
-        raise ValueError(
-            f"{name}: expected (low, high) with low < high, got {tuple(lo_hi.tolist())}"
-        )
+        raise ValueError(f"{name}: expected (low, high) with low < high, got {tuple(lo_hi.tolist())}")
     return float(lo_hi[0]), float(lo_hi[1])
 
 
@@ -210,9 +201,7 @@ def require_finite(name: str, arr: NDArray[Any]) -> None:
     bad = ~np.isfinite(arr)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise ValueError(
-            f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; all values must be finite"
-        )
+        raise ValueError(f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; all values must be finite")
 
 
 def require_positive(name: str, arr: NDArray[Any]) -> None:

@@ -32,19 +32,27 @@ def _demo(args: argparse.Namespace) -> int:
     fit = perfect_association_fit(scenario)
     bounds = np.sqrt(np.diagonal(target_crlbs(scenario), axis1=1, axis2=2))
     n_clutter = int(np.sum(scenario.measurements.truth < 0))
-    print(f"paper-000 scenario (seed {args.seed}): 2 sensors, 4 targets, {len(scenario.measurements)} measurements "
-          f"({n_clutter} clutter), T = 15 s, 8 scans, sigma = 5 mrad")
+    print(
+        f"paper-000 scenario (seed {args.seed}): 2 sensors, 4 targets, {len(scenario.measurements)} measurements "
+        f"({n_clutter} clutter), T = 15 s, 8 scans, sigma = 5 mrad"
+    )
     print("ML fit of X0 with perfect association; CRLB std = best achievable RMS of an unbiased estimator\n")
     header = f"{'target':>6} {'':>9}" + "".join(f"{c:>11}" for c in _COMPONENTS)
     print(header)
     for k in range(len(scenario.targets)):
-        rows = (("truth", scenario.true_states[k]), ("estimate", fit.estimates[k]),
-                ("error", fit.estimates[k] - scenario.true_states[k]), ("CRLB std", bounds[k]))
+        rows = (
+            ("truth", scenario.true_states[k]),
+            ("estimate", fit.estimates[k]),
+            ("error", fit.estimates[k] - scenario.true_states[k]),
+            ("CRLB std", bounds[k]),
+        )
         for j, (label, values) in enumerate(rows):
             name = str(k + 1) if j == 0 else ""
             print(f"{name:>6} {label:>9}" + "".join(f"{v:11.2f}" for v in values))
-        print(f"{'':>6} {'status':>9} {fit.termination_names()[k]}, {int(fit.iterations[k])} iterations, "
-              f"chi2 = {fit.chi2[k]:.1f} for {2 * len(scenario.true_groups()[k])} angles")
+        print(
+            f"{'':>6} {'status':>9} {fit.termination_names()[k]}, {int(fit.iterations[k])} iterations, "
+            f"chi2 = {fit.chi2[k]:.1f} for {2 * len(scenario.true_groups()[k])} angles"
+        )
     return 0
 
 

@@ -29,7 +29,11 @@ def _rays(ax: Any, scenario: Scenario, length: float) -> None:
     for row in range(len(m)):
         start = pos[m.sensor[row], :2]
         end = start + length * np.array([np.cos(m.azimuth[row]), np.sin(m.azimuth[row])])
-        style = dict(color="0.8", lw=0.4, zorder=1) if truth[row] < 0 else dict(color=f"C{truth[row]}", lw=0.5, alpha=0.5, zorder=2)
+        style = (
+            dict(color="0.8", lw=0.4, zorder=1)
+            if truth[row] < 0
+            else dict(color=f"C{truth[row]}", lw=0.5, alpha=0.5, zorder=2)
+        )
         ax.plot([start[0], end[0]], [start[1], end[1]], **style)
 
 
@@ -50,18 +54,32 @@ def plot_fti(scenario: Scenario, result: InitiationResult, summary: dict[str, An
         ax.plot(xy[:, 0], xy[:, 1], "k--", lw=1.5, zorder=4, label="initiated" if j == 0 else None)
         ax.plot(*xy[0], "ko", ms=3, zorder=4)
     ax.plot(*scenario.sensors.positions[:, :2].T, "k^", ms=9, label="sensors", zorder=5)
-    ax.set(xlim=(-3e3, 24e3), ylim=(-2e3, 20e3), xlabel="x (m)", ylabel="y (m)", aspect="equal",
-           title=f"run 0: {len(result.tracks)} tracks, {len(result.clutter)} clutter of {len(scenario.measurements)}")
+    ax.set(
+        xlim=(-3e3, 24e3),
+        ylim=(-2e3, 20e3),
+        xlabel="x (m)",
+        ylabel="y (m)",
+        aspect="equal",
+        title=f"run 0: {len(result.tracks)} tracks, {len(result.clutter)} clutter of {len(scenario.measurements)}",
+    )
     ax.legend(loc="upper right", fontsize=8)
     n = summary["rms_own"].shape[0]
     idx = np.arange(n)
     for c, (comp, shift) in enumerate((("x0", 0.0), ("y0", 0.45))):
         base = idx + shift
         bars.bar(base - 0.14, summary["rms_own"][:, c], 0.14, color=f"C{c}", label=f"{comp} own association")
-        bars.bar(base, summary["rms_perfect"][:, c], 0.14, color=f"C{c}", alpha=0.5, label=f"{comp} perfect association")
-        bars.bar(base + 0.14, summary["crlb_std"][:, c], 0.14, color="none", edgecolor=f"C{c}", label=f"{comp} CRLB std")
-    bars.set(xticks=idx + 0.22, xticklabels=[f"target {k + 1}" for k in idx], ylabel="RMS (m)",
-             title=f"RMS of X0 over {summary['runs']} runs")
+        bars.bar(
+            base, summary["rms_perfect"][:, c], 0.14, color=f"C{c}", alpha=0.5, label=f"{comp} perfect association"
+        )
+        bars.bar(
+            base + 0.14, summary["crlb_std"][:, c], 0.14, color="none", edgecolor=f"C{c}", label=f"{comp} CRLB std"
+        )
+    bars.set(
+        xticks=idx + 0.22,
+        xticklabels=[f"target {k + 1}" for k in idx],
+        ylabel="RMS (m)",
+        title=f"RMS of X0 over {summary['runs']} runs",
+    )
     bars.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
@@ -84,15 +102,27 @@ def plot_static_scan(scan: Any, path: str) -> None:
     cands = enumerate_candidates(m, scan.sensors)
     for level, marker in ((2, "."), (scan.sensors.n_sensors, "o")):
         sel = cands["intensity"] == level
-        ax.scatter(*cands["positions"][sel].T, s=12 if level == 2 else 22, marker=marker,
-                   label=f"intensity-{level} candidates ({int(sel.sum())})", zorder=2, alpha=0.7)
+        ax.scatter(
+            *cands["positions"][sel].T,
+            s=12 if level == 2 else 22,
+            marker=marker,
+            label=f"intensity-{level} candidates ({int(sel.sum())})",
+            zorder=2,
+            alpha=0.7,
+        )
     ax.scatter(*scan.targets.T, s=140, facecolors="none", edgecolors="k", lw=1.5, label="true targets", zorder=3)
     for k, (method, marker) in enumerate((("intensity", "x"), ("lagrangian", "+"), ("exact", "1"))):
         out = associate_static(m, scan.sensors, method, time_limit=2.0)
         ax.scatter(*out.positions.T, s=90, marker=marker, color=f"C{k + 3}", label=f"accepted: {method}", zorder=4)
     ax.plot(*pos[:, :2].T, "k^", ms=9, label="sensors", zorder=5)
-    ax.set(xlim=(-16e3, 16e3), ylim=(-7e3, 45e3), xlabel="x (m)", ylabel="y (m)", aspect="equal",
-           title=f"one scan: {len(scan.targets)} targets, {len(m)} bearings, {len(cands['costs'])} candidates")
+    ax.set(
+        xlim=(-16e3, 16e3),
+        ylim=(-7e3, 45e3),
+        xlabel="x (m)",
+        ylabel="y (m)",
+        aspect="equal",
+        title=f"one scan: {len(scan.targets)} targets, {len(m)} bearings, {len(cands['costs'])} candidates",
+    )
     ax.legend(loc="lower left", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)

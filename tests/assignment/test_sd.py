@@ -76,8 +76,9 @@ def test_exact_and_lagrangian_against_milp_on_200_instances() -> None:
     assert hits / n >= 0.9, f"Lagrangian optimal in {hits}/{n}"
 
 
-@pytest.mark.parametrize("option", [{"warm_start": "always"}, {"warm_start": "never"}, {"sensor_order": "given"},
-                                    {"polish": True}])
+@pytest.mark.parametrize(
+    "option", [{"warm_start": "always"}, {"warm_start": "never"}, {"sensor_order": "given"}, {"polish": True}]
+)
 def test_lagrangian_bounds_hold_under_every_option(option: dict[str, str]) -> None:
     """The inner 2-D solves are exact warm or cold, and any sensor may be the relaxed one: the
     bound stays below the optimum and the answer within its own gap of it, whichever is forced

@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from passive_assoc.data import MeasurementTable, SensorNetwork
 
+
 def _table(n: int = 5, truth: bool = True, elevation: bool = True) -> MeasurementTable:
     rng = np.random.default_rng(0)
     return MeasurementTable.from_arrays(
@@ -25,9 +26,7 @@ def _table(n: int = 5, truth: bool = True, elevation: bool = True) -> Measuremen
 
 def _bitwise_equal(a: MeasurementTable, b: MeasurementTable) -> bool:
     x, y = a.to_arrays(), b.to_arrays()
-    return x.keys() == y.keys() and all(
-        x[k].dtype == y[k].dtype and x[k].tobytes() == y[k].tobytes() for k in x
-    )
+    return x.keys() == y.keys() and all(x[k].dtype == y[k].dtype and x[k].tobytes() == y[k].tobytes() for k in x)
 
 
 def test_table_basics() -> None:
@@ -39,9 +38,7 @@ def test_table_basics() -> None:
     with pytest.raises(TypeError):
         t.attributes["new"] = np.zeros(5)  # type: ignore[index]
     arrays = t.to_arrays()
-    assert set(arrays) == {
-        "sensor", "time", "azimuth", "elevation", "truth", "attr_rf", "attr_pw"
-    }
+    assert set(arrays) == {"sensor", "time", "azimuth", "elevation", "truth", "attr_rf", "attr_pw"}
     arrays["time"][0] = -1.0  # writable copies, the table is unchanged
     assert t.time[0] != -1.0
     assert MeasurementTable.from_columns(t.to_arrays()) == t
@@ -66,8 +63,7 @@ def test_table_basics() -> None:
         ({"truth": [0, -2, 1]}, ValueError, r"^truth\[1\] = -2"),
         ({"truth": [0, 1]}, ValueError, r"^truth: has length 2"),
         ({"attributes": {"rf": [1.0, 2.0]}}, ValueError, r"^attributes\['rf'\]: has length 2"),
-        ({"attributes": {"rf": [1.0, np.nan, 2.0]}}, ValueError,
-         r"^attributes\['rf'\]\[1\] = nan"),
+        ({"attributes": {"rf": [1.0, np.nan, 2.0]}}, ValueError, r"^attributes\['rf'\]\[1\] = nan"),
         ({"attributes": {"a,b": [1.0, 2.0, 3.0]}}, ValueError, r"^attributes: invalid name"),
         ({"attributes": {3: [1.0, 2.0, 3.0]}}, TypeError, r"^attributes: names must be str"),
         ({"azimuth": [[0.0, 1.0, 2.0]]}, ValueError, r"^azimuth: expected a 1-dimensional"),
@@ -143,7 +139,10 @@ def test_pandas_missing_gives_install_hint(monkeypatch: pytest.MonkeyPatch) -> N
 
 def test_select_and_sort() -> None:
     t = MeasurementTable.from_arrays(
-        [0, 1, 0, 1], [3.0, 1.0, 1.0, 2.0], [0.1, 0.2, 0.3, 0.4], truth=[0, 1, 2, -1],
+        [0, 1, 0, 1],
+        [3.0, 1.0, 1.0, 2.0],
+        [0.1, 0.2, 0.3, 0.4],
+        truth=[0, 1, 2, -1],
         attributes={"rf": [10.0, 20.0, 30.0, 40.0]},
     )
     sub = t.select([3, 0])

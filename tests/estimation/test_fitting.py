@@ -91,7 +91,9 @@ def test_thread_count_does_not_change_results() -> None:
 def test_fisher_and_crlb_are_inverse() -> None:
     sc = pa.paper_fti_scenario(seed=1)
     rows = sc.true_groups()[2]
-    info, bound = pa.fisher_and_crlb(sc.sensors, sc.measurements.sensor[rows], sc.measurements.time[rows], sc.true_states[2])
+    info, bound = pa.fisher_and_crlb(
+        sc.sensors, sc.measurements.sensor[rows], sc.measurements.time[rows], sc.true_states[2]
+    )
     np.testing.assert_allclose(info @ bound, np.eye(6), atol=1e-8)
     np.testing.assert_allclose(bound, bound.T, rtol=1e-10)
 
@@ -109,11 +111,15 @@ def test_degenerate_group_gets_a_status_not_an_exception() -> None:
 coordinate = st.floats(-30e3, 30e3)
 
 
-def _random_problem(seed: int, noiseless_table: NoiselessTable) -> tuple[pa.SensorNetwork, pa.MeasurementTable, np.ndarray]:
+def _random_problem(
+    seed: int, noiseless_table: NoiselessTable
+) -> tuple[pa.SensorNetwork, pa.MeasurementTable, np.ndarray]:
     rng = np.random.default_rng(seed)
     positions = rng.uniform(-20e3, 20e3, (3, 3)) * [1, 1, 0.01]
     sensors = pa.SensorNetwork.spatial(positions, 2e-3, 2e-3)
-    state = np.concatenate([rng.uniform(-15e3, 15e3, 2), [rng.uniform(500, 3000)], rng.uniform(-200, 200, 3) * [1, 1, 0.05]])
+    state = np.concatenate(
+        [rng.uniform(-15e3, 15e3, 2), [rng.uniform(500, 3000)], rng.uniform(-200, 200, 3) * [1, 1, 0.05]]
+    )
     state[:2] += [0, 40e3]  # keep the target away from the sensors
     times = np.repeat(np.arange(6) * 10.0, 3) + np.tile([0.0, 3.0, 6.0], 6)
     which = np.tile([0, 1, 2], 6)
@@ -125,8 +131,9 @@ def _random_problem(seed: int, noiseless_table: NoiselessTable) -> tuple[pa.Sens
 
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**31), shift=st.tuples(coordinate, coordinate, st.floats(-500, 500)))
-def test_translating_the_geometry_translates_the_estimate(seed: int, shift: tuple[float, float, float],
-                                                          noiseless_table: NoiselessTable) -> None:
+def test_translating_the_geometry_translates_the_estimate(
+    seed: int, shift: tuple[float, float, float], noiseless_table: NoiselessTable
+) -> None:
     sensors, table, truth = _random_problem(seed, noiseless_table)
     base = pa.fit_ml(table, sensors, [np.arange(len(table))], initial=truth[None])
     moved = pa.SensorNetwork.spatial(sensors.positions + shift, sensors.sigma_azimuth, sensors.sigma_elevation)

@@ -112,15 +112,12 @@ def _brute_gospa(x: np.ndarray, y: np.ndarray, c: float, p: float) -> float:
     return best ** (1 / p)
 
 
-point_sets = arrays(np.float64, st.tuples(st.integers(0, 4), st.just(2)),
-                    elements=st.floats(-10, 10))
+point_sets = arrays(np.float64, st.tuples(st.integers(0, 4), st.just(2)), elements=st.floats(-10, 10))
 
 
 @settings(max_examples=80, deadline=None)
 @given(point_sets, point_sets, st.floats(0.5, 8.0), st.sampled_from([1.0, 2.0, 3.0]))
-def test_gospa_matches_brute_force_and_is_symmetric(
-    x: np.ndarray, y: np.ndarray, c: float, p: float
-) -> None:
+def test_gospa_matches_brute_force_and_is_symmetric(x: np.ndarray, y: np.ndarray, c: float, p: float) -> None:
     r = gospa(x, y, c=c, p=p)
     assert r.total == pytest.approx(_brute_gospa(x, y, c, p), rel=1e-9, abs=1e-12)
     parts = r.localisation + r.missed + r.false

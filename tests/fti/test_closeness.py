@@ -22,7 +22,7 @@ def test_closeness_matches_eq_17_18_and_its_gradient(scenario: pa.Scenario) -> N
         d = x[k, :3] + m.time[:, None] * x[k, 3:] - s
         da = np.angle(np.exp(1j * (m.azimuth - np.arctan2(d[:, 1], d[:, 0])))) / 0.01
         de = np.angle(np.exp(1j * (m.elevation - np.arctan2(d[:, 2], np.hypot(d[:, 0], d[:, 1]))))) / 0.01
-        assert r[k] == pytest.approx(np.mean(0.5 * np.exp(-da**2) + 0.5 * np.exp(-de**2)), rel=1e-12)
+        assert r[k] == pytest.approx(np.mean(0.5 * np.exp(-(da**2)) + 0.5 * np.exp(-(de**2))), rel=1e-12)
         for c in range(6):
             h = 1e-3 * max(1.0, abs(x[k, c])) * 1e-2
             up, down = x[k].copy(), x[k].copy()

@@ -18,8 +18,9 @@ NominalSigma = Callable[[pa.Scenario, float], pa.Scenario]
 
 
 @pytest.mark.parametrize("planar", [False, True])
-def test_noiseless_scenario_gives_exact_targets_and_assignment(planar: bool, with_nominal_sigma: NominalSigma,
-                                                                assert_partition: PartitionCheck) -> None:
+def test_noiseless_scenario_gives_exact_targets_and_assignment(
+    planar: bool, with_nominal_sigma: NominalSigma, assert_partition: PartitionCheck
+) -> None:
     if planar:
         raw = pa.bearing_only_2d_scenario(seed=4, n_targets=3, clutter_ratio=0.0, sigma=1e-9)
     else:
@@ -35,8 +36,10 @@ def test_noiseless_scenario_gives_exact_targets_and_assignment(planar: bool, wit
     elevation = np.zeros(len(m)) if planar else m.elevation
 
     def reports(rows: np.ndarray) -> list[tuple[int, float, float, float]]:
-        return sorted((int(m.sensor[r]), float(m.time[r]), round(float(m.azimuth[r]), 6), round(float(elevation[r]), 6))
-                      for r in rows)
+        return sorted(
+            (int(m.sensor[r]), float(m.time[r]), round(float(m.azimuth[r]), 6), round(float(elevation[r]), 6))
+            for r in rows
+        )
 
     truth_reports = [reports(g) for g in scenario.true_groups()]
     for track in result.tracks:
@@ -67,21 +70,36 @@ def test_all_pruning_off_gives_the_same_targets_on_a_small_case() -> None:
     scenario = pa.paper_fti_scenario(seed=13, clutter_ratio=0.25, n_scans=4)
     pruned = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
     unpruned = FuzzyTrackInitiator(ray_gate=None, reject_behind=False, v_max=None, chi2_gate=None).initiate(
-        scenario.measurements, scenario.sensors)
+        scenario.measurements, scenario.sensors
+    )
     assert unpruned.diagnostics.stage_counts["fitted"] >= pruned.diagnostics.stage_counts["fitted"]
     assert np.array_equal(pruned.labels, unpruned.labels)
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(seed=st.integers(0, 2**31), n_targets=st.integers(1, 3), n_sensors=st.integers(2, 3),
-       n_scans=st.integers(2, 6), clutter=st.sampled_from([0.0, 0.5, 2.0]), pd=st.sampled_from([0.7, 1.0]),
-       planar=st.booleans())
-def test_random_scenarios_keep_the_partition_and_never_panic(seed: int, n_targets: int, n_sensors: int, n_scans: int,
-                                                             clutter: float, pd: float, planar: bool,
-                                                             assert_partition: PartitionCheck) -> None:
+@given(
+    seed=st.integers(0, 2**31),
+    n_targets=st.integers(1, 3),
+    n_sensors=st.integers(2, 3),
+    n_scans=st.integers(2, 6),
+    clutter=st.sampled_from([0.0, 0.5, 2.0]),
+    pd=st.sampled_from([0.7, 1.0]),
+    planar=st.booleans(),
+)
+def test_random_scenarios_keep_the_partition_and_never_panic(
+    seed: int,
+    n_targets: int,
+    n_sensors: int,
+    n_scans: int,
+    clutter: float,
+    pd: float,
+    planar: bool,
+    assert_partition: PartitionCheck,
+) -> None:
     if planar:
-        scenario = pa.bearing_only_2d_scenario(seed=seed, n_targets=n_targets, n_sensors=n_sensors, n_scans=n_scans,
-                                               clutter_ratio=clutter, pd=pd)
+        scenario = pa.bearing_only_2d_scenario(
+            seed=seed, n_targets=n_targets, n_sensors=n_sensors, n_scans=n_scans, clutter_ratio=clutter, pd=pd
+        )
     else:
         scenario = pa.paper_fti_scenario(seed=seed, n_scans=n_scans, clutter_ratio=clutter, pd=pd)
     table = scenario.measurements

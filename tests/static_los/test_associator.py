@@ -22,8 +22,9 @@ NoiselessScan = Callable[..., StaticScan]
 
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("seed", [1, 2, 3])
-def test_noiseless_scan_is_recovered_exactly(method: str, seed: int, noiseless_static_scan: NoiselessScan,
-                                            assert_partition: PartitionCheck) -> None:
+def test_noiseless_scan_is_recovered_exactly(
+    method: str, seed: int, noiseless_static_scan: NoiselessScan, assert_partition: PartitionCheck
+) -> None:
     scan = noiseless_static_scan(seed, n_targets=6)
     result = pa.associate_static(scan.measurements, scan.sensors, method, pd=0.99)
     assert_partition(result, len(scan.measurements))
@@ -40,10 +41,15 @@ def test_four_sensors_noiseless(noiseless_static_scan: NoiselessScan) -> None:
 
 
 @settings(max_examples=25, deadline=None)
-@given(seed=st.integers(0, 2**31), n_targets=st.integers(1, 8), n_sensors=st.integers(2, 4),
-       ratio=st.sampled_from([5.0, 15.0, 60.0]))
-def test_every_report_ends_in_one_tuple_or_the_false_alarms(seed: int, n_targets: int, n_sensors: int, ratio: float,
-                                                            assert_partition: PartitionCheck) -> None:
+@given(
+    seed=st.integers(0, 2**31),
+    n_targets=st.integers(1, 8),
+    n_sensors=st.integers(2, 4),
+    ratio=st.sampled_from([5.0, 15.0, 60.0]),
+)
+def test_every_report_ends_in_one_tuple_or_the_false_alarms(
+    seed: int, n_targets: int, n_sensors: int, ratio: float, assert_partition: PartitionCheck
+) -> None:
     scan = static_scan(seed, n_targets=n_targets, n_sensors=n_sensors, ratio=ratio)
     assume(len(scan.measurements) > 0)  # an empty scan is refused (test_bad_inputs)
     for method in METHODS:
@@ -110,8 +116,9 @@ def test_solver_settings_reach_assign_sd_through_associate_static() -> None:
     for order in ("auto", "given"):
         for polish in (False, True):
             direct = pa.assign_sd(cands["tuples"], cands["costs"], cands["sizes"], sensor_order=order, polish=polish)
-            result = associate_static(scan.measurements, scan.sensors, "lagrangian", n_threads=1,
-                                      sensor_order=order, polish=polish)
+            result = associate_static(
+                scan.measurements, scan.sensors, "lagrangian", n_threads=1, sensor_order=order, polish=polish
+            )
             assert result.report["primal_cost"] == direct.primal_cost
             assert result.report["dual_bound"] == direct.dual_bound
             costs.add(direct.primal_cost)

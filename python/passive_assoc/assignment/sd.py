@@ -125,10 +125,25 @@ def assign_sd(
         raise ValueError(f"sensor_order: must be 'auto' or 'given', got {sensor_order!r}")
     if not isinstance(polish, (bool, np.bool_)):
         raise TypeError(f"polish: must be a bool, got {type(polish).__name__}")
-    out = _core.assign_sd(t, c, n, method=method, max_iter=as_int_scalar("max_iter", max_iter, minimum=1),
-                          gap_tol=float(gap_tol), max_nodes=as_int_scalar("max_nodes", max_nodes, minimum=1),
-                          time_limit=None if time_limit is None else float(time_limit), warm_start=warm_start,
-                          sensor_order=sensor_order, polish=bool(polish))
-    return SdAssignment(out["chosen"], float(out["primal_cost"]), float(out["dual_bound"]), float(out["gap"]),
-                        int(out["iterations"]), str(out["termination"]), bool(out["optimal"]))
-
+    out = _core.assign_sd(
+        t,
+        c,
+        n,
+        method=method,
+        max_iter=as_int_scalar("max_iter", max_iter, minimum=1),
+        gap_tol=float(gap_tol),
+        max_nodes=as_int_scalar("max_nodes", max_nodes, minimum=1),
+        time_limit=None if time_limit is None else float(time_limit),
+        warm_start=warm_start,
+        sensor_order=sensor_order,
+        polish=bool(polish),
+    )
+    return SdAssignment(
+        out["chosen"],
+        float(out["primal_cost"]),
+        float(out["dual_bound"]),
+        float(out["gap"]),
+        int(out["iterations"]),
+        str(out["termination"]),
+        bool(out["optimal"]),
+    )

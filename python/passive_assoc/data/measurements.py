@@ -38,7 +38,7 @@ def _check_attribute_name(name: Any) -> str:
     if not isinstance(name, str):
         raise TypeError(f"attributes: names must be str, got {name!r}")
     if not name or any(c in name for c in ',"\r\n'):
-        raise ValueError(f"attributes: invalid name {name!r} (empty, or has , \" or newline)")
+        raise ValueError(f'attributes: invalid name {name!r} (empty, or has , " or newline)')
     return name
 
 
@@ -104,8 +104,7 @@ class MeasurementTable:
             # Point at the odd one out relative to the first row's kind.
             i = _first(~nan) if nan[0] else _first(nan)
             raise ValueError(
-                f"elevation[{i}] = {elevation[i].item()!r}; elevation must be all finite "
-                "(3-D) or all NaN (2-D)"
+                f"elevation[{i}] = {elevation[i].item()!r}; elevation must be all finite (3-D) or all NaN (2-D)"
             )
         if np.isinf(elevation).any():
             i = _first(np.isinf(elevation))
@@ -119,22 +118,18 @@ class MeasurementTable:
         self._check_length("truth", truth, n)
         if (truth < -1).any():
             i = _first(truth < -1)
-            raise ValueError(
-                f"truth[{i}] = {truth[i]}; labels are target indices >= 0 or -1 (clutter)"
-            )
+            raise ValueError(f"truth[{i}] = {truth[i]}; labels are target indices >= 0 or -1 (clutter)")
         return truth
 
     @staticmethod
     def _check_length(name: str, arr: NDArray[Any], n: int) -> None:
         if arr.shape[0] != n:
             raise ValueError(
-                f"{name}: has length {arr.shape[0]} but sensor has length {n}; "
-                "all columns must have the same length"
+                f"{name}: has length {arr.shape[0]} but sensor has length {n}; all columns must have the same length"
             )
 
     @classmethod
-    def _column(cls, name: str, value: ArrayLike, n: int, finite: bool = True
-                ) -> NDArray[np.float64]:
+    def _column(cls, name: str, value: ArrayLike, n: int, finite: bool = True) -> NDArray[np.float64]:
         arr = as_float_array(name, value, ndim=1)
         cls._check_length(name, arr, n)
         if finite:
@@ -143,10 +138,7 @@ class MeasurementTable:
 
     def _attributes(self, n: int) -> dict[str, NDArray[np.float64]]:
         if not isinstance(self.attributes, Mapping):
-            raise TypeError(
-                "attributes: expected a mapping name -> array, got "
-                f"{type(self.attributes).__name__}"
-            )
+            raise TypeError(f"attributes: expected a mapping name -> array, got {type(self.attributes).__name__}")
         out = {}
         for key, value in self.attributes.items():
             name = _check_attribute_name(key)
@@ -184,15 +176,18 @@ class MeasurementTable:
         attrs: dict[str, ArrayLike] = {}
         for name in names:
             if name.startswith(ATTRIBUTE_PREFIX):
-                attrs[name[len(ATTRIBUTE_PREFIX):]] = columns[name]
+                attrs[name[len(ATTRIBUTE_PREFIX) :]] = columns[name]
             elif name not in _CORE and name != "truth":
                 raise ValueError(
-                    f"columns: unknown column {name!r}; expected {list(_CORE)}, 'truth' "
-                    f"or '{ATTRIBUTE_PREFIX}<name>'"
+                    f"columns: unknown column {name!r}; expected {list(_CORE)}, 'truth' or '{ATTRIBUTE_PREFIX}<name>'"
                 )
         return cls.from_arrays(
-            columns["sensor"], columns["time"], columns["azimuth"],
-            columns.get("elevation"), attrs, columns.get("truth"),
+            columns["sensor"],
+            columns["time"],
+            columns["azimuth"],
+            columns.get("elevation"),
+            attrs,
+            columns.get("truth"),
         )
 
     # ------------------------------------------------------------------ queries
@@ -224,20 +219,19 @@ class MeasurementTable:
         arr = np.asarray(indices)
         if arr.dtype.kind == "b":
             if arr.shape != (len(self),):
-                raise ValueError(
-                    f"indices: boolean mask has shape {arr.shape}, expected ({len(self)},)"
-                )
+                raise ValueError(f"indices: boolean mask has shape {arr.shape}, expected ({len(self)},)")
             idx = np.flatnonzero(arr)
         else:
             idx = as_int_array("indices", arr, ndim=1)
             bad = (idx < 0) | (idx >= len(self))
             if bad.any():
                 i = _first(bad)
-                raise ValueError(
-                    f"indices[{i}] = {idx[i]} is out of range for a table of {len(self)} rows"
-                )
+                raise ValueError(f"indices[{i}] = {idx[i]} is out of range for a table of {len(self)} rows")
         return MeasurementTable(
-            self.sensor[idx], self.time[idx], self.azimuth[idx], self.elevation[idx],
+            self.sensor[idx],
+            self.time[idx],
+            self.azimuth[idx],
+            self.elevation[idx],
             {k: v[idx] for k, v in self.attributes.items()},
             None if self.truth is None else self.truth[idx],
         )
@@ -290,8 +284,7 @@ class MeasurementTable:
         cols = self.to_arrays()
         names = list(cols)
         # Python's float repr is the shortest string that parses back to the same double.
-        text = [[str(int(v)) if cols[n].dtype.kind == "i" else repr(float(v))
-                 for v in cols[n]] for n in names]
+        text = [[str(int(v)) if cols[n].dtype.kind == "i" else repr(float(v)) for v in cols[n]] for n in names]
         with open(path, "w", newline="", encoding="utf-8") as fh:
             writer = csv.writer(fh)
             writer.writerow(names)
@@ -311,15 +304,12 @@ class MeasurementTable:
             values = []
             for r, row in enumerate(body):
                 if len(row) != len(header):
-                    raise ValueError(
-                        f"path: line {r + 2} has {len(row)} fields, header has {len(header)}"
-                    )
+                    raise ValueError(f"path: line {r + 2} has {len(row)} fields, header has {len(header)}")
                 try:
                     values.append(int(row[j]) if integer else float(row[j]))
                 except ValueError:
                     raise ValueError(
-                        f"{name}: line {r + 2} has {row[j]!r}, not "
-                        f"{'an integer' if integer else 'a number'}"
+                        f"{name}: line {r + 2} has {row[j]!r}, not {'an integer' if integer else 'a number'}"
                     ) from None
             columns[name] = np.array(values, dtype=np.int64 if integer else np.float64)
         return cls.from_columns(columns)
@@ -355,8 +345,7 @@ class MeasurementTable:
             return NotImplemented
         mine, theirs = self.to_arrays(), other.to_arrays()
         return mine.keys() == theirs.keys() and all(
-            mine[k].dtype == theirs[k].dtype
-            and np.array_equal(mine[k], theirs[k], equal_nan=mine[k].dtype.kind == "f")
+            mine[k].dtype == theirs[k].dtype and np.array_equal(mine[k], theirs[k], equal_nan=mine[k].dtype.kind == "f")
             for k in mine
         )
 

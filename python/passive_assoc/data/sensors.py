@@ -34,9 +34,7 @@ def _sigma_array(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
     if arr.ndim == 0:
         arr = np.full(n, float(arr))
     elif arr.shape != (n,):
-        raise ValueError(
-            f"{name}: expected a scalar or shape ({n},) (one per sensor), got {arr.shape}"
-        )
+        raise ValueError(f"{name}: expected a scalar or shape ({n},) (one per sensor), got {arr.shape}")
     require_finite(name, arr)
     require_positive(name, arr)
     return arr
@@ -49,8 +47,7 @@ def _check_distinct(positions: NDArray[np.float64]) -> None:
         i, j = min(pairs)  # report the lowest pair so the message is deterministic
         dist = float(np.linalg.norm(positions[i] - positions[j]))
         raise ValueError(
-            f"positions: sensors {i} and {j} are coincident (distance {dist!r} m "
-            f"< {COINCIDENCE_TOLERANCE} m)"
+            f"positions: sensors {i} and {j} are coincident (distance {dist!r} m < {COINCIDENCE_TOLERANCE} m)"
         )
 
 
@@ -103,8 +100,7 @@ class SensorNetwork:
             raise ValueError("positions: a network needs at least 1 sensor, got 0")
         if pos.shape[1] != 3:
             raise ValueError(
-                f"positions: expected shape (S, 3), got {pos.shape} "
-                "(use SensorNetwork.planar for (S, 2) positions)"
+                f"positions: expected shape (S, 3), got {pos.shape} (use SensorNetwork.planar for (S, 2) positions)"
             )
         require_finite("positions", pos)
         n = pos.shape[0]
@@ -119,9 +115,7 @@ class SensorNetwork:
             nonzero = np.flatnonzero(pos[:, 2] != 0.0)
             if nonzero.size:
                 i = int(nonzero[0])
-                raise ValueError(
-                    f"positions[{i}, 2] = {pos[i, 2].item()!r}; a 2-D network must have z = 0"
-                )
+                raise ValueError(f"positions[{i}, 2] = {pos[i, 2].item()!r}; a 2-D network must have z = 0")
         _check_distinct(pos)
         object.__setattr__(self, "positions", readonly(pos))
         object.__setattr__(self, "sigma_azimuth", readonly(sig_az))
@@ -146,9 +140,7 @@ class SensorNetwork:
         if self.sigma_elevation is not None:
             el = as_float_array("sigma_elevation", self.sigma_elevation)
             if not np.isnan(el).all():
-                raise ValueError(
-                    "sigma_elevation: must be omitted or NaN for a 2-D network"
-                )
+                raise ValueError("sigma_elevation: must be omitted or NaN for a 2-D network")
         return np.full(n, np.nan)
 
     # ------------------------------------------------------------------ constructors
@@ -232,10 +224,7 @@ class SensorNetwork:
         bad = np.flatnonzero((idx < 0) | (idx >= self.n_sensors))
         if bad.size:
             value = int(idx.flat[int(bad[0])])
-            raise ValueError(
-                f"sensor_index: {value} is not a sensor of this network "
-                f"(valid: 0..{self.n_sensors - 1})"
-            )
+            raise ValueError(f"sensor_index: {value} is not a sensor of this network (valid: 0..{self.n_sensors - 1})")
         idx, _ = np.broadcast_arrays(idx, t)
         return self.positions[idx].copy()
 
@@ -261,4 +250,3 @@ class SensorNetwork:
             f"sigma_azimuth={self.sigma_azimuth.tolist()!r}, "
             f"sigma_elevation={self.sigma_elevation.tolist()!r})"
         )
-

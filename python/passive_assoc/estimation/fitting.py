@@ -138,9 +138,17 @@ def fit_ml(
     dim = sensors.ndim * (2 if motion == "cv" else 1)
     start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
     out = _core.fit_batch(
-        *columns, indices, offsets, start,
-        ndim=sensors.ndim, motion=motion, t0=as_float_scalar("t0", t0),
-        max_iter=max_iter, xtol=xtol, step_sigmas=step_sigmas, n_threads=n_threads,
+        *columns,
+        indices,
+        offsets,
+        start,
+        ndim=sensors.ndim,
+        motion=motion,
+        t0=as_float_scalar("t0", t0),
+        max_iter=max_iter,
+        xtol=xtol,
+        step_sigmas=step_sigmas,
+        n_threads=n_threads,
     )
     return FitResult(*out)
 
@@ -189,9 +197,13 @@ def fisher_and_crlb(
     """The Fisher information and its inverse; see :func:`crlb`."""
     network = check_network(sensors)
     return _core.crlb(
-        network.positions, network.sigma_azimuth, network.sigma_elevation,
+        network.positions,
+        network.sigma_azimuth,
+        network.sigma_elevation,
         as_int_array("sensor_index", sensor_index, ndim=1),
         as_float_array("times", times, ndim=1),
         as_float_array("truth", truth, ndim=1),
-        ndim=network.ndim, motion=motion, t0=as_float_scalar("t0", t0),
+        ndim=network.ndim,
+        motion=motion,
+        t0=as_float_scalar("t0", t0),
     )

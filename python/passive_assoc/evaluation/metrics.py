@@ -50,9 +50,7 @@ def rms_per_component(estimates: ArrayLike, truth: ArrayLike) -> NDArray[np.floa
     require_finite("estimates", est)
     tru = as_float_array("truth", truth)
     if tru.shape not in ((est.shape[1],), est.shape):
-        raise ValueError(
-            f"truth: expected shape ({est.shape[1]},) or {est.shape}, got {tru.shape}"
-        )
+        raise ValueError(f"truth: expected shape ({est.shape[1]},) or {est.shape}, got {tru.shape}")
     require_finite("truth", tru)
     return np.sqrt(np.mean((est - tru) ** 2, axis=0))
 
@@ -105,9 +103,7 @@ def _points(name: str, value: ArrayLike) -> NDArray[np.float64]:
     return arr
 
 
-def gospa(
-    estimates: ArrayLike, truth: ArrayLike, c: float, p: float = 2.0, alpha: float = 2.0
-) -> GospaResult:
+def gospa(estimates: ArrayLike, truth: ArrayLike, c: float, p: float = 2.0, alpha: float = 2.0) -> GospaResult:
     """Generalised OSPA metric (Rahmathullah, García-Fernández & Svensson, 2017).
 
     Parameters
@@ -149,9 +145,7 @@ def gospa(
     x, y = _points("estimates", estimates), _points("truth", truth)
     n, m = x.shape[0], y.shape[0]
     if n and m and x.shape[1] != y.shape[1]:
-        raise ValueError(
-            f"truth: points have dimension {y.shape[1]} but estimates have {x.shape[1]}"
-        )
+        raise ValueError(f"truth: points have dimension {y.shape[1]} but estimates have {x.shape[1]}")
     if n == 0 or m == 0:
         dist = np.zeros((n, m))  # nothing to assign; only cardinality terms remain
     else:
@@ -206,6 +200,7 @@ def association_accuracy(
     ValueError
         If ``true_tuples`` is empty (the fraction is undefined).
     """
+
     def norm(name: str, t: int | Sequence[int]) -> tuple[int, ...]:
         tup = _as_tuple(name, t)
         return tup if ordered else tuple(sorted(tup))
@@ -279,7 +274,5 @@ def same_cluster_pairs(labels: ArrayLike) -> set[tuple[int, int]]:
     out: set[tuple[int, int]] = set()
     for value in np.unique(lab[lab >= 0]):
         members = np.flatnonzero(lab == value).tolist()
-        out.update(
-            (a, b) for k, a in enumerate(members) for b in members[k + 1:]
-        )
+        out.update((a, b) for k, a in enumerate(members) for b in members[k + 1 :])
     return out

@@ -24,25 +24,32 @@ from .common import fmt, map_runs, print_rows, run_seeds, write_json
 
 COMPONENTS = ("x0", "y0", "z0", "vx", "vy", "vz")
 #: Paper Table 2: one run's estimated X0 (all four targets found).
-PAPER_TABLE2 = np.array([
-    [1281, 15035, 991, 174, -100, 0],
-    [1353, 5025, 1004, 173, 99, 0],
-    [6011, 1013, 1002, -1, 200, 0],
-    [1354, 16008, 996, 173, -99, 0],
-], dtype=float)
+PAPER_TABLE2 = np.array(
+    [
+        [1281, 15035, 991, 174, -100, 0],
+        [1353, 5025, 1004, 173, 99, 0],
+        [6011, 1013, 1002, -1, 200, 0],
+        [1354, 16008, 996, 173, -99, 0],
+    ],
+    dtype=float,
+)
 #: Paper Table 3: RMS with the paper's association, and with perfect association.
-PAPER_RMS = np.array([
-    [58.6, 85.9, 28.3, 0.81, 1.07, 0.16],
-    [27.1, 51.9, 7.64, 0.48, 0.97, 0.11],
-    [60.2, 28.2, 6.88, 1.07, 1.08, 0.12],
-    [56.6, 80.2, 12.0, 0.65, 1.09, 0.18],
-])
-PAPER_RMS_PERFECT = np.array([
-    [42.7, 74.7, 7.8, 0.43, 0.97, 0.12],
-    [26.9, 49.6, 6.9, 0.48, 0.97, 0.11],
-    [61.9, 28.0, 6.95, 1.10, 1.08, 0.10],
-    [46.2, 80.1, 6.49, 0.51, 1.08, 0.13],
-])
+PAPER_RMS = np.array(
+    [
+        [58.6, 85.9, 28.3, 0.81, 1.07, 0.16],
+        [27.1, 51.9, 7.64, 0.48, 0.97, 0.11],
+        [60.2, 28.2, 6.88, 1.07, 1.08, 0.12],
+        [56.6, 80.2, 12.0, 0.65, 1.09, 0.18],
+    ]
+)
+PAPER_RMS_PERFECT = np.array(
+    [
+        [42.7, 74.7, 7.8, 0.43, 0.97, 0.12],
+        [26.9, 49.6, 6.9, 0.48, 0.97, 0.11],
+        [61.9, 28.0, 6.95, 1.10, 1.08, 0.10],
+        [46.2, 80.1, 6.49, 0.51, 1.08, 0.13],
+    ]
+)
 #: A track matches a target when its X0 lies within this squared Mahalanobis distance of the
 #: truth, measured with the target's CRLB (i.e. within 10 best-case standard deviations).
 MATCH_GATE = 100.0
@@ -86,7 +93,9 @@ def correct_fraction(result: InitiationResult, truth_labels: NDArray[np.int64], 
     return float(np.mean(assigned_target == truth_labels))
 
 
-def run_once(scenario: Scenario, initiator: FuzzyTrackInitiator, crlbs: NDArray[np.float64]) -> tuple[FtiRun, InitiationResult]:
+def run_once(
+    scenario: Scenario, initiator: FuzzyTrackInitiator, crlbs: NDArray[np.float64]
+) -> tuple[FtiRun, InitiationResult]:
     start = time.perf_counter()
     result = initiator.initiate(scenario.measurements, scenario.sensors, t0=scenario.t0)
     seconds = time.perf_counter() - start
@@ -99,9 +108,16 @@ def run_once(scenario: Scenario, initiator: FuzzyTrackInitiator, crlbs: NDArray[
     perfect = perfect_association_fit(scenario, n_threads=initiator.n_threads).estimates - truth
     assert scenario.measurements.truth is not None
     iterations = result.diagnostics.descent_iterations
-    run = FtiRun(int((match >= 0).sum()), int((match < 0).sum()),
-                 correct_fraction(result, scenario.measurements.truth, match), own, perfect, seconds,
-                 result.diagnostics.stage_counts, float(iterations.mean()) if len(iterations) else 0.0)
+    run = FtiRun(
+        int((match >= 0).sum()),
+        int((match < 0).sum()),
+        correct_fraction(result, scenario.measurements.truth, match),
+        own,
+        perfect,
+        seconds,
+        result.diagnostics.stage_counts,
+        float(iterations.mean()) if len(iterations) else 0.0,
+    )
     return run, result
 
 
@@ -111,8 +127,9 @@ def rms(errors: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.sqrt(np.nanmean(errors**2, axis=0))
 
 
-def run_experiment(runs: int, seed: int, workers: int, pd: float, clutter_ratio: float,
-                   initiator: FuzzyTrackInitiator) -> tuple[list[FtiRun], Scenario, InitiationResult, NDArray[np.float64]]:
+def run_experiment(
+    runs: int, seed: int, workers: int, pd: float, clutter_ratio: float, initiator: FuzzyTrackInitiator
+) -> tuple[list[FtiRun], Scenario, InitiationResult, NDArray[np.float64]]:
     """All runs; returns them with run 0's scenario and result (for the plot) and the CRLBs."""
     seeds = run_seeds(seed, runs)
     reference = paper_fti_scenario(seed=0, pd=1.0, clutter_ratio=0.0)
@@ -144,9 +161,13 @@ def summarise(runs: list[FtiRun], crlbs: NDArray[np.float64]) -> dict[str, Any]:
         "median_seconds_per_run": float(np.median([r.seconds for r in runs])),
         "mean_stage_counts": {k: float(np.mean([r.stage_counts[k] for r in runs])) for k in runs[0].stage_counts},
         "mean_descent_iterations": float(np.mean([r.mean_descent_iterations for r in runs])),
-        "rms_own": own, "rms_perfect": perfect, "crlb_std": np.sqrt(np.diagonal(crlbs, axis1=1, axis2=2)),
-        "price_of_association": own / perfect, "paper_price_of_association": PAPER_RMS / PAPER_RMS_PERFECT,
-        "paper_rms": PAPER_RMS, "paper_rms_perfect": PAPER_RMS_PERFECT,
+        "rms_own": own,
+        "rms_perfect": perfect,
+        "crlb_std": np.sqrt(np.diagonal(crlbs, axis1=1, axis2=2)),
+        "price_of_association": own / perfect,
+        "paper_price_of_association": PAPER_RMS / PAPER_RMS_PERFECT,
+        "paper_rms": PAPER_RMS,
+        "paper_rms_perfect": PAPER_RMS_PERFECT,
     }
 
 
@@ -164,38 +185,64 @@ def print_table2(table: NDArray[np.float64], truth: NDArray[np.float64]) -> None
     rows = [["target", "", *COMPONENTS]]
     for k in range(len(truth)):
         for label, values in (("ours", table[k]), ("paper", PAPER_TABLE2[k]), ("truth", truth[k])):
-            rows.append([str(k + 1) if label == "ours" else "", label, *(f"{v:.0f}" if np.isfinite(v) else "missed" for v in values)])
+            rows.append(
+                [
+                    str(k + 1) if label == "ours" else "",
+                    label,
+                    *(f"{v:.0f}" if np.isfinite(v) else "missed" for v in values),
+                ]
+            )
     print_rows(rows, [6, 5, 7, 7, 7, 6, 6, 6])
     print()
 
 
 def print_report(summary: dict[str, Any], settings: dict[str, Any]) -> None:
     n = summary["runs"]
-    print(f"fti — paper 000, {n} runs, seed {settings['seed']}, Pd {settings['pd']}, "
-          f"clutter {settings['clutter_ratio']}x true measurements per sensor and scan")
-    print(f"all 4 targets found in {summary['all_found_runs']}/{n} runs; "
-          f"false tracks per run {summary['mean_false_tracks']:.3f}; "
-          f"measurements correctly assigned {100 * summary['mean_correct_fraction']:.2f} %; "
-          f"median {1e3 * summary['median_seconds_per_run']:.1f} ms per initiation")
+    print(
+        f"fti — paper 000, {n} runs, seed {settings['seed']}, Pd {settings['pd']}, "
+        f"clutter {settings['clutter_ratio']}x true measurements per sensor and scan"
+    )
+    print(
+        f"all 4 targets found in {summary['all_found_runs']}/{n} runs; "
+        f"false tracks per run {summary['mean_false_tracks']:.3f}; "
+        f"measurements correctly assigned {100 * summary['mean_correct_fraction']:.2f} %; "
+        f"median {1e3 * summary['median_seconds_per_run']:.1f} ms per initiation"
+    )
     stages = ", ".join(f"{k} {v:.0f}" for k, v in summary["mean_stage_counts"].items())
-    print(f"candidates after each stage (mean per run): {stages}; "
-          f"{summary['mean_descent_iterations']:.1f} descent iterations per search\n")
-    print("Table 3 — RMS of X0 per cell: ours (own association) / ours (perfect association) / CRLB std"
-          " | paper (paper perfect);  price = own / perfect, ours vs paper")
+    print(
+        f"candidates after each stage (mean per run): {stages}; "
+        f"{summary['mean_descent_iterations']:.1f} descent iterations per search\n"
+    )
+    print(
+        "Table 3 — RMS of X0 per cell: ours (own association) / ours (perfect association) / CRLB std"
+        " | paper (paper perfect);  price = own / perfect, ours vs paper"
+    )
     rows = [["target", "comp", "ours own", "ours perfect", "CRLB std", "paper", "(perfect)", "price", "paper price"]]
     for k in range(summary["rms_own"].shape[0]):
         for c, name in enumerate(COMPONENTS):
-            rows.append([str(k + 1) if c == 0 else "", name, fmt(summary["rms_own"][k, c]),
-                         fmt(summary["rms_perfect"][k, c]), fmt(summary["crlb_std"][k, c]),
-                         fmt(PAPER_RMS[k, c]), f"({fmt(PAPER_RMS_PERFECT[k, c])})",
-                         fmt(summary["price_of_association"][k, c]),
-                         fmt(summary["paper_price_of_association"][k, c])])
+            rows.append(
+                [
+                    str(k + 1) if c == 0 else "",
+                    name,
+                    fmt(summary["rms_own"][k, c]),
+                    fmt(summary["rms_perfect"][k, c]),
+                    fmt(summary["crlb_std"][k, c]),
+                    fmt(PAPER_RMS[k, c]),
+                    f"({fmt(PAPER_RMS_PERFECT[k, c])})",
+                    fmt(summary["price_of_association"][k, c]),
+                    fmt(summary["paper_price_of_association"][k, c]),
+                ]
+            )
     print_rows(rows, [6, 4, 9, 12, 9, 7, 9, 6, 11])
-    print(f"\nMonte-Carlo spread: each RMS over {n} runs has a relative standard error of about "
-          f"1/sqrt(2 x runs) = {100 / np.sqrt(2 * n):.1f} % (Gaussian errors), so a ratio to the CRLB within "
-          f"+-{200 / np.sqrt(2 * n):.0f} % is consistent with an efficient estimator.")
-    print("Note: the paper's z0 and vz columns lie several times below the CRLB of its own 5 mrad model"
-          " (no unbiased estimator reaches them); judge those columns against the bound.")
+    print(
+        f"\nMonte-Carlo spread: each RMS over {n} runs has a relative standard error of about "
+        f"1/sqrt(2 x runs) = {100 / np.sqrt(2 * n):.1f} % (Gaussian errors), so a ratio to the CRLB within "
+        f"+-{200 / np.sqrt(2 * n):.0f} % is consistent with an efficient estimator."
+    )
+    print(
+        "Note: the paper's z0 and vz columns lie several times below the CRLB of its own 5 mrad model"
+        " (no unbiased estimator reaches them); judge those columns against the bound."
+    )
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -203,12 +250,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=2026, help="master seed (default 2026)")
     parser.add_argument("--workers", type=int, default=1, help="runs executed concurrently (default 1)")
     parser.add_argument("--pd", type=float, default=1.0, help="detection probability (paper: 1)")
-    parser.add_argument("--clutter-ratio", type=float, default=2.0,
-                        help="clutter points per true measurement, per sensor and scan (paper: 2)")
-    parser.add_argument("--refine-passes", type=int, default=2,
-                        help="classify-and-refit passes after the final fit (default 2; 0 = the paper's pipeline)")
-    parser.add_argument("--descent-scaling", choices=("whitened", "diagonal"), default="whitened",
-                        help="coordinates of the closeness search (default whitened; diagonal = METHODS wording)")
+    parser.add_argument(
+        "--clutter-ratio",
+        type=float,
+        default=2.0,
+        help="clutter points per true measurement, per sensor and scan (paper: 2)",
+    )
+    parser.add_argument(
+        "--refine-passes",
+        type=int,
+        default=2,
+        help="classify-and-refit passes after the final fit (default 2; 0 = the paper's pipeline)",
+    )
+    parser.add_argument(
+        "--descent-scaling",
+        choices=("whitened", "diagonal"),
+        default="whitened",
+        help="coordinates of the closeness search (default whitened; diagonal = METHODS wording)",
+    )
     parser.add_argument("--plot", metavar="FILE", help="save the run-0 picture and RMS-vs-CRLB bars (PNG/PDF)")
     parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
 
@@ -216,15 +275,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def main(args: argparse.Namespace) -> int:
     if args.runs < 1:
         raise SystemExit("--runs must be at least 1")
-    initiator = FuzzyTrackInitiator(n_threads=1 if args.workers > 1 else None, refine_passes=args.refine_passes,
-                                    descent_scaling=args.descent_scaling)
-    runs, scenario, result, crlbs = run_experiment(args.runs, args.seed, args.workers, args.pd,
-                                                   args.clutter_ratio, initiator)
+    initiator = FuzzyTrackInitiator(
+        n_threads=1 if args.workers > 1 else None,
+        refine_passes=args.refine_passes,
+        descent_scaling=args.descent_scaling,
+    )
+    runs, scenario, result, crlbs = run_experiment(
+        args.runs, args.seed, args.workers, args.pd, args.clutter_ratio, initiator
+    )
     summary = summarise(runs, crlbs)
     summary["run0_estimates"] = run0_table(result, scenario.true_states, crlbs)
     summary["paper_table2"] = PAPER_TABLE2
-    settings = {"seed": args.seed, "pd": args.pd, "clutter_ratio": args.clutter_ratio, "workers": args.workers,
-                "refine_passes": args.refine_passes, "descent_scaling": args.descent_scaling}
+    settings = {
+        "seed": args.seed,
+        "pd": args.pd,
+        "clutter_ratio": args.clutter_ratio,
+        "workers": args.workers,
+        "refine_passes": args.refine_passes,
+        "descent_scaling": args.descent_scaling,
+    }
     print_table2(summary["run0_estimates"], scenario.true_states)
     print_report(summary, settings)
     if args.json:

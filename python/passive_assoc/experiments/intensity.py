@@ -23,8 +23,11 @@ from .common import fmt, map_runs, print_rows, run_seeds, write_json
 
 METHODS: tuple[Method, ...] = ("intensity", "lagrangian", "exact")
 PAPER_ACCURACY = {5: {"lagrangian": 35.0, "intensity": 39.0}, 15: {"lagrangian": 58.0, "intensity": 67.0}}
-PAPER_SECONDS = {6: {"exact": 16.6, "lagrangian": 0.4, "intensity": 0.3},
-                 12: {"lagrangian": 3.2, "intensity": 1.5}, 18: {"lagrangian": 11.7, "intensity": 3.1}}
+PAPER_SECONDS = {
+    6: {"exact": 16.6, "lagrangian": 0.4, "intensity": 0.3},
+    12: {"lagrangian": 3.2, "intensity": 1.5},
+    18: {"lagrangian": 11.7, "intensity": 3.1},
+}
 GOSPA_CUTOFF_M = 1000.0
 
 
@@ -98,8 +101,7 @@ def bayes_map(scan: StaticScan, cands: dict[str, Any], time_limit: float) -> dic
     mass = np.prod(norm.cdf((hi - pos) / sd) - norm.cdf((lo - pos) / sd), axis=1)
     density = len(scan.targets) / float(np.prod(hi - lo))
     with np.errstate(divide="ignore"):
-        cost = (cands["costs"] - np.log(density) - np.log(2 * np.pi) - 0.5 * np.log(np.linalg.det(cov))
-                - np.log(mass))
+        cost = cands["costs"] - np.log(density) - np.log(2 * np.pi) - 0.5 * np.log(np.linalg.det(cov)) - np.log(mass)
     keep = np.flatnonzero(np.isfinite(cost) & (cost < 0))
     solved = assign_sd(cands["tuples"][keep], cost[keep], cands["sizes"], method="exact", time_limit=time_limit)
     found = {tuple(cands["rows"][keep[k]].tolist()) for k in solved.chosen}
@@ -112,8 +114,9 @@ def bayes_map(scan: StaticScan, cands: dict[str, Any], time_limit: float) -> dic
     return out
 
 
-def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, workers: int, solvers: Solvers,
-                   bayes: bool = False) -> dict[str, Any]:
+def accuracy_table(
+    runs: int, seed: int, ratios: list[float], n_targets: int, workers: int, solvers: Solvers, bayes: bool = False
+) -> dict[str, Any]:
     table: dict[str, Any] = {}
     for ratio in ratios:
         seeds = run_seeds(seed + int(ratio * 1000), runs)
@@ -128,12 +131,16 @@ def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, wo
 
         per_run = map_runs(work, runs, workers, desc=f"accuracy R={ratio:g}")
         table[f"{ratio:g}"] = {
-            m: {"accuracy_pct": 100 * float(np.nanmean([p[m]["accuracy"] for p in per_run])),
-                "gospa_mean_m": float(np.mean([p[m]["gospa"] for p in per_run]))}
+            m: {
+                "accuracy_pct": 100 * float(np.nanmean([p[m]["accuracy"] for p in per_run])),
+                "gospa_mean_m": float(np.mean([p[m]["gospa"] for p in per_run])),
+            }
             for m in METHODS
         }
         proven = [p["exact"]["truth_beaten"] for p in per_run if "truth_beaten" in p["exact"]]
-        table[f"{ratio:g}"]["truth_costlier_than_optimum_pct"] = 100 * float(np.mean(proven)) if proven else float("nan")
+        table[f"{ratio:g}"]["truth_costlier_than_optimum_pct"] = (
+            100 * float(np.mean(proven)) if proven else float("nan")
+        )
         table[f"{ratio:g}"]["exact_proven_runs"] = len(proven)
         table[f"{ratio:g}"]["ghosts_per_scan_median"] = float(np.median([p["exact"]["ghosts"] for p in per_run]))
         if bayes:
@@ -141,7 +148,8 @@ def accuracy_table(runs: int, seed: int, ratios: list[float], n_targets: int, wo
             table[f"{ratio:g}"]["bayes_map"] = {
                 "accuracy_pct": 100 * float(np.nanmean([p["bayes"]["accuracy"] for p in per_run])),
                 "truth_costlier_pct": 100 * float(np.mean(beaten)) if beaten else float("nan"),
-                "proven_runs": len(beaten)}
+                "proven_runs": len(beaten),
+            }
     return table
 
 
@@ -156,8 +164,9 @@ def _timed(scan: StaticScan, method: Method, solvers: Solvers, repeats: int) -> 
     max_chains = None if len(scan.targets) <= FULL_VOTE_MAX_M else MAX_CHAINS
     for _ in range(repeats):
         start = time.perf_counter()
-        result = associate_static(scan.measurements, scan.sensors, method, n_threads=1, max_chains=max_chains,
-                                  **solvers.kwargs())
+        result = associate_static(
+            scan.measurements, scan.sensors, method, n_threads=1, max_chains=max_chains, **solvers.kwargs()
+        )
         best = min(best, time.perf_counter() - start)
     return best, result
 
@@ -180,12 +189,15 @@ def _time_scan(scan: StaticScan, solvers: Solvers) -> dict[str, Any]:
         if method == "exact":
             out["exact_proven"] = bool(result.report["optimal"])
     if out.get("exact_proven"):
-        out["lagrangian_gap_to_optimum"] = (out["lagrangian_cost"] - out["exact_cost"]) / max(1.0, abs(out["exact_cost"]))
+        out["lagrangian_gap_to_optimum"] = (out["lagrangian_cost"] - out["exact_cost"]) / max(
+            1.0, abs(out["exact_cost"])
+        )
     return out
 
 
-def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, solvers: Solvers,
-                 scans: int = 5) -> list[dict[str, Any]]:
+def timing_table(
+    seed: int, cases: list[tuple[int, int]], ratio: float, solvers: Solvers, scans: int = 5
+) -> list[dict[str, Any]]:
     """Per (S, M): the median over ``scans`` random scans (one beyond M = 100) of each
     method's time, of the candidate count and of the gaps — a single scan's figure depends on
     how many ghosts it happens to have."""
@@ -193,36 +205,68 @@ def timing_table(seed: int, cases: list[tuple[int, int]], ratio: float, solvers:
     for n_sensors, n_targets in cases:
         per_scan = []
         for k in range(scans if n_targets <= 100 else 1):
-            scan = static_scan(seed + 7 * n_targets + n_sensors + 1000 * k, n_targets=n_targets,
-                               n_sensors=n_sensors, ratio=ratio)
+            scan = static_scan(
+                seed + 7 * n_targets + n_sensors + 1000 * k, n_targets=n_targets, n_sensors=n_sensors, ratio=ratio
+            )
             per_scan.append((len(scan.measurements), _time_scan(scan, solvers)))
 
         def median(key: str) -> float | None:
             values = [t[key] for _, t in per_scan if t.get(key) is not None]
             return float(np.median(values)) if values else None
 
-        row: dict[str, Any] = {"S": n_sensors, "M": n_targets, "scans": len(per_scan),
-                               "reports": int(np.median([n for n, _ in per_scan]))}
-        for key in ("candidates", "intensity_s", "lagrangian_s", "exact_s", "lagrangian_gap", "lagrangian_iterations",
-                    "lagrangian_gap_to_optimum"):
+        row: dict[str, Any] = {
+            "S": n_sensors,
+            "M": n_targets,
+            "scans": len(per_scan),
+            "reports": int(np.median([n for n, _ in per_scan])),
+        }
+        for key in (
+            "candidates",
+            "intensity_s",
+            "lagrangian_s",
+            "exact_s",
+            "lagrangian_gap",
+            "lagrangian_iterations",
+            "lagrangian_gap_to_optimum",
+        ):
             row[key] = median(key)
         row["candidates"] = int(row["candidates"])
-        row["exact_proven"] = sum(bool(t.get("exact_proven")) for _, t in per_scan) if row["exact_s"] is not None else None
+        row["exact_proven"] = (
+            sum(bool(t.get("exact_proven")) for _, t in per_scan) if row["exact_s"] is not None else None
+        )
         rows.append(row)
     return rows
 
 
 def print_accuracy(table: dict[str, Any], runs: int, n_targets: int) -> None:
-    print(f"Table 2 — association accuracy, M = {n_targets}, {runs} runs per R "
-          "(observable targets whose full tuple, misses included, is exactly recovered) | paper")
-    out = [["R", *(f"{m} %" for m in METHODS), "paper lagr. %", "paper int. %", *(f"GOSPA {m[:5]} m" for m in METHODS),
-            "truth>opt %", "ghosts"]]
+    print(
+        f"Table 2 — association accuracy, M = {n_targets}, {runs} runs per R "
+        "(observable targets whose full tuple, misses included, is exactly recovered) | paper"
+    )
+    out = [
+        [
+            "R",
+            *(f"{m} %" for m in METHODS),
+            "paper lagr. %",
+            "paper int. %",
+            *(f"GOSPA {m[:5]} m" for m in METHODS),
+            "truth>opt %",
+            "ghosts",
+        ]
+    ]
     for ratio, cells in table.items():
         paper = PAPER_ACCURACY.get(int(float(ratio)), {})
-        out.append([ratio, *(f"{cells[m]['accuracy_pct']:.1f}" for m in METHODS),
-                    fmt(paper.get("lagrangian")), fmt(paper.get("intensity")),
-                    *(f"{cells[m]['gospa_mean_m']:.0f}" for m in METHODS),
-                    fmt(cells["truth_costlier_than_optimum_pct"]), fmt(cells["ghosts_per_scan_median"])])
+        out.append(
+            [
+                ratio,
+                *(f"{cells[m]['accuracy_pct']:.1f}" for m in METHODS),
+                fmt(paper.get("lagrangian")),
+                fmt(paper.get("intensity")),
+                *(f"{cells[m]['gospa_mean_m']:.0f}" for m in METHODS),
+                fmt(cells["truth_costlier_than_optimum_pct"]),
+                fmt(cells["ghosts_per_scan_median"]),
+            ]
+        )
     print_rows(out, [4, 12, 13, 8, 13, 12, 12, 12, 12, 11, 6])
     print("  truth>opt: scans (with a proven exact optimum) where the true association's own eq. 2 cost is")
     print("  higher than the optimum's — there no method that optimises eq. 2 can return the truth;")
@@ -237,23 +281,53 @@ def print_accuracy(table: dict[str, Any], runs: int, n_targets: int) -> None:
 
 
 def print_timing(rows: list[dict[str, Any]]) -> None:
-    print("\nTable 1 — seconds per scan on one thread, enumeration included, median over the scans | paper (2000 hardware)")
-    out = [["S", "M", "reports", "cand.", "intensity", "lagrangian", "exact", "lagr. gap", "lagr. it.", "gap to opt.",
-            "paper i/l/e"]]
+    print(
+        "\nTable 1 — seconds per scan on one thread, enumeration included, median over the scans | paper (2000 hardware)"
+    )
+    out = [
+        [
+            "S",
+            "M",
+            "reports",
+            "cand.",
+            "intensity",
+            "lagrangian",
+            "exact",
+            "lagr. gap",
+            "lagr. it.",
+            "gap to opt.",
+            "paper i/l/e",
+        ]
+    ]
     for r in rows:
         paper = PAPER_SECONDS.get(r["M"], {}) if r["S"] == 3 else {}
         proven = "" if r.get("exact_proven") == r["scans"] else f"*{r.get('exact_proven')}/{r['scans']}"
         exact = "-" if r.get("exact_s") is None else fmt(r["exact_s"]) + proven
-        out.append([str(r["S"]), str(r["M"]), str(r["reports"]), str(r["candidates"]), fmt(r["intensity_s"]),
-                    fmt(r["lagrangian_s"]), exact, fmt(r["lagrangian_gap"]), f"{r['lagrangian_iterations']:.0f}",
-                    fmt(r.get("lagrangian_gap_to_optimum")),
-                    "/".join(fmt(paper.get(m)) for m in METHODS) if paper else ""])
+        out.append(
+            [
+                str(r["S"]),
+                str(r["M"]),
+                str(r["reports"]),
+                str(r["candidates"]),
+                fmt(r["intensity_s"]),
+                fmt(r["lagrangian_s"]),
+                exact,
+                fmt(r["lagrangian_gap"]),
+                f"{r['lagrangian_iterations']:.0f}",
+                fmt(r.get("lagrangian_gap_to_optimum")),
+                "/".join(fmt(paper.get(m)) for m in METHODS) if paper else "",
+            ]
+        )
     print_rows(out, [2, 4, 8, 7, 10, 11, 11, 10, 10, 12, 16])
-    print(f"  median over {rows[0]['scans'] if rows else 0} scans per row (1 beyond M = 100); reports, candidates, gaps and"
-          " Lagrangian iterations (cap 200): medians too")
+    print(
+        f"  median over {rows[0]['scans'] if rows else 0} scans per row (1 beyond M = 100); reports, candidates, gaps and"
+        " Lagrangian iterations (cap 200): medians too"
+    )
     print("  *p/n exact: time limit reached on some scans, optimum proven on p of n; '-': not attempted")
-    print(f"  intensity for M > {FULL_VOTE_MAX_M}: at most {MAX_CHAINS} chains (max_chains); the paper's full vote is"
-          " quadratic where every ghost has 0 exclusive rays")
+    print(
+        f"  intensity for M > {FULL_VOTE_MAX_M}: at most {MAX_CHAINS} chains (max_chains); the paper's full vote is"
+        " quadratic where every ghost has 0 exclusive rays"
+    )
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -261,25 +335,49 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=2026, help="master seed (default 2026)")
     parser.add_argument("--workers", type=int, default=1, help="runs executed concurrently (default 1)")
     parser.add_argument("--targets", type=int, default=10, help="M for the accuracy table (paper: 10)")
-    parser.add_argument("--ratios", type=float, nargs="+", default=[5, 10, 15, 20], help="R values (default 5 10 15 20)")
+    parser.add_argument(
+        "--ratios", type=float, nargs="+", default=[5, 10, 15, 20], help="R values (default 5 10 15 20)"
+    )
     parser.add_argument("--time-limit", type=float, default=2.0, help="branch-and-bound limit per scan, s (default 2)")
     parser.add_argument("--no-timing", action="store_true", help="skip Table 1")
-    parser.add_argument("--no-airspace", action="store_true",
-                        help="run the intensity method without its valid-airspace step (the library default)")
-    parser.add_argument("--bayes-bound", action="store_true",
-                        help="also solve each scan exactly under the scenario's true prior: what any method can expect")
-    parser.add_argument("--max-iter", type=int, default=200,
-                        help="Lagrangian iteration cap (default 200; MATLAB assignsd: 100)")
-    parser.add_argument("--gap-tol", type=float, default=1e-3,
-                        help="Lagrangian relative-gap target (default 1e-3; MATLAB assignsd: 0.01)")
-    parser.add_argument("--sensor-order", choices=("auto", "given"), default="auto",
-                        help="sensors the Lagrangian relaxation keeps as its 2-D problem (default auto: the two "
-                             "with the fewest reports; given: the first two)")
-    parser.add_argument("--polish", action="store_true",
-                        help="end the Lagrangian (and the exact solver's root) with the compound-move polish")
-    parser.add_argument("--timing-scans", type=int, default=5, help="scans per Table 1 row, median reported (default 5)")
+    parser.add_argument(
+        "--no-airspace",
+        action="store_true",
+        help="run the intensity method without its valid-airspace step (the library default)",
+    )
+    parser.add_argument(
+        "--bayes-bound",
+        action="store_true",
+        help="also solve each scan exactly under the scenario's true prior: what any method can expect",
+    )
+    parser.add_argument(
+        "--max-iter", type=int, default=200, help="Lagrangian iteration cap (default 200; MATLAB assignsd: 100)"
+    )
+    parser.add_argument(
+        "--gap-tol",
+        type=float,
+        default=1e-3,
+        help="Lagrangian relative-gap target (default 1e-3; MATLAB assignsd: 0.01)",
+    )
+    parser.add_argument(
+        "--sensor-order",
+        choices=("auto", "given"),
+        default="auto",
+        help="sensors the Lagrangian relaxation keeps as its 2-D problem (default auto: the two "
+        "with the fewest reports; given: the first two)",
+    )
+    parser.add_argument(
+        "--polish",
+        action="store_true",
+        help="end the Lagrangian (and the exact solver's root) with the compound-move polish",
+    )
+    parser.add_argument(
+        "--timing-scans", type=int, default=5, help="scans per Table 1 row, median reported (default 5)"
+    )
     parser.add_argument("--max-m", type=int, default=500, help="largest M in Table 1 (default 500)")
-    parser.add_argument("--plot", metavar="FILE", help="save a picture of one scan: lines of sight, candidates, accepted targets")
+    parser.add_argument(
+        "--plot", metavar="FILE", help="save a picture of one scan: lines of sight, candidates, accepted targets"
+    )
     parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
 
 
@@ -288,10 +386,13 @@ def main(args: argparse.Namespace) -> int:
         raise SystemExit("--runs, --timing-scans and --max-iter must be at least 1")
     if not args.gap_tol >= 0:
         raise SystemExit("--gap-tol must be >= 0")
-    print("intensity — paper 001: 2-D sensors at (-15,0), (0,-5), (15,0) km; targets uniform in "
-          "[-10,10] x [20,40] km; Pd 0.95, P_FA 0.05 (Poisson false bearings over each sensor's sector)\n")
-    solvers = Solvers(args.time_limit, not args.no_airspace, args.max_iter, args.gap_tol, args.sensor_order,
-                      args.polish)
+    print(
+        "intensity — paper 001: 2-D sensors at (-15,0), (0,-5), (15,0) km; targets uniform in "
+        "[-10,10] x [20,40] km; Pd 0.95, P_FA 0.05 (Poisson false bearings over each sensor's sector)\n"
+    )
+    solvers = Solvers(
+        args.time_limit, not args.no_airspace, args.max_iter, args.gap_tol, args.sensor_order, args.polish
+    )
     accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, solvers, args.bayes_bound)
     print_accuracy(accuracy, args.runs, args.targets)
     timing: list[dict[str, Any]] = []
@@ -302,8 +403,7 @@ def main(args: argparse.Namespace) -> int:
         print_timing(timing)
     if args.json:
         settings = {k: v for k, v in vars(args).items() if k not in ("run", "command", "experiment")}
-        write_json(args.json, {"experiment": "intensity", "settings": settings,
-                               "accuracy": accuracy, "timing": timing})
+        write_json(args.json, {"experiment": "intensity", "settings": settings, "accuracy": accuracy, "timing": timing})
     if args.plot:
         from ..plots import plot_static_scan
 

@@ -28,8 +28,15 @@ def _columns(measurements: MeasurementTable, sensors: SensorNetwork, spread_fact
     return (*columns, factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float))
 
 
-def closeness(measurements: MeasurementTable, sensors: SensorNetwork, states: ArrayLike, *, t0: float = 0.0,
-              spread_factor: float = 2.0, n_threads: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def closeness(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    states: ArrayLike,
+    *,
+    t0: float = 0.0,
+    spread_factor: float = 2.0,
+    n_threads: int | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """R and its gradient at each constant-velocity state.
 
     Parameters
@@ -50,8 +57,13 @@ def closeness(measurements: MeasurementTable, sensors: SensorNetwork, states: Ar
     """
     d = 2 * sensors.ndim
     x = as_float_array("states", states, shape=(None, d))
-    return _core.closeness(*_columns(measurements, sensors, spread_factor), x, ndim=sensors.ndim,
-                           t0=as_float_scalar("t0", t0, finite=True), n_threads=n_threads)
+    return _core.closeness(
+        *_columns(measurements, sensors, spread_factor),
+        x,
+        ndim=sensors.ndim,
+        t0=as_float_scalar("t0", t0, finite=True),
+        n_threads=n_threads,
+    )
 
 
 @dataclass(frozen=True)
@@ -64,10 +76,18 @@ class ClosenessOptima:
     evaluations: NDArray[np.int64]
 
 
-def maximize_closeness(measurements: MeasurementTable, sensors: SensorNetwork, starts: ArrayLike,
-                       covariances: ArrayLike, *, t0: float = 0.0, spread_factor: float = 2.0,
-                       scaling: Literal["whitened", "diagonal"] = "whitened", max_iter: int = 100,
-                       n_threads: int | None = None) -> ClosenessOptima:
+def maximize_closeness(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    starts: ArrayLike,
+    covariances: ArrayLike,
+    *,
+    t0: float = 0.0,
+    spread_factor: float = 2.0,
+    scaling: Literal["whitened", "diagonal"] = "whitened",
+    max_iter: int = 100,
+    n_threads: int | None = None,
+) -> ClosenessOptima:
     """Steepest ascent of R with Armijo backtracking from each start (METHODS §1, eq. 19).
 
     Each search runs in coordinates scaled by its start's covariance (typically the
@@ -91,7 +111,14 @@ def maximize_closeness(measurements: MeasurementTable, sensors: SensorNetwork, s
     c = as_float_array("covariances", covariances, shape=(x.shape[0], d, d))
     if scaling not in ("whitened", "diagonal"):
         raise ValueError(f"scaling: must be 'whitened' or 'diagonal', got {scaling!r}")
-    out = _core.maximize_closeness(*_columns(measurements, sensors, spread_factor), x, c, ndim=sensors.ndim,
-                                   t0=as_float_scalar("t0", t0, finite=True), scaling=scaling,
-                                   max_iter=as_int_scalar("max_iter", max_iter, minimum=0), n_threads=n_threads)
+    out = _core.maximize_closeness(
+        *_columns(measurements, sensors, spread_factor),
+        x,
+        c,
+        ndim=sensors.ndim,
+        t0=as_float_scalar("t0", t0, finite=True),
+        scaling=scaling,
+        max_iter=as_int_scalar("max_iter", max_iter, minimum=0),
+        n_threads=n_threads,
+    )
     return ClosenessOptima(*out)

@@ -197,8 +197,10 @@ class FuzzyTrackInitiator:
         else:
             chosen = list(self.pairs)
         if not chosen:
-            raise ValueError("pairs: at least one sensor pair is needed (the network has "
-                             f"{n_sensors} sensor{'s' if n_sensors != 1 else ''})")
+            raise ValueError(
+                "pairs: at least one sensor pair is needed (the network has "
+                f"{n_sensors} sensor{'s' if n_sensors != 1 else ''})"
+            )
         return as_int_array("pairs", np.asarray(chosen), shape=(None, 2))
 
     def _spreads(self, sensors: SensorNetwork) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -208,7 +210,9 @@ class FuzzyTrackInitiator:
         sigma_el = sensors.sigma_azimuth if sensors.ndim == 2 else sensors.sigma_elevation
         return self.spread_factor * sensors.sigma_azimuth, self.spread_factor * np.asarray(sigma_el, dtype=float)
 
-    def initiate(self, measurements: MeasurementTable, sensors: SensorNetwork, *, t0: float | None = None) -> InitiationResult:
+    def initiate(
+        self, measurements: MeasurementTable, sensors: SensorNetwork, *, t0: float | None = None
+    ) -> InitiationResult:
         """Find the targets in ``measurements``.
 
         Parameters
@@ -228,19 +232,38 @@ class FuzzyTrackInitiator:
         epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
         spread_az, spread_el = self._spreads(sensors)
         out = _core.initiate(
-            *columns, self._pairs(sensors.n_sensors), spread_az, spread_el,
-            ndim=sensors.ndim, t0=epoch, gate=float(self.gate), n_detect=int(self.n_detect),
-            ray_gate=self.ray_gate, reject_behind=self.reject_behind, v_max=self.v_max,
-            chi2_gate=self.chi2_gate, one_per_scan=self.one_per_scan, merge_tol=float(self.merge_tol),
-            descent_max_iter=int(self.descent_max_iter), max_candidates=int(self.max_candidates),
-            n_threads=self.n_threads, descent_scaling=self.descent_scaling,
+            *columns,
+            self._pairs(sensors.n_sensors),
+            spread_az,
+            spread_el,
+            ndim=sensors.ndim,
+            t0=epoch,
+            gate=float(self.gate),
+            n_detect=int(self.n_detect),
+            ray_gate=self.ray_gate,
+            reject_behind=self.reject_behind,
+            v_max=self.v_max,
+            chi2_gate=self.chi2_gate,
+            one_per_scan=self.one_per_scan,
+            merge_tol=float(self.merge_tol),
+            descent_max_iter=int(self.descent_max_iter),
+            max_candidates=int(self.max_candidates),
+            n_threads=self.n_threads,
+            descent_scaling=self.descent_scaling,
             refine_passes=int(self.refine_passes),
         )
         labels = out["labels"]
         tracks = [
-            InitiatedTrack(out["estimates"][k], out["covariances"][k], float(out["closeness"][k]),
-                  float(out["chi2"][k]), np.flatnonzero(labels == k))
+            InitiatedTrack(
+                out["estimates"][k],
+                out["covariances"][k],
+                float(out["closeness"][k]),
+                float(out["chi2"][k]),
+                np.flatnonzero(labels == k),
+            )
             for k in range(len(out["closeness"]))
         ]
-        diagnostics = InitiationDiagnostics(dict(out["stage_counts"]), out["descent_iterations"], dict(out["stage_seconds"]))
+        diagnostics = InitiationDiagnostics(
+            dict(out["stage_counts"]), out["descent_iterations"], dict(out["stage_seconds"])
+        )
         return InitiationResult(tracks, labels, epoch, diagnostics)

@@ -21,12 +21,16 @@ from .scenario import (
 __all__ = ["PAPER_FTI_TARGETS", "paper_fti_scenario"]
 
 #: METHODS §1 Table 1: (x0, y0, z0, vx, vy, vz) in m and m/s at t0 = 0.
-PAPER_FTI_TARGETS: NDArray[np.float64] = readonly(np.array([
-    [1340.0, 15000.0, 1000.0, 173.2, -100.0, 0.0],
-    [1340.0, 5000.0, 1000.0, 173.2, 100.0, 0.0],
-    [6000.0, 1000.0, 1000.0, 0.0, 200.0, 0.0],
-    [1340.0, 16000.0, 1000.0, 173.2, -100.0, 0.0],
-]))
+PAPER_FTI_TARGETS: NDArray[np.float64] = readonly(
+    np.array(
+        [
+            [1340.0, 15000.0, 1000.0, 173.2, -100.0, 0.0],
+            [1340.0, 5000.0, 1000.0, 173.2, 100.0, 0.0],
+            [6000.0, 1000.0, 1000.0, 0.0, 200.0, 0.0],
+            [1340.0, 16000.0, 1000.0, 173.2, -100.0, 0.0],
+        ]
+    )
+)
 
 
 def paper_fti_scenario(
@@ -61,7 +65,13 @@ def paper_fti_scenario(
     targets = [ConstantVelocityTarget(s, t0=0.0) for s in PAPER_FTI_TARGETS]
     times = _staggered_times(2, n_scans, scan_period, offset)
     return simulate(  # t0 = 0 is sensor 1's first sample (EXPERIMENTS fti)
-        sensors, targets, times, pd=pd,
+        sensors,
+        targets,
+        times,
+        pd=pd,
         clutter_per_scan=_clutter_from_ratio(clutter_ratio, len(targets)),
-        azimuth_window=(0.0, math.pi), elevation_window=(0.0, math.pi / 2), t0=0.0, seed=seed,
+        azimuth_window=(0.0, math.pi),
+        elevation_window=(0.0, math.pi / 2),
+        t0=0.0,
+        seed=seed,
     )

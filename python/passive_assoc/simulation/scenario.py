@@ -61,9 +61,7 @@ class ConstantVelocityTarget:
     def __post_init__(self) -> None:
         state = as_float_array("initial_state", self.initial_state, ndim=1)
         if state.shape not in ((4,), (6,)):
-            raise ValueError(
-                f"initial_state: expected shape (6,) for 3-D or (4,) for 2-D, got {state.shape}"
-            )
+            raise ValueError(f"initial_state: expected shape (6,) for 3-D or (4,) for 2-D, got {state.shape}")
         require_finite("initial_state", state)
         t0 = as_float_scalar("t0", self.t0, finite=True)
         object.__setattr__(self, "initial_state", readonly(state))
@@ -77,12 +75,12 @@ class ConstantVelocityTarget:
     def position(self, t: ArrayLike) -> NDArray[np.float64]:
         """Position at time(s) ``t``: shape ``t.shape + (ndim,)``, metres."""
         tt = as_float_array("t", t)
-        p0, v = self.initial_state[: self.ndim], self.initial_state[self.ndim:]
+        p0, v = self.initial_state[: self.ndim], self.initial_state[self.ndim :]
         return p0 + (tt[..., None] - self.t0) * v
 
     def state_at(self, t: float) -> NDArray[np.float64]:
         """State ``(position, velocity)`` re-referenced to time ``t``."""
-        return np.concatenate([self.position(t), self.initial_state[self.ndim:]])
+        return np.concatenate([self.position(t), self.initial_state[self.ndim :]])
 
 
 @dataclass(frozen=True, eq=False)
@@ -110,9 +108,7 @@ class Scenario:
     @property
     def true_states(self) -> NDArray[np.float64]:
         """Target states at :attr:`t0`, shape (n_targets, 2 * ndim)."""
-        return np.array([tg.state_at(self.t0) for tg in self.targets]).reshape(
-            len(self.targets), 2 * self.sensors.ndim
-        )
+        return np.array([tg.state_at(self.t0) for tg in self.targets]).reshape(len(self.targets), 2 * self.sensors.ndim)
 
     def true_groups(self) -> list[NDArray[np.int64]]:
         """Row indices of each target's measurements (index k for target k)."""
@@ -150,9 +146,7 @@ def _check_clutter(per_scan: int | None, rate: float | None) -> None:
         raise ValueError(f"clutter_rate: must be >= 0, got {rate!r}")
 
 
-def _check_targets(
-    targets: Sequence[ConstantVelocityTarget], ndim: int
-) -> list[ConstantVelocityTarget]:
+def _check_targets(targets: Sequence[ConstantVelocityTarget], ndim: int) -> list[ConstantVelocityTarget]:
     out = list(targets)
     for k, tg in enumerate(out):
         if not isinstance(tg, ConstantVelocityTarget):
@@ -164,9 +158,7 @@ def _check_targets(
 
 def _check_scan_times(scan_times: Sequence[ArrayLike], n: int) -> list[NDArray[np.float64]]:
     if len(scan_times) != n:
-        raise ValueError(
-            f"scan_times: expected one array per sensor ({n}), got {len(scan_times)}"
-        )
+        raise ValueError(f"scan_times: expected one array per sensor ({n}), got {len(scan_times)}")
     out = []
     for j, st in enumerate(scan_times):
         arr = as_float_array(f"scan_times[{j}]", st, ndim=1)
@@ -248,9 +240,17 @@ def simulate(
     rng = _check_seed(seed)
 
     parts = [
-        _sensor_reports(rng, sensors, j, times[j], targets, pd,
-                        _clutter_counts(rng, times[j].size, clutter_per_scan, clutter_rate),
-                        az_win, el_win)
+        _sensor_reports(
+            rng,
+            sensors,
+            j,
+            times[j],
+            targets,
+            pd,
+            _clutter_counts(rng, times[j].size, clutter_per_scan, clutter_rate),
+            az_win,
+            el_win,
+        )
         for j in range(sensors.n_sensors)
     ]
     cols = [np.concatenate([p[c] for p in parts]) for c in range(5)]
@@ -258,8 +258,11 @@ def simulate(
     # The random key shuffles rows within a (time, sensor) scan; lexsort's last key is primary.
     order = np.lexsort((rng.random(sensor.size), sensor, time))
     table = MeasurementTable.from_arrays(
-        sensor[order], time[order], az[order],
-        el[order] if sensors.ndim == 3 else None, truth=truth[order],
+        sensor[order],
+        time[order],
+        az[order],
+        el[order] if sensors.ndim == 3 else None,
+        truth=truth[order],
     )
     if t0 is None:
         nonempty = [t for t in times if t.size]
@@ -318,9 +321,7 @@ def _clutter_from_ratio(clutter_ratio: float, n_targets: int) -> int:
     return round(ratio * n_targets)
 
 
-def _staggered_times(
-    n_sensors: int, n_scans: int, scan_period: float, offset: float
-) -> list[NDArray[np.float64]]:
+def _staggered_times(n_sensors: int, n_scans: int, scan_period: float, offset: float) -> list[NDArray[np.float64]]:
     """Sensor j scans at ``j * offset + k * scan_period``, k = 0..n_scans-1."""
     period = as_float_scalar("scan_period", scan_period, finite=True)
     if period <= 0:
@@ -370,7 +371,12 @@ def bearing_only_2d_scenario(
     vel = speed[:, None] * np.column_stack([np.cos(heading), np.sin(heading)])
     targets = [ConstantVelocityTarget(np.concatenate(pv)) for pv in zip(pos, vel, strict=True)]
     return simulate(
-        sensors, targets, _staggered_times(n_s, n_scans, scan_period, offset), pd=pd,
+        sensors,
+        targets,
+        _staggered_times(n_s, n_scans, scan_period, offset),
+        pd=pd,
         clutter_per_scan=_clutter_from_ratio(clutter_ratio, n_t),
-        azimuth_window=(0.0, math.pi), t0=0.0, seed=rng,
+        azimuth_window=(0.0, math.pi),
+        t0=0.0,
+        seed=rng,
     )

@@ -77,8 +77,16 @@ class StaticScan:
         return (self.true_tuples >= 0).sum(axis=1) >= 2
 
 
-def static_scan(seed: int | np.random.Generator, *, n_targets: int, n_sensors: int = 3, ratio: float = 15.0,
-                pd: float = 0.95, p_false: float = 0.05, sigma: float | None = None) -> StaticScan:
+def static_scan(
+    seed: int | np.random.Generator,
+    *,
+    n_targets: int,
+    n_sensors: int = 3,
+    ratio: float = 15.0,
+    pd: float = 0.95,
+    p_false: float = 0.05,
+    sigma: float | None = None,
+) -> StaticScan:
     """Simulate one scan; ``sigma`` overrides the σθ implied by ``ratio``."""
     rng = np.random.default_rng(seed)
     positions = sensor_positions(n_sensors)

@@ -71,7 +71,9 @@ def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) ->
     return arr
 
 
-def default_false_alarm_density(measurements: MeasurementTable, n_sensors: int, p_false: float = 0.05) -> NDArray[np.float64]:
+def default_false_alarm_density(
+    measurements: MeasurementTable, n_sensors: int, p_false: float = 0.05
+) -> NDArray[np.float64]:
     """False alarms per radian (per rad² in 3-D) when the caller gives none: a fraction
     ``p_false`` of each sensor's reports, spread over the azimuth (× elevation) sector its
     reports span. The paper's P_FA = 0.05 is the default fraction."""
@@ -109,14 +111,28 @@ def enumerate_candidates(
         raise ValueError(f"sensors: static association needs at least 2 sensors, got {sensors.n_sensors}")
     sensor, _, azimuth, elevation, positions, sigma_az, sigma_el = core_columns(measurements, sensors)
     n = sensors.n_sensors
-    density = (default_false_alarm_density(measurements, n) if false_alarm_density is None
-               else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf))
-    return dict(_core.enumerate_static(
-        sensor, azimuth, elevation, positions, sigma_az, sigma_el,
-        _per_sensor("pd", pd, n, 0.0, 1.0), density, ndim=sensors.ndim,
-        gate=as_float_scalar("gate", gate, finite=True), min_intensity=as_int_scalar("min_intensity", min_intensity, minimum=2),
-        max_candidates=as_int_scalar("max_candidates", max_candidates, minimum=1), n_threads=n_threads,
-    ))
+    density = (
+        default_false_alarm_density(measurements, n)
+        if false_alarm_density is None
+        else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf)
+    )
+    return dict(
+        _core.enumerate_static(
+            sensor,
+            azimuth,
+            elevation,
+            positions,
+            sigma_az,
+            sigma_el,
+            _per_sensor("pd", pd, n, 0.0, 1.0),
+            density,
+            ndim=sensors.ndim,
+            gate=as_float_scalar("gate", gate, finite=True),
+            min_intensity=as_int_scalar("min_intensity", min_intensity, minimum=2),
+            max_candidates=as_int_scalar("max_candidates", max_candidates, minimum=1),
+            n_threads=n_threads,
+        )
+    )
 
 
 def associate_static(
@@ -191,23 +207,55 @@ def associate_static(
     """
     if method not in ("intensity", "lagrangian", "exact"):
         raise ValueError(f"method: must be 'intensity', 'lagrangian' or 'exact', got {method!r}")
-    cands = enumerate_candidates(measurements, sensors, pd=pd, false_alarm_density=false_alarm_density, gate=gate,
-                                 min_intensity=min_intensity, max_candidates=max_candidates, n_threads=n_threads)
-    report: dict[str, Any] = {"method": method, "candidates": int(len(cands["costs"])), "stage_counts": dict(cands["stage_counts"])}
+    cands = enumerate_candidates(
+        measurements,
+        sensors,
+        pd=pd,
+        false_alarm_density=false_alarm_density,
+        gate=gate,
+        min_intensity=min_intensity,
+        max_candidates=max_candidates,
+        n_threads=n_threads,
+    )
+    report: dict[str, Any] = {
+        "method": method,
+        "candidates": int(len(cands["costs"])),
+        "stage_counts": dict(cands["stage_counts"]),
+    }
     if method == "intensity":
-        out = _core.intensity_search(cands["tuples"], cands["positions"], cands["costs"], cands["sizes"],
-                                     vote_fraction=float(vote_fraction), valid_airspace=bool(valid_airspace),
-                                     max_chains=None if max_chains is None else as_int_scalar("max_chains", max_chains, minimum=1),
-                                     n_threads=n_threads)
+        out = _core.intensity_search(
+            cands["tuples"],
+            cands["positions"],
+            cands["costs"],
+            cands["sizes"],
+            vote_fraction=float(vote_fraction),
+            valid_airspace=bool(valid_airspace),
+            max_chains=None if max_chains is None else as_int_scalar("max_chains", max_chains, minimum=1),
+            n_threads=n_threads,
+        )
         chosen = out.pop("chosen")
         report.update(out)
     else:
-        solved = assign_sd(cands["tuples"], cands["costs"], cands["sizes"], method=method, max_iter=max_iter,
-                           gap_tol=gap_tol, time_limit=time_limit, sensor_order=sensor_order,
-                           polish=polish)
+        solved = assign_sd(
+            cands["tuples"],
+            cands["costs"],
+            cands["sizes"],
+            method=method,
+            max_iter=max_iter,
+            gap_tol=gap_tol,
+            time_limit=time_limit,
+            sensor_order=sensor_order,
+            polish=polish,
+        )
         chosen = solved.chosen
-        report.update(primal_cost=solved.primal_cost, dual_bound=solved.dual_bound, gap=solved.gap,
-                      iterations=solved.iterations, termination=solved.termination, optimal=solved.optimal)
+        report.update(
+            primal_cost=solved.primal_cost,
+            dual_bound=solved.dual_bound,
+            gap=solved.gap,
+            iterations=solved.iterations,
+            termination=solved.termination,
+            optimal=solved.optimal,
+        )
     return _result(cands, np.asarray(chosen, dtype=np.int64), len(measurements), report)
 
 
@@ -219,5 +267,6 @@ def _result(cands: dict[str, Any], chosen: NDArray[np.int64], n_rows: int, repor
         raise RuntimeError("internal: a report was assigned to two targets")  # solvers guarantee this
     labels = np.full(n_rows, -1, dtype=np.int64)
     labels[flat] = np.nonzero(used)[0]  # row-major: each used entry's target index
-    return StaticAssociation(rows, cands["positions"][chosen], cands["covariances"][chosen],
-                             cands["costs"][chosen], labels, report)
+    return StaticAssociation(
+        rows, cands["positions"][chosen], cands["covariances"][chosen], cands["costs"][chosen], labels, report
+    )
