@@ -11,9 +11,9 @@
 //! * the gated shape with the end-of-solve polish on and off (`with_polish`), in one run.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use passive_assoc::assign::lagrangian::{self, LagrangianOptions, WarmStart};
-use passive_assoc::assign::lap::solve_dense;
-use passive_assoc::assign::SdProblem;
+use passive_assoc_core::assign::lagrangian::{self, LagrangianOptions, WarmStart};
+use passive_assoc_core::assign::lap::solve_dense;
+use passive_assoc_core::assign::SdProblem;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;

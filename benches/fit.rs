@@ -5,11 +5,11 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use passive_assoc::data::{Measurements, Sensors};
-use passive_assoc::fit::batch::{fit_batch, Problems};
-use passive_assoc::fit::FitOptions;
-use passive_assoc::model::{predict, Motion, Space, StateLayout};
-use passive_assoc::parallel::with_threads;
+use passive_assoc_core::data::{Measurements, Sensors};
+use passive_assoc_core::estimation::fit::batch::{fit_batch, Problems};
+use passive_assoc_core::estimation::fit::FitOptions;
+use passive_assoc_core::geometry::model::{predict, Motion, Space, StateLayout};
+use passive_assoc_core::parallel::with_threads;
 
 /// Columnar measurement table plus CSR groups and initial states for `n` problems.
 struct Batch {

@@ -8,11 +8,11 @@
 //!
 //! Run directly with a repeat count (`... fit_profile-<hash> 20`) it prints µs per fit.
 
-use passive_assoc::data::{Measurements, Sensors};
-use passive_assoc::fit::batch::{fit_batch, Problems};
-use passive_assoc::fit::FitOptions;
-use passive_assoc::model::{predict, Motion, Space, StateLayout};
-use passive_assoc::parallel::with_threads;
+use passive_assoc_core::data::{Measurements, Sensors};
+use passive_assoc_core::estimation::fit::batch::{fit_batch, Problems};
+use passive_assoc_core::estimation::fit::FitOptions;
+use passive_assoc_core::geometry::model::{predict, Motion, Space, StateLayout};
+use passive_assoc_core::parallel::with_threads;
 fn main() {
     let layout = StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 });
     let pos = [[0.0, 0.0, 0.0], [20_000.0, 0.0, 0.0]];

@@ -11,15 +11,15 @@ use std::f64::consts::PI;
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use passive_assoc::data::{Measurements, Sensors};
-use passive_assoc::initiation::candidates::generate;
-use passive_assoc::initiation::descent::descend;
-use passive_assoc::initiation::scans::{resolve_pairs, Scans};
-use passive_assoc::initiation::{
+use passive_assoc_core::data::{Measurements, Sensors};
+use passive_assoc_core::fti::candidates::generate;
+use passive_assoc_core::fti::descent::descend;
+use passive_assoc_core::fti::scans::{resolve_pairs, Scans};
+use passive_assoc_core::fti::{
     closeness_and_gradient, initiate, InitiationOptions, Precomputed, Problem, Spreads,
 };
-use passive_assoc::model::{predict, Motion, Space, StateLayout};
-use passive_assoc::parallel::with_threads;
+use passive_assoc_core::geometry::model::{predict, Motion, Space, StateLayout};
+use passive_assoc_core::parallel::with_threads;
 
 const TARGETS: [[f64; 6]; 4] = [
     [1340.0, 15000.0, 1000.0, 173.2, -100.0, 0.0],
@@ -150,7 +150,7 @@ fn bench_descent(c: &mut Criterion) {
         .candidates
         .iter()
         .min_by(|a, b| {
-            let d = |c: &passive_assoc::initiation::candidates::Candidate| {
+            let d = |c: &passive_assoc_core::fti::candidates::Candidate| {
                 (0..6)
                     .map(|k| ((c.estimate[k] - truth[k]) / c.scale[k]).powi(2))
                     .sum::<f64>()

@@ -10,9 +10,9 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use passive_assoc::data::{Measurements, Sensors};
-use passive_assoc::model::{predict, Space};
-use passive_assoc::static_assoc::{
+use passive_assoc_core::data::{Measurements, Sensors};
+use passive_assoc_core::geometry::model::{predict, Space};
+use passive_assoc_core::static_los::{
     enumerate, intensity_search, DetectionModel, EnumerateOptions, IntensityInput, IntensityOptions,
 };
 

@@ -1,0 +1,180 @@
+//! Baseline A of METHODS.md §2: S-D assignment by Lagrangian relaxation (Pattipati et al.
+//! 1992, Deb et al. 1997).
+//!
+//! The "at most once" constraints of sensors 3..S (indices `2..S` here) move into the
+//! objective with multipliers `u_s[i] <= 0` (the dummy report 0 has none):
+//! `L(u) = min Σ_k (c_k − Σ_{s≥2} u_s[i_s(k)]) x_k + Σ_{s≥2} Σ_i u_s[i]` subject to the
+//! constraints of sensors 0 and 1 only. That is a sparse 2-D assignment between the reports of
+//! sensors 0 and 1 (each pair keeps its best tuple; tuples missing sensor 0 or 1 become the
+//! "unassigned" costs), solved exactly by [`lap`](super::lap), so `L(u)` is a valid lower bound.
+//! The bound is raised by projected subgradient ascent with a Polyak step aimed at the best
+//! primal; a feasible solution is recovered each iteration by successive 2-D assignments and
+//! polished by a local search, and, if asked, the best one once at the end by compound moves
+//! (private module `recovery`). Which sensors play 0 and 1 is
+//! [`SensorOrder`]'s choice: by default, at S = 3, the two with the fewest reports.
+//!
+//! Speed: every iteration touches every candidate tuple, so the per-solve structures
+//! (`Relaxation`, `Recovery`) are built once and their buffers reused, and work
+//! whose result is already known is skipped (a repeated relaxed solution or search start). With
+//! cold 2-D solves the result is the same, bit for bit, as a plain implementation of the steps
+//! above; warm ones may pick another 2-D optimum of equal cost (see [`WarmStart`]).
+
+mod options;
+mod order;
+mod recovery;
+pub(crate) mod reduced;
+mod relaxation;
+
+pub use options::{LagrangianOptions, WarmStart, WARM_MIN_SIZE};
+pub use order::SensorOrder;
+
+use options::MIN_STEP_SCALE;
+use recovery::{polish, Recovery};
+use relaxation::Relaxation;
+
+use crate::assign::{closes_gap, relative_gap, SdProblem, SdSolution, Termination};
+
+/// Solves the S-D problem approximately, with a proven lower bound. Deterministic.
+///
+/// For S = 2 the relaxation is the problem itself, so one exact sparse 2-D assignment answers
+/// it (`Termination::Optimal`). For S >= 3 each iteration evaluates `L(u)`, recovers a feasible
+/// solution, and stops on a closed gap (`Optimal`), `gap <= gap_tol` (`GapReached`), a vanished
+/// step (`Stalled`) or `max_iter` (`MaxIterations`). With `polish` on, after those last two
+/// the best solution gets the compound-move polish (not bounded by any time limit: its passes
+/// end when no move improves), and the termination becomes `Optimal` or `GapReached` if the
+/// polished cost meets that test. The primal never exceeds 0: choosing nothing is
+/// feasible.
+///
+/// ```
+/// use passive_assoc_core::assign::{lagrangian, SdProblem};
+/// let tuples = vec![1, 1, 1, 1, 1, 0, 0, 0, 1];
+/// let p = SdProblem::new(tuples, 3, vec![-5.0, -3.0, -1.0], vec![1, 1, 1]).unwrap();
+/// let s = lagrangian::solve(&p, &Default::default());
+/// assert_eq!(s.chosen, vec![0]);
+/// assert!(s.dual_bound <= s.primal_cost + 1e-12);
+/// ```
+pub fn solve(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
+    // Reordering sensors keeps tuple indices, so the solution needs no mapping back.
+    match order::working_order(problem, options.sensor_order()) {
+        Some(order) => solve_in_order(&problem.reordered(&order), options),
+        None => solve_in_order(problem, options),
+    }
+}
+
+/// [`solve`] with sensors 0 and 1 as the 2-D problem and 2.. relaxed.
+fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
+    let mut relax = Relaxation::new(problem, options.warm_start());
+    let mut recovery = Recovery::new(problem);
+    let mut mult: Vec<Vec<f64>> = problem.sizes().iter().map(|&n| vec![0.0; n + 1]).collect();
+    let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
+    let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
+    let (mut iterations, mut termination) = (0, Termination::MaxIterations);
+    while iterations < options.max_iter() {
+        iterations += 1;
+        let (dual, relaxed) = relax.evaluate(&mult);
+        if dual > dual_bound {
+            dual_bound = dual;
+            since = 0;
+        } else {
+            since += 1;
+        }
+        if let Some(cand) = recovery.primal(problem, &mult, &relaxed) {
+            if cand.1 < best.1 {
+                best = cand;
+            }
+        }
+        if problem.n_sensors() == 2 || closes_gap(best.1, dual_bound) {
+            termination = Termination::Optimal;
+            break;
+        }
+        if relative_gap(best.1, dual_bound) <= options.gap_tol() {
+            termination = Termination::GapReached;
+            break;
+        }
+        if since >= options.stall_iters() {
+            (alpha, since) = (alpha / 2.0, 0);
+        }
+        if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, alpha * (best.1 - dual)) {
+            termination = Termination::Stalled;
+            break;
+        }
+    }
+    // Not after `GapReached`: the caller's precision is met, and the polish is not free.
+    let unfinished = matches!(
+        termination,
+        Termination::MaxIterations | Termination::Stalled
+    );
+    if options.polish() && unfinished {
+        // Compound moves the per-iteration search cannot make (module `recovery::polish`).
+        best = polish(problem, &best.0);
+        if closes_gap(best.1, dual_bound) {
+            termination = Termination::Optimal;
+        } else if relative_gap(best.1, dual_bound) <= options.gap_tol() {
+            termination = Termination::GapReached;
+        }
+    }
+    finish(
+        problem,
+        best.0,
+        dual_bound.min(best.1),
+        iterations,
+        termination,
+    )
+}
+
+fn finish(
+    problem: &SdProblem,
+    mut chosen: Vec<usize>,
+    dual: f64,
+    iterations: usize,
+    termination: Termination,
+) -> SdSolution {
+    chosen.sort_unstable();
+    let primal_cost = chosen.iter().map(|&k| problem.costs()[k]).sum();
+    // An empty problem never iterates; its bound is trivially 0.
+    let dual_bound = if dual.is_finite() { dual } else { primal_cost };
+    let gap = relative_gap(primal_cost, dual_bound);
+    SdSolution {
+        chosen,
+        primal_cost,
+        dual_bound,
+        gap,
+        iterations,
+        termination,
+    }
+}
+
+/// One projected subgradient step `u ← min(0, u + t·g / |g|²)` with `g_s[i] = 1 − uses`;
+/// `numerator` is `α·(best primal − L(u))`. Returns false when `g` vanishes (nothing to do).
+fn step(problem: &SdProblem, mult: &mut [Vec<f64>], relaxed: &[usize], numerator: f64) -> bool {
+    let mut g: Vec<Vec<f64>> = mult.iter().map(|m| vec![1.0; m.len()]).collect();
+    for &k in relaxed {
+        for (s, &i) in problem.tuple(k).iter().enumerate().skip(2) {
+            g[s][i] -= 1.0;
+        }
+    }
+    let mut norm2 = 0.0;
+    for s in 2..mult.len() {
+        g[s][0] = 0.0;
+        for (gi, ui) in g[s].iter_mut().zip(&mult[s]) {
+            // Projected: a zero multiplier cannot rise, so that component does not count.
+            if *ui >= 0.0 && *gi > 0.0 {
+                *gi = 0.0;
+            }
+            norm2 += *gi * *gi;
+        }
+    }
+    if norm2 == 0.0 || numerator <= 0.0 {
+        return false;
+    }
+    let t = numerator / norm2;
+    for s in 2..mult.len() {
+        for (ui, gi) in mult[s].iter_mut().zip(&g[s]) {
+            *ui = (*ui + t * gi).min(0.0);
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,245 @@
+//! The relaxed problem of the Lagrangian solver: given multipliers `u`, `L(u)` is a sparse 2-D
+//! assignment between the reports of sensors 0 and 1 (see the parent module). The structure
+//! is built once per solve; an evaluation is one pass over flat arrays plus one 2-D solve.
+
+use super::options::{WarmStart, WARM_MIN_SIZE};
+use super::reduced::{keep_min, EMPTY};
+use crate::assign::lap::{SparseCosts, SparseSolver};
+use crate::assign::SdProblem;
+
+/// The fixed structure of the relaxed 2-D problem, built once per solve, and the buffers of
+/// its per-iteration evaluation.
+pub(super) struct Relaxation {
+    /// Unique (sensor 0, sensor 1) report pairs, rows = sensor 0 reports − 1.
+    pairs: SparseCosts,
+    /// The active tuples in four groups: by pair (`pair_offs`, CSR over pair index, each
+    /// pair's tuples ascending), then `(i0 > 0, 0, …)`, `(0, i1 > 0, …)` and `(0, 0, …)`;
+    /// `ends` closes the groups.
+    tuples: Vec<usize>,
+    pair_offs: Vec<usize>,
+    ends: [usize; 4],
+    /// Per entry of `tuples`: its cost, and the positions in `flat` of its multipliers (one per
+    /// sensor from 2 on), so the modified costs are one tight loop per iteration.
+    cost: Vec<f64>,
+    tail: Vec<usize>,
+    /// The multipliers of sensors 2.. laid out flat: sensor `s` report `i` is at
+    /// `mult_offs[s − 2] + i`.
+    mult_offs: Vec<usize>,
+    flat: Vec<f64>,
+    /// Per row-only / column-only entry (from `ends[0]`): its sensor-0 / sensor-1 report − 1.
+    lone: Vec<usize>,
+    /// Per entry of `tuples`: cost minus its multipliers, this iteration.
+    modified: Vec<f64>,
+    /// Each pair's best tuple, each report's best lone tuple, and the "unassigned" costs
+    /// handed to the 2-D solver.
+    arg: Vec<usize>,
+    rows: Vec<(f64, usize)>,
+    cols: Vec<(f64, usize)>,
+    a: Vec<f64>,
+    b: Vec<f64>,
+    lap: SparseSolver,
+    /// Warm-start the 2-D solves (see [`WarmStart`]).
+    warm: bool,
+}
+
+impl Relaxation {
+    pub(super) fn new(problem: &SdProblem, warm_start: WarmStart) -> Self {
+        let key = |k: usize| (problem.tuple(k)[0], problem.tuple(k)[1]);
+        let pick = |f: &dyn Fn((usize, usize)) -> bool| {
+            let active = problem.active().iter().copied();
+            active.filter(|&k| f(key(k))).collect::<Vec<_>>()
+        };
+        let mut tuples = pick(&|(a, b)| a > 0 && b > 0);
+        // By pair, each pair's tuples in index order (the index makes every key distinct).
+        tuples.sort_unstable_by_key(|&k| (key(k), k));
+        let (n0, n1) = (problem.sizes()[0], problem.sizes()[1]);
+        let (mut row_offs, mut cols, mut pair_offs) = (vec![0; n0 + 1], Vec::new(), Vec::new());
+        for (at, &k) in tuples.iter().enumerate() {
+            if at == 0 || key(tuples[at - 1]) != key(k) {
+                row_offs[key(k).0] += 1;
+                cols.push(key(k).1 - 1);
+                pair_offs.push(at);
+            }
+        }
+        pair_offs.push(tuples.len()); // one start per pair, then the end
+        for r in 0..n0 {
+            row_offs[r + 1] += row_offs[r];
+        }
+        let mut ends = [tuples.len(); 4];
+        tuples.extend(pick(&|(a, b)| a > 0 && b == 0));
+        ends[1] = tuples.len();
+        tuples.extend(pick(&|(a, b)| a == 0 && b > 0));
+        ends[2] = tuples.len();
+        tuples.extend(pick(&|(a, b)| a == 0 && b == 0));
+        ends[3] = tuples.len();
+        let mut mult_offs = vec![0];
+        for &n in &problem.sizes()[2..] {
+            mult_offs.push(mult_offs.last().copied().unwrap_or(0) + n + 1);
+        }
+        let lone = (ends[0]..ends[2])
+            .map(|x| problem.tuple(tuples[x])[usize::from(x >= ends[1])] - 1)
+            .collect();
+        let tail = (tuples.iter())
+            .flat_map(|&k| problem.tuple(k)[2..].iter().zip(&mult_offs))
+            .map(|(&i, &off)| off + i)
+            .collect();
+        Self {
+            pairs: SparseCosts::from_csr_unchecked(
+                n0,
+                n1,
+                row_offs,
+                cols.clone(),
+                vec![0.0; cols.len()],
+            ),
+            arg: vec![usize::MAX; pair_offs.len() - 1],
+            cost: tuples.iter().map(|&k| problem.costs()[k]).collect(),
+            modified: vec![0.0; tuples.len()],
+            flat: vec![0.0; mult_offs.last().copied().unwrap_or(0)],
+            tuples,
+            pair_offs,
+            ends,
+            lone,
+            tail,
+            mult_offs,
+            rows: vec![EMPTY; n0],
+            cols: vec![EMPTY; n1],
+            a: Vec::with_capacity(n0),
+            b: Vec::with_capacity(n1),
+            lap: SparseSolver::default(),
+            warm: match warm_start {
+                WarmStart::Auto => problem.n_sensors() == 3 && n0 + n1 >= WARM_MIN_SIZE,
+                WarmStart::Always => true,
+                WarmStart::Never => false,
+            },
+        }
+    }
+
+    /// Cost minus multipliers of every entry, summed as [`super::reduced::modified`] does, so the
+    /// values are bit-identical to it. The loop runs over every tuple each iteration, so
+    /// common sensor counts get a copy with the width known at compile time.
+    fn modify(&mut self, mult: &[Vec<f64>]) {
+        for (s, &off) in self
+            .mult_offs
+            .iter()
+            .enumerate()
+            .take(mult.len().saturating_sub(2))
+        {
+            self.flat[off..off + mult[s + 2].len()].copy_from_slice(&mult[s + 2]);
+        }
+        match self.mult_offs.len() - 1 {
+            0 => self.modified.copy_from_slice(&self.cost),
+            1 => self.modify_n::<1>(),
+            2 => self.modify_n::<2>(),
+            3 => self.modify_n::<3>(),
+            _ => self.modify_n::<0>(),
+        }
+    }
+
+    /// [`Relaxation::modify`] for `W` multipliers per tuple (0: any).
+    fn modify_n<const W: usize>(&mut self) {
+        let w = if W == 0 { self.mult_offs.len() - 1 } else { W };
+        let (flat, tails) = (&self.flat, self.tail.chunks_exact(w));
+        for ((m, &c), tail) in self.modified.iter_mut().zip(&self.cost).zip(tails) {
+            *m = c - tail.iter().map(|&x| flat[x]).sum::<f64>();
+        }
+    }
+
+    /// `L(u)` and the tuples chosen by the relaxed problem.
+    pub(super) fn evaluate(&mut self, mult: &[Vec<f64>]) -> (f64, Vec<usize>) {
+        self.modify(mult);
+        let (m, tuples) = (&self.modified, &self.tuples);
+        let spans = self.pair_offs.windows(2);
+        for ((v, arg), w) in self
+            .pairs
+            .values_mut()
+            .iter_mut()
+            .zip(&mut self.arg)
+            .zip(spans)
+        {
+            let mut b = EMPTY;
+            for (&mx, &k) in m[w[0]..w[1]].iter().zip(&tuples[w[0]..w[1]]) {
+                keep_min(&mut b, (mx, k));
+            }
+            (*v, *arg) = b;
+        }
+        let [e0, e1, e2, e3] = self.ends;
+        self.rows.fill(EMPTY);
+        self.cols.fill(EMPTY);
+        let lone = m[e0..e2].iter().zip(&tuples[e0..e2]).zip(&self.lone);
+        for (x, ((&mx, &k), &r)) in (e0..e2).zip(lone) {
+            let slot = if x < e1 {
+                &mut self.rows[r]
+            } else {
+                &mut self.cols[r]
+            };
+            keep_min(slot, (mx, k));
+        }
+        self.a.clear();
+        self.a.extend(self.rows.iter().map(|r| r.0.min(0.0)));
+        self.b.clear();
+        self.b.extend(self.cols.iter().map(|c| c.0.min(0.0)));
+        let sol = if self.warm {
+            self.lap.solve_warm(&self.pairs, &self.a, &self.b)
+        } else {
+            self.lap.solve(&self.pairs, &self.a, &self.b)
+        };
+        let mut chosen = Vec::new();
+        for (r, c) in sol.row_to_col.iter().enumerate() {
+            match c {
+                Some(c) => chosen.extend(
+                    (self.pairs.span(r))
+                        .find(|&p| self.pairs.col_indices()[p] == *c)
+                        .map(|p| self.arg[p]),
+                ),
+                None if self.a[r] < 0.0 => chosen.push(self.rows[r].1),
+                None => {}
+            }
+        }
+        chosen.extend(
+            (0..self.b.len())
+                .filter(|&c| sol.col_to_row[c].is_none() && self.b[c] < 0.0)
+                .map(|c| self.cols[c].1),
+        );
+        let mut dual = sol.cost;
+        for x in (e2..e3).filter(|&x| m[x] < 0.0) {
+            dual += m[x];
+            chosen.push(tuples[x]);
+        }
+        dual += mult.iter().skip(2).flatten().sum::<f64>();
+        (dual, chosen)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assign::lagrangian::reduced::modified;
+    use crate::assign::test_support::random_problem;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn modified_costs_are_bit_identical_to_the_reference() {
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        for seed in 0..40u64 {
+            let s = 2 + seed as usize % 6; // every specialised width and the generic one
+            let p = random_problem(seed, s, 5, 4, 30);
+            let mut relax = Relaxation::new(&p, WarmStart::Auto);
+            let mult: Vec<Vec<f64>> = (p.sizes().iter())
+                .map(|&n| {
+                    let draw = |i| match i {
+                        0 => 0.0,
+                        _ if rng.random_bool(0.2) => -0.0,
+                        _ => -rng.random_range(0.0..3.0),
+                    };
+                    (0..=n).map(draw).collect()
+                })
+                .collect();
+            relax.modify(&mult);
+            for (x, &k) in relax.tuples.iter().enumerate() {
+                let want = modified(&p, &mult, k, 2);
+                assert_eq!(relax.modified[x].to_bits(), want.to_bits(), "seed {seed}");
+            }
+        }
+    }
+}

@@ -1,0 +1,115 @@
+//! Tests of the Lagrangian solver against brute force and of its options.
+
+use super::*;
+use crate::assign::test_support::{brute_force, random_problem};
+use crate::error::CoreError;
+
+#[test]
+fn bounds_bracket_the_optimum_and_usually_hit_it() {
+    for order in [SensorOrder::Auto, SensorOrder::Given] {
+        bracket_and_hit(&LagrangianOptions::default().with_sensor_order(order));
+    }
+    bracket_and_hit(&LagrangianOptions::default().with_polish(true));
+}
+
+fn bracket_and_hit(opts: &LagrangianOptions) {
+    let (mut hits, n) = (0, 150);
+    for seed in 0..n {
+        let s = 2 + seed as usize % 3;
+        let p = random_problem(seed, s, 4, 3, 8);
+        let opt = brute_force(&p);
+        let sol = solve(&p, opts);
+        let scale = opt.abs().max(1.0);
+        assert_eq!(p.evaluate(&sol.chosen), Ok(sol.primal_cost), "seed {seed}");
+        assert!(
+            sol.primal_cost >= opt - 1e-9 * scale,
+            "seed {seed}: primal below optimum"
+        );
+        assert!(
+            sol.dual_bound <= opt + 1e-9 * scale,
+            "seed {seed}: bound above optimum"
+        );
+        assert_eq!(sol.gap, relative_gap(sol.primal_cost, sol.dual_bound));
+        assert!(sol.primal_cost - opt <= sol.gap * sol.primal_cost.abs().max(1.0) + 1e-9);
+        match sol.termination {
+            Termination::Optimal => {
+                assert!((sol.primal_cost - opt).abs() <= 1e-9 * scale, "seed {seed}")
+            }
+            Termination::GapReached => assert!(sol.gap <= opts.gap_tol()),
+            _ => {}
+        }
+        if s == 2 {
+            assert_eq!(
+                sol.termination,
+                Termination::Optimal,
+                "seed {seed}: S = 2 is exact"
+            );
+        }
+        hits += usize::from((sol.primal_cost - opt).abs() <= 1e-9 * scale);
+    }
+    assert!(
+        hits * 10 >= n as usize * 9,
+        "optimum found in only {hits} of {n}"
+    );
+}
+
+#[test]
+fn is_deterministic_and_respects_max_iter() {
+    let base = LagrangianOptions::default()
+        .with_max_iter(3)
+        .unwrap()
+        .with_gap_tol(0.0)
+        .unwrap();
+    for p in [
+        random_problem(3, 4, 6, 4, 30),
+        random_problem(5, 3, 8, 5, 40),
+    ] {
+        for opts in [
+            base.clone(),
+            base.clone().with_polish(true),
+            base.clone().with_sensor_order(SensorOrder::Given),
+        ] {
+            let a = solve(&p, &opts);
+            assert_eq!(a, solve(&p, &opts));
+            assert!(a.iterations <= 3);
+        }
+    }
+}
+
+#[test]
+fn empty_problem_is_optimal_at_zero() {
+    let p = SdProblem::new(vec![0, 0, 0, 1, 1, 1], 3, vec![-1.0, 4.0], vec![1, 1, 1]).unwrap();
+    let s = solve(&p, &LagrangianOptions::default());
+    assert_eq!((s.chosen.len(), s.primal_cost, s.dual_bound), (0, 0.0, 0.0));
+    assert_eq!(s.termination, Termination::Optimal);
+}
+
+#[test]
+fn options_reject_out_of_range_values() {
+    let d = LagrangianOptions::default();
+    assert!(matches!(
+        d.clone().with_max_iter(0),
+        Err(CoreError::OutOfRange {
+            arg: "max_iter",
+            ..
+        })
+    ));
+    assert!(matches!(
+        d.clone().with_gap_tol(f64::NAN),
+        Err(CoreError::OutOfRange { arg: "gap_tol", .. })
+    ));
+    assert!(matches!(
+        d.clone().with_step_scale(2.5),
+        Err(CoreError::OutOfRange {
+            arg: "step_scale",
+            ..
+        })
+    ));
+    assert!(matches!(
+        d.with_stall_iters(0),
+        Err(CoreError::OutOfRange {
+            arg: "stall_iters",
+            ..
+        })
+    ));
+}

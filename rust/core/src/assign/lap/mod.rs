@@ -1,0 +1,207 @@
+//! Exact min-cost 2-D linear assignment, dense and sparse: the public types, input
+//! validation and result assembly. The algorithms themselves are in `sap.rs` (its child `warm`
+//! is the warm-started sparse solve); the CSR cost type in `sparse_costs.rs`.
+
+mod sap;
+mod sparse_costs;
+
+pub use sparse_costs::SparseCosts;
+
+use crate::error::{CoreError, CoreResult};
+
+/// A dense assignment: `row_to_col[i]` is the column of row `i` (`None` only when there are
+/// more rows than columns), `cost` the sum of the assigned entries.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DenseAssignment {
+    pub row_to_col: Vec<Option<usize>>,
+    pub cost: f64,
+}
+
+/// Solves `min Σ c[i, σ(i)]` over injective maps between rows and columns of the dense
+/// `n_rows × n_cols` row-major matrix `costs`; every row is assigned when `n_rows <= n_cols`,
+/// every column otherwise (the matrix is transposed internally). `+inf` marks a forbidden pair.
+///
+/// Errors: `Shape` if `costs.len() != n_rows * n_cols`, `NonFinite` for NaN or `-inf`,
+/// `IllPosed` if the forbidden pairs leave no complete assignment.
+///
+/// ```
+/// use passive_assoc_core::assign::lap::solve_dense;
+/// let a = solve_dense(2, 3, &[4.0, 1.0, 3.0, 2.0, 0.0, 5.0]).unwrap();
+/// assert_eq!(a.row_to_col, vec![Some(1), Some(0)]);
+/// assert_eq!(a.cost, 3.0);
+/// ```
+pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<DenseAssignment> {
+    let expected = n_rows
+        .checked_mul(n_cols)
+        .ok_or_else(|| CoreError::shape("costs", format!("{n_rows} × {n_cols} overflows usize")))?;
+    if costs.len() != expected {
+        return Err(CoreError::shape(
+            "costs",
+            format!(
+                "length {} is not n_rows × n_cols = {n_rows} × {n_cols}",
+                costs.len()
+            ),
+        ));
+    }
+    if let Some(index) = costs
+        .iter()
+        .position(|c| c.is_nan() || *c == f64::NEG_INFINITY)
+    {
+        return Err(CoreError::NonFinite {
+            arg: "costs",
+            index,
+        });
+    }
+    let mut row_to_col = vec![None; n_rows];
+    if n_rows <= n_cols {
+        let col4row = sap::dense(n_rows, n_cols, costs)?;
+        for (i, &j) in col4row.iter().enumerate() {
+            row_to_col[i] = Some(j);
+        }
+    } else {
+        let mut t = vec![0.0; expected];
+        for i in 0..n_rows {
+            for j in 0..n_cols {
+                t[j * n_rows + i] = costs[i * n_cols + j];
+            }
+        }
+        for (j, &i) in sap::dense(n_cols, n_rows, &t)?.iter().enumerate() {
+            row_to_col[i] = Some(j);
+        }
+    }
+    let cost = (row_to_col.iter().enumerate())
+        .filter_map(|(i, j)| j.map(|j| costs[i * n_cols + j]))
+        .sum();
+    Ok(DenseAssignment { row_to_col, cost })
+}
+
+/// A sparse assignment: each row has its column or `None` (left unassigned), each column its
+/// row or `None`; `cost` counts assigned entries plus the unassigned costs.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SparseAssignment {
+    pub row_to_col: Vec<Option<usize>>,
+    pub col_to_row: Vec<Option<usize>>,
+    pub cost: f64,
+}
+
+/// Exact min-cost assignment where each row takes one allowed column or pays
+/// `row_unassigned[i]`, and each column not taken pays `col_unassigned[j]`.
+///
+/// Why it is exact and sparse: the objective equals `Σ a_i + Σ b_j + Σ (c_ij - a_i - b_j)`
+/// over the assigned pairs, so only entries with `c_ij - a_i - b_j < 0` are ever worth using
+/// (ties are left unassigned). Giving each row a private zero-cost dummy column turns that into
+/// a rectangular assignment that always has a solution; shortest augmenting paths with a binary
+/// heap then cost O(rows · nnz · log) in the worst case and touch only stored entries.
+///
+/// Errors: `Shape` for wrong lengths, `NonFinite` for a non-finite unassigned cost.
+///
+/// ```
+/// use passive_assoc_core::assign::lap::{solve_sparse, SparseCosts};
+/// let c = SparseCosts::from_triplets(2, 2, &[(0, 0, -5.0), (1, 0, -4.0)]).unwrap();
+/// let a = solve_sparse(&c, &[0.0, -1.0], &[0.0, 0.0]).unwrap();
+/// assert_eq!(a.row_to_col, vec![Some(0), None]);
+/// assert_eq!(a.cost, -6.0);
+/// ```
+pub fn solve_sparse(
+    costs: &SparseCosts,
+    row_unassigned: &[f64],
+    col_unassigned: &[f64],
+) -> CoreResult<SparseAssignment> {
+    if row_unassigned.len() != costs.n_rows() {
+        let got = row_unassigned.len();
+        return Err(CoreError::shape(
+            "row_unassigned",
+            format!("length {got} is not n_rows = {}", costs.n_rows()),
+        ));
+    }
+    if col_unassigned.len() != costs.n_cols() {
+        let got = col_unassigned.len();
+        return Err(CoreError::shape(
+            "col_unassigned",
+            format!("length {got} is not n_cols = {}", costs.n_cols()),
+        ));
+    }
+    crate::error::ensure_finite("row_unassigned", row_unassigned)?;
+    crate::error::ensure_finite("col_unassigned", col_unassigned)?;
+    Ok(sparse_core(costs, row_unassigned, col_unassigned))
+}
+
+/// The sparse solver on validated input (never fails: every row has its dummy column).
+pub(crate) fn sparse_core(costs: &SparseCosts, a: &[f64], b: &[f64]) -> SparseAssignment {
+    let mut solver = SparseSolver::default();
+    solver.solve(costs, a, b);
+    solver.result
+}
+
+/// [`sparse_core`] with working memory kept between calls, for callers that solve one
+/// problem per iteration.
+#[derive(Default)]
+pub(crate) struct SparseSolver {
+    work: sap::SparseWork,
+    warm: sap::WarmState,
+    result: SparseAssignment,
+}
+
+impl SparseSolver {
+    /// Solves validated input; the result stays valid until the next call.
+    pub(crate) fn solve(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) -> &SparseAssignment {
+        let col4row = sap::sparse(&mut self.work, costs, a, b);
+        finish(costs, a, b, col4row, &mut self.result);
+        &self.result
+    }
+
+    /// [`SparseSolver::solve`] starting from the previous warm solve's duals and matching when
+    /// the shape is the same: the same optimum (possibly another of equal cost), found faster
+    /// when the problem changed little. Which callers should use it: see
+    /// [`super::lagrangian::WarmStart`].
+    pub(crate) fn solve_warm(
+        &mut self,
+        costs: &SparseCosts,
+        a: &[f64],
+        b: &[f64],
+    ) -> &SparseAssignment {
+        let col4row = sap::sparse_warm(&mut self.work, &mut self.warm, costs, a, b);
+        finish(costs, a, b, col4row, &mut self.result);
+        &self.result
+    }
+}
+
+/// Converts the internal matching to the public form and totals the cost from the input.
+fn finish(
+    costs: &SparseCosts,
+    a: &[f64],
+    b: &[f64],
+    col4row: &[usize],
+    out: &mut SparseAssignment,
+) {
+    let (nr, nc) = (costs.n_rows(), costs.n_cols());
+    let (row_to_col, col_to_row) = (&mut out.row_to_col, &mut out.col_to_row);
+    row_to_col.clear();
+    col_to_row.clear();
+    row_to_col.resize(nr, None);
+    col_to_row.resize(nc, None);
+    let mut cost = 0.0;
+    for i in 0..nr {
+        let j = col4row[i];
+        if j < nc {
+            row_to_col[i] = Some(j);
+            col_to_row[j] = Some(i);
+            // The cheapest duplicate is the one the search used.
+            cost += costs
+                .row(i)
+                .filter(|e| e.0 == j)
+                .map(|e| e.1)
+                .fold(f64::INFINITY, f64::min);
+        } else {
+            cost += a[i];
+        }
+    }
+    cost += (0..nc)
+        .filter(|&j| col_to_row[j].is_none())
+        .map(|j| b[j])
+        .sum::<f64>();
+    out.cost = cost;
+}
+
+#[cfg(test)]
+mod tests;

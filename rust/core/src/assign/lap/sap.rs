@@ -1,0 +1,364 @@
+//! The shortest-augmenting-path cores behind [`super`] (the warm-started variant is the child `warm`).
+//!
+//! Both solvers are the shortest-augmenting-path method of Jonker & Volgenant in the form of
+//! Crouse (2016, "On implementing 2D rectangular assignment algorithms"), the algorithm behind
+//! `scipy.optimize.linear_sum_assignment`: rows are added one at a time, each by a Dijkstra
+//! search over reduced costs `c - u - v` that stays non-negative on already assigned rows, then
+//! the duals are updated so they stay feasible. It is hand-rolled rather than taken from a
+//! generic crate because the S-D solvers call it hundreds of times per problem: per-call
+//! set-up of a generic graph type and allocation in the inner loop would cost more than the
+//! solve itself. The inner loops here touch only preallocated flat vectors.
+
+use super::SparseCosts;
+
+mod warm;
+use crate::error::{CoreError, CoreResult};
+pub(super) use warm::{sparse_warm, WarmState};
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+const NONE: usize = usize::MAX;
+
+/// Crouse's algorithm for `nr <= nc`; returns the column of each row. `cost` has no NaN or
+/// `-inf` (checked by the caller); `+inf` entries are forbidden pairs.
+pub(super) fn dense(nr: usize, nc: usize, cost: &[f64]) -> CoreResult<Vec<usize>> {
+    let mut w = DenseWork::new(nr, nc);
+    for cur in 0..nr {
+        let Some((sink, min_val)) = w.shortest_path(cur, cost) else {
+            return Err(CoreError::ill_posed(
+                "costs",
+                format!(
+                    "row {cur} cannot be assigned: +inf entries forbid every complete assignment"
+                ),
+            ));
+        };
+        w.update_duals(cur, min_val);
+        augment(sink, cur, &w.path, &mut w.row4col, &mut w.col4row);
+    }
+    Ok(w.col4row)
+}
+
+/// Working state of the dense solver, allocated once per solve.
+struct DenseWork {
+    nc: usize,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    dist: Vec<f64>,
+    path: Vec<usize>,
+    col4row: Vec<usize>,
+    row4col: Vec<usize>,
+    in_sr: Vec<bool>,
+    in_sc: Vec<bool>,
+    /// Columns not yet scanned by the current search, in `remaining[..n_rem]`.
+    remaining: Vec<usize>,
+}
+
+impl DenseWork {
+    fn new(nr: usize, nc: usize) -> Self {
+        Self {
+            nc,
+            u: vec![0.0; nr],
+            v: vec![0.0; nc],
+            dist: vec![f64::INFINITY; nc],
+            path: vec![NONE; nc],
+            col4row: vec![NONE; nr],
+            row4col: vec![NONE; nc],
+            in_sr: vec![false; nr],
+            in_sc: vec![false; nc],
+            remaining: vec![0; nc],
+        }
+    }
+
+    /// Dijkstra from row `cur` to the nearest free column over reduced costs; `None` if every
+    /// reachable column is forbidden. The O(nc) scan per step beats a heap on dense rows.
+    fn shortest_path(&mut self, cur: usize, cost: &[f64]) -> Option<(usize, f64)> {
+        let nc = self.nc;
+        // Reversed order, as scipy, so ties resolve to the same columns.
+        for (it, r) in self.remaining.iter_mut().enumerate() {
+            *r = nc - it - 1;
+        }
+        self.in_sr.fill(false);
+        self.in_sc.fill(false);
+        self.dist.fill(f64::INFINITY);
+        let (mut i, mut n_rem, mut min_val) = (cur, nc, 0.0);
+        loop {
+            self.in_sr[i] = true;
+            let index;
+            (index, min_val) = self.relax_row(i, &cost[i * nc..(i + 1) * nc], n_rem, min_val)?;
+            let j = self.remaining[index];
+            self.in_sc[j] = true;
+            n_rem -= 1;
+            self.remaining[index] = self.remaining[n_rem];
+            if self.row4col[j] == NONE {
+                return Some((j, min_val));
+            }
+            i = self.row4col[j];
+        }
+    }
+
+    /// Relaxes every unscanned column through row `i`, reached at distance `reached`; returns
+    /// the position in `remaining` of the nearest column and its distance. This loop is the
+    /// whole cost of a dense solve, so it reads only flat slices.
+    fn relax_row(
+        &mut self,
+        i: usize,
+        row: &[f64],
+        n_rem: usize,
+        reached: f64,
+    ) -> Option<(usize, f64)> {
+        let base = reached - self.u[i];
+        // Split borrows into plain slices so the optimiser sees they do not alias.
+        let (dist, path, v) = (&mut self.dist[..], &mut self.path[..], &self.v[..]);
+        let (remaining, row4col) = (&self.remaining[..n_rem], &self.row4col[..]);
+        let (mut lowest, mut index) = (f64::INFINITY, NONE);
+        for (it, &j) in remaining.iter().enumerate() {
+            let r = base + row[j] - v[j];
+            if r < dist[j] {
+                path[j] = i;
+                dist[j] = r;
+            }
+            let d = dist[j];
+            // On ties prefer a free column: the search can stop there.
+            if d < lowest || (d == lowest && row4col[j] == NONE) {
+                lowest = d;
+                index = it;
+            }
+        }
+        (lowest < f64::INFINITY).then_some((index, lowest))
+    }
+
+    /// Crouse's dual update: keeps reduced costs of assigned rows non-negative.
+    fn update_duals(&mut self, cur: usize, min_val: f64) {
+        self.u[cur] += min_val;
+        for r in (0..self.u.len()).filter(|&r| self.in_sr[r] && r != cur) {
+            self.u[r] += min_val - self.dist[self.col4row[r]];
+        }
+        for j in (0..self.nc).filter(|&j| self.in_sc[j]) {
+            self.v[j] -= min_val - self.dist[j];
+        }
+    }
+}
+
+/// Flips the alternating path ending at column `sink` back to row `cur`.
+fn augment(mut j: usize, cur: usize, path: &[usize], row4col: &mut [usize], col4row: &mut [usize]) {
+    loop {
+        let i = path[j];
+        row4col[j] = i;
+        std::mem::swap(&mut col4row[i], &mut j);
+        if i == cur {
+            break;
+        }
+    }
+}
+
+/// Heap key of column `j` at distance `d`, packed into one integer so that comparing keys is
+/// a single compare: the distance in `f64::total_cmp` order, then free columns first, then
+/// the column index (determinism).
+fn key(d: f64, free: bool, j: usize) -> u128 {
+    let bits = d.to_bits();
+    // The total order of f64 as an unsigned integer: flip every bit of negatives, only the
+    // sign bit of positives.
+    let ordered = if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    };
+    (u128::from(ordered) << 64) | (u128::from(!free) << 63) | j as u128
+}
+
+/// Inverse of [`key`]: the distance and the column.
+fn unkey(k: u128) -> (f64, usize) {
+    let ordered = (k >> 64) as u64;
+    let bits = if ordered >> 63 == 1 {
+        ordered & !(1 << 63)
+    } else {
+        !ordered
+    };
+    (f64::from_bits(bits), (k as u64 & !(1 << 63)) as usize)
+}
+
+/// The sparse algorithm on validated input; returns the column of each row, where column
+/// `n_cols + i` means "row i unassigned". Why this is exact is on [`super::lap::solve_sparse`].
+/// `w` is working memory, reused across calls.
+pub(super) fn sparse<'w>(
+    w: &'w mut SparseWork,
+    costs: &SparseCosts,
+    a: &[f64],
+    b: &[f64],
+) -> &'w [usize] {
+    w.load(costs, a, b);
+    w.assign_free_rows();
+    &w.col4row
+}
+
+/// Working state of the sparse solver. The S-D solvers call it every iteration, so it keeps
+/// its vectors between calls: a solve allocates nothing once they have grown.
+#[derive(Default)]
+pub(super) struct SparseWork {
+    /// Reduced CSR keeping only profitable entries; column `nc + i` is row i's private dummy.
+    offs: Vec<usize>,
+    cols: Vec<usize>,
+    vals: Vec<f64>,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    dist: Vec<f64>,
+    path: Vec<usize>,
+    col4row: Vec<usize>,
+    row4col: Vec<usize>,
+    scanned: Vec<bool>,
+    touched: Vec<usize>,
+    sr: Vec<usize>,
+    sc: Vec<usize>,
+    heap: BinaryHeap<Reverse<u128>>,
+    /// Distance of the nearest free column reached by the current search (`reset` sets it).
+    free_dist: f64,
+    /// Buffers of the square form's mirror rows (see `warm`), kept between calls.
+    mirror_offs: Vec<usize>,
+    mirror_fill: Vec<usize>,
+}
+
+/// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
+fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
+    v.clear();
+    v.resize(n, x);
+}
+
+impl SparseWork {
+    /// Sets up the solve of `costs` with unassigned costs `a` (rows) and `b` (columns).
+    fn load(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) {
+        let (nr, nc) = (costs.n_rows(), costs.n_cols());
+        self.load_rows(costs, a, b);
+        self.size_for(nr, nc + nr);
+    }
+
+    /// The reduced CSR of the real rows: entries beating "both unassigned", then each row's
+    /// private dummy column `nc + i` at 0.
+    fn load_rows(&mut self, costs: &SparseCosts, a: &[f64], b: &[f64]) {
+        let nc = costs.n_cols();
+        self.offs.clear();
+        self.cols.clear();
+        self.vals.clear();
+        self.offs.push(0);
+        for (i, &ai) in a.iter().enumerate() {
+            // Only entries beating "both unassigned" can be in an optimum; see `solve_sparse`.
+            for (j, c) in costs.row(i) {
+                let r = c - ai - b[j];
+                if r < 0.0 {
+                    self.cols.push(j);
+                    self.vals.push(r);
+                }
+            }
+            self.cols.push(nc + i);
+            self.vals.push(0.0);
+            self.offs.push(self.cols.len());
+        }
+    }
+
+    /// Empty duals, paths and matching for `rows` rows and `cols` columns.
+    fn size_for(&mut self, rows: usize, cols: usize) {
+        refill(&mut self.u, rows, 0.0);
+        refill(&mut self.v, cols, 0.0);
+        refill(&mut self.dist, cols, f64::INFINITY);
+        refill(&mut self.path, cols, NONE);
+        refill(&mut self.col4row, rows, NONE);
+        refill(&mut self.row4col, cols, NONE);
+        refill(&mut self.scanned, cols, false);
+        self.reset();
+    }
+
+    /// Crouse's outer loop: every row without a column, in order, gets one by a shortest
+    /// augmenting path (all rows after a cold `load`; those a warm start left free).
+    fn assign_free_rows(&mut self) {
+        for cur in 0..self.col4row.len() {
+            if self.col4row[cur] != NONE {
+                continue;
+            }
+            let (sink, min_val) = self.shortest_path(cur);
+            self.update_duals(cur, min_val);
+            augment(sink, cur, &self.path, &mut self.row4col, &mut self.col4row);
+            self.reset();
+        }
+    }
+
+    /// Dijkstra from row `cur` to the nearest free column; returns it and its distance.
+    fn shortest_path(&mut self, cur: usize) -> (usize, f64) {
+        let (mut i, mut min_val) = (cur, 0.0);
+        loop {
+            self.sr.push(i);
+            self.relax(i, min_val);
+            let j = loop {
+                // The dummy column of `cur` is reachable only from `cur` and free until `cur`
+                // is assigned, so it was pushed above and the heap cannot run dry first.
+                let Some(Reverse(k)) = self.heap.pop() else {
+                    unreachable!("sparse LAP: row {cur} lost its dummy column")
+                };
+                let (d, j) = unkey(k);
+                if !self.scanned[j] && d == self.dist[j] {
+                    min_val = d;
+                    break j;
+                }
+            };
+            self.scanned[j] = true;
+            self.sc.push(j);
+            if self.row4col[j] == NONE {
+                return (j, min_val);
+            }
+            i = self.row4col[j];
+        }
+    }
+
+    /// Relaxes the stored entries of row `i`, reached at distance `min_val`. The inner loop
+    /// of the solver: it works on split borrows so the optimiser sees they do not alias.
+    ///
+    /// A column farther than the nearest free column already reached can never be scanned in
+    /// this search (that free column ends it first), so it is skipped outright: its distance
+    /// is never read, and a later, shorter path to it is compared against a value that is
+    /// at least as large. This keeps most entries out of the heap without changing the result.
+    fn relax(&mut self, i: usize, min_val: f64) {
+        let span = self.offs[i]..self.offs[i + 1];
+        let (cols, vals) = (&self.cols[span.clone()], &self.vals[span]);
+        let (dist, path, scanned) = (&mut self.dist[..], &mut self.path[..], &self.scanned[..]);
+        let (v, row4col, ui) = (&self.v[..], &self.row4col[..], self.u[i]);
+        for (&j, &c) in cols.iter().zip(vals) {
+            let r = min_val + c - ui - v[j];
+            if r > self.free_dist || scanned[j] || r >= dist[j] {
+                continue;
+            }
+            if dist[j] == f64::INFINITY {
+                self.touched.push(j);
+            }
+            dist[j] = r;
+            path[j] = i;
+            let free = row4col[j] == NONE;
+            if free {
+                self.free_dist = r;
+            }
+            self.heap.push(Reverse(key(r, free, j)));
+        }
+    }
+
+    /// Crouse's dual update: keeps reduced costs of assigned rows non-negative.
+    fn update_duals(&mut self, cur: usize, min_val: f64) {
+        self.u[cur] += min_val;
+        for &r in self.sr.iter().filter(|&&r| r != cur) {
+            self.u[r] += min_val - self.dist[self.col4row[r]];
+        }
+        for &j in &self.sc {
+            self.v[j] -= min_val - self.dist[j];
+        }
+    }
+
+    /// Clears only what this search touched, so a search costs O(its own size).
+    fn reset(&mut self) {
+        for &j in &self.touched {
+            self.dist[j] = f64::INFINITY;
+            self.scanned[j] = false;
+        }
+        self.touched.clear();
+        self.sr.clear();
+        self.sc.clear();
+        self.heap.clear();
+        self.free_dist = f64::INFINITY;
+    }
+}

@@ -1,0 +1,217 @@
+//! The 2-D solvers against brute force, and their input checks.
+
+use super::*;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Min over all maps assigning `min(nr, nc)` pairs; `None` if every such map is forbidden.
+fn brute_dense(nr: usize, nc: usize, c: &[f64]) -> Option<f64> {
+    fn go(i: usize, nr: usize, nc: usize, c: &[f64], used: &mut Vec<bool>, left: usize) -> f64 {
+        if i == nr {
+            return if left == 0 { 0.0 } else { f64::INFINITY };
+        }
+        let mut best = if nr - i > left {
+            go(i + 1, nr, nc, c, used, left)
+        } else {
+            f64::INFINITY
+        };
+        for j in 0..nc {
+            if used[j] || left == 0 {
+                continue;
+            }
+            used[j] = true;
+            best = best.min(c[i * nc + j] + go(i + 1, nr, nc, c, used, left - 1));
+            used[j] = false;
+        }
+        best
+    }
+    let v = go(0, nr, nc, c, &mut vec![false; nc], nr.min(nc));
+    v.is_finite().then_some(v)
+}
+
+#[test]
+fn dense_matches_brute_force() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    for case in 0..300 {
+        let (nr, nc) = (rng.random_range(0..6usize), rng.random_range(0..6usize));
+        let c: Vec<f64> = (0..nr * nc)
+            .map(|_| {
+                if rng.random_bool(0.15) {
+                    f64::INFINITY
+                } else {
+                    rng.random_range(-5..10i32) as f64
+                }
+            })
+            .collect();
+        match (solve_dense(nr, nc, &c), brute_dense(nr, nc, &c)) {
+            (Ok(a), Some(best)) => {
+                assert_eq!(a.cost, best, "case {case}: {nr}x{nc} {c:?}");
+                let cols: Vec<usize> = a.row_to_col.iter().flatten().copied().collect();
+                assert_eq!(cols.len(), nr.min(nc));
+                let mut sorted = cols.clone();
+                sorted.sort_unstable();
+                sorted.dedup();
+                assert_eq!(sorted.len(), cols.len(), "case {case}: column reused");
+            }
+            (Err(CoreError::IllPosed { .. }), None) => {}
+            (got, want) => panic!("case {case}: got {got:?}, brute force {want:?}"),
+        }
+    }
+}
+
+#[test]
+fn dense_rejects_bad_input() {
+    assert!(matches!(
+        solve_dense(2, 2, &[0.0; 3]),
+        Err(CoreError::Shape { arg: "costs", .. })
+    ));
+    let e = solve_dense(1, 2, &[0.0, f64::NAN]).unwrap_err();
+    assert_eq!(
+        e,
+        CoreError::NonFinite {
+            arg: "costs",
+            index: 1
+        }
+    );
+    let e = solve_dense(2, 2, &[1.0, f64::INFINITY, 2.0, f64::INFINITY]).unwrap_err();
+    assert!(matches!(e, CoreError::IllPosed { .. }), "{e}");
+}
+
+fn brute_sparse(m: &SparseCosts, a: &[f64], b: &[f64]) -> f64 {
+    fn go(i: usize, m: &SparseCosts, a: &[f64], b: &[f64], used: &mut Vec<bool>) -> f64 {
+        if i == m.n_rows() {
+            return (0..m.n_cols()).filter(|&j| !used[j]).map(|j| b[j]).sum();
+        }
+        let mut best = a[i] + go(i + 1, m, a, b, used);
+        for (j, c) in m.row(i).collect::<Vec<_>>() {
+            if !used[j] {
+                used[j] = true;
+                best = best.min(c + go(i + 1, m, a, b, used));
+                used[j] = false;
+            }
+        }
+        best
+    }
+    go(0, m, a, b, &mut vec![false; m.n_cols()])
+}
+
+#[test]
+fn sparse_matches_brute_force() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for case in 0..400 {
+        let (nr, nc) = (rng.random_range(0..6usize), rng.random_range(0..6usize));
+        let mut trip = Vec::new();
+        for i in 0..nr {
+            for j in 0..nc {
+                // Some duplicates on purpose: the cheaper one must count.
+                for _ in 0..rng.random_range(0..3) {
+                    if rng.random_bool(0.4) {
+                        trip.push((i, j, rng.random_range(-20..5i32) as f64));
+                    }
+                }
+            }
+        }
+        let m = SparseCosts::from_triplets(nr, nc, &trip).unwrap();
+        let a: Vec<f64> = (0..nr).map(|_| rng.random_range(-6..3i32) as f64).collect();
+        let b: Vec<f64> = (0..nc).map(|_| rng.random_range(-6..3i32) as f64).collect();
+        let s = solve_sparse(&m, &a, &b).unwrap();
+        assert_eq!(
+            s.cost,
+            brute_sparse(&m, &a, &b),
+            "case {case}: {trip:?} a={a:?} b={b:?}"
+        );
+        for (i, j) in s.row_to_col.iter().enumerate() {
+            if let Some(j) = j {
+                assert_eq!(s.col_to_row[*j], Some(i));
+                assert!(
+                    m.row(i).any(|e| e.0 == *j),
+                    "case {case}: forbidden pair used"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn reused_solver_matches_fresh_solves() {
+    // One solver through problems that grow and shrink: leftovers of an earlier solve
+    // must not leak into a later one.
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut solver = SparseSolver::default();
+    for case in 0..200 {
+        let (nr, nc) = (rng.random_range(0..30usize), rng.random_range(0..30usize));
+        let mut trip = Vec::new();
+        for k in 0..nr * nc {
+            if rng.random_bool(0.3) {
+                trip.push((k / nc, k % nc, rng.random_range(-9..3i32) as f64));
+            }
+        }
+        let m = SparseCosts::from_triplets(nr, nc, &trip).unwrap();
+        let a: Vec<f64> = (0..nr).map(|_| rng.random_range(-4..2i32) as f64).collect();
+        let b: Vec<f64> = (0..nc).map(|_| rng.random_range(-4..2i32) as f64).collect();
+        let fresh = sparse_core(&m, &a, &b);
+        assert_eq!(solver.solve(&m, &a, &b), &fresh, "case {case}");
+    }
+}
+
+#[test]
+fn sparse_with_prohibitive_unassigned_costs_equals_dense() {
+    // Beyond brute-force sizes: forcing every row and column to be assigned makes the
+    // sparse problem a dense square one, plus the constant it subtracts out.
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for n in [1usize, 7, 30, 60] {
+        let c: Vec<f64> = (0..n * n)
+            .map(|_| rng.random_range(0..50i32) as f64)
+            .collect();
+        let trip: Vec<_> = (0..n * n).map(|k| (k / n, k % n, c[k])).collect();
+        let m = SparseCosts::from_triplets(n, n, &trip).unwrap();
+        let s = solve_sparse(&m, &vec![1e4; n], &vec![1e4; n]).unwrap();
+        assert_eq!(s.cost, solve_dense(n, n, &c).unwrap().cost, "n = {n}");
+        assert!(s.row_to_col.iter().all(Option::is_some));
+    }
+}
+
+#[test]
+fn sparse_rejects_bad_input() {
+    let e = SparseCosts::new(2, 2, vec![0, 1], vec![0], vec![1.0]).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CoreError::Shape {
+                arg: "row_offsets",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = SparseCosts::new(1, 2, vec![0, 1], vec![2], vec![1.0]).unwrap_err();
+    assert_eq!(e.to_string(), "col_indices: entry 0 is 2 but n_cols is 2");
+    let e = SparseCosts::new(2, 2, vec![0, 2, 1], vec![0, 1], vec![1.0, 1.0]).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CoreError::OutOfRange {
+                arg: "row_offsets",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let m = SparseCosts::from_triplets(1, 1, &[(0, 0, 1.0)]).unwrap();
+    assert!(matches!(
+        solve_sparse(&m, &[], &[0.0]),
+        Err(CoreError::Shape {
+            arg: "row_unassigned",
+            ..
+        })
+    ));
+    let e = solve_sparse(&m, &[0.0], &[f64::INFINITY]).unwrap_err();
+    assert_eq!(
+        e,
+        CoreError::NonFinite {
+            arg: "col_unassigned",
+            index: 0
+        }
+    );
+    assert!(SparseCosts::from_triplets(1, 1, &[(3, 0, 1.0)]).is_err());
+}

@@ -1,0 +1,92 @@
+//! The one error type of the core. Every fallible core function returns [`CoreResult`]; the
+//! binding layer (`py::errors`) maps each variant to a Python exception in one place.
+
+use thiserror::Error;
+
+/// What went wrong, always naming the argument (`arg`) and, where it helps, the position.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CoreError {
+    /// An array has the wrong length or shape.
+    #[error("{arg}: {reason}")]
+    Shape { arg: &'static str, reason: String },
+
+    /// A value is NaN or infinite where a finite number is required.
+    #[error("{arg}: non-finite value at index {index}")]
+    NonFinite { arg: &'static str, index: usize },
+
+    /// A value is outside its allowed range (negative std, unknown sensor, index out of range...).
+    #[error("{arg}: {reason}")]
+    OutOfRange { arg: &'static str, reason: String },
+
+    /// The problem as posed cannot be solved (too few measurements, coincident sensors...).
+    #[error("{arg}: {reason}")]
+    IllPosed { arg: &'static str, reason: String },
+
+    /// A configurable resource cap was hit (e.g. too many candidates); raise the cap to go on.
+    #[error("{what}: {count} exceeds the cap of {cap}; {hint}")]
+    CapExceeded {
+        what: &'static str,
+        count: usize,
+        cap: usize,
+        hint: &'static str,
+    },
+}
+
+impl CoreError {
+    pub fn shape(arg: &'static str, reason: impl Into<String>) -> Self {
+        Self::Shape {
+            arg,
+            reason: reason.into(),
+        }
+    }
+
+    pub fn out_of_range(arg: &'static str, reason: impl Into<String>) -> Self {
+        Self::OutOfRange {
+            arg,
+            reason: reason.into(),
+        }
+    }
+
+    pub fn ill_posed(arg: &'static str, reason: impl Into<String>) -> Self {
+        Self::IllPosed {
+            arg,
+            reason: reason.into(),
+        }
+    }
+}
+
+pub type CoreResult<T> = Result<T, CoreError>;
+
+/// Fails with [`CoreError::NonFinite`] at the first NaN/inf of `values`.
+pub fn ensure_finite(arg: &'static str, values: &[f64]) -> CoreResult<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(CoreError::NonFinite { arg, index }),
+        None => Ok(()),
+    }
+}
+
+/// A string option that names none of its choices; `FromStr` of every option enum returns it,
+/// and the caller adds the argument's name.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("must be {expected}, got {got:?}")]
+pub struct UnknownOption {
+    /// The accepted spellings, e.g. `'auto' or 'given'`.
+    pub expected: &'static str,
+    pub got: String,
+}
+
+/// Parses `value` as one of `choices` (spelling, value), for the option enums' `FromStr`.
+pub fn parse_option<T: Copy>(
+    value: &str,
+    choices: &[(&str, T)],
+    expected: &'static str,
+) -> Result<T, UnknownOption> {
+    choices
+        .iter()
+        .find(|(name, _)| *name == value)
+        .map(|&(_, v)| v)
+        .ok_or_else(|| UnknownOption {
+            expected,
+            got: value.to_string(),
+        })
+}

@@ -1,0 +1,172 @@
+//! Many independent fits in one call. Problems are given CSR-style: problem `p` uses the
+//! measurement rows `indices[offsets[p]..offsets[p+1]]` of one shared table. Each problem is
+//! solved by the same sequential code whatever thread runs it, and results are collected in
+//! problem order, so the output is bit-identical for any thread count.
+
+use rayon::prelude::*;
+
+use super::gauss_newton::{fit_into, FitSlots, FitSummary};
+use super::{FitOptions, Termination};
+use crate::data::{Measurements, Sensors};
+use crate::error::{ensure_finite, CoreError, CoreResult};
+use crate::geometry::los::pseudo_linear_state;
+use crate::geometry::model::{Observation, StateLayout};
+
+/// Problems as CSR row groups plus optional initial states (row-major `P × dim`).
+#[derive(Clone, Copy, Debug)]
+pub struct Problems<'a> {
+    pub indices: &'a [i64],
+    pub offsets: &'a [i64],
+    pub initial: Option<&'a [f64]>,
+}
+
+/// Columnar results: `estimates` is `P × dim`, `covariances` is `P × dim × dim`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BatchOutcome {
+    pub dim: usize,
+    pub estimates: Vec<f64>,
+    pub covariances: Vec<f64>,
+    pub chi2: Vec<f64>,
+    pub iterations: Vec<u32>,
+    pub termination: Vec<u8>,
+}
+
+impl Problems<'_> {
+    pub fn len(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Rows of problem `p` (valid after [`Problems::validate`]).
+    fn rows(&self, p: usize) -> &[i64] {
+        &self.indices[self.offsets[p] as usize..self.offsets[p + 1] as usize]
+    }
+
+    /// Checks the CSR structure, the row indices, that every problem has at least as many
+    /// scalar measurements as unknowns, and the initial states' shape and finiteness.
+    pub fn validate(&self, n_rows: usize, angles_per_row: usize, dim: usize) -> CoreResult<()> {
+        let (offsets, indices) = (self.offsets, self.indices);
+        if offsets.first() != Some(&0) {
+            return Err(CoreError::shape(
+                "offsets",
+                "must start with 0 and have one entry per problem plus one",
+            ));
+        }
+        if let Some(p) = offsets.windows(2).position(|w| w[1] < w[0]) {
+            return Err(CoreError::out_of_range(
+                "offsets",
+                format!("decreases between entries {p} and {}", p + 1),
+            ));
+        }
+        if offsets.last().copied() != Some(indices.len() as i64) {
+            return Err(CoreError::shape(
+                "offsets",
+                format!("last entry must equal len(indices) = {}", indices.len()),
+            ));
+        }
+        if let Some(k) = indices.iter().position(|&m| m < 0 || m as usize >= n_rows) {
+            return Err(CoreError::out_of_range(
+                "indices",
+                format!(
+                    "entry {k} is {} but the table has {n_rows} measurements",
+                    indices[k]
+                ),
+            ));
+        }
+        for p in 0..self.len() {
+            let scalars = self.rows(p).len() * angles_per_row;
+            if scalars < dim {
+                return Err(CoreError::ill_posed(
+                    "indices",
+                    format!("problem {p} has {scalars} scalar measurements for {dim} unknowns"),
+                ));
+            }
+        }
+        if let Some(initial) = self.initial {
+            if initial.len() != self.len() * dim {
+                return Err(CoreError::shape(
+                    "initial",
+                    format!(
+                        "expected shape ({}, {dim}), got {} values",
+                        self.len(),
+                        initial.len()
+                    ),
+                ));
+            }
+            ensure_finite("initial", initial)?;
+        }
+        Ok(())
+    }
+}
+
+/// Fits every problem; fails only on invalid input (a degenerate problem gets a
+/// [`Termination`] code instead, so one bad problem does not sink a batch).
+pub fn fit_batch(
+    measurements: &Measurements<'_>,
+    sensors: &Sensors<'_>,
+    layout: &StateLayout,
+    problems: &Problems<'_>,
+    options: &FitOptions,
+) -> CoreResult<BatchOutcome> {
+    let dim = layout.dim();
+    problems.validate(measurements.len(), layout.space.angles(), dim)?;
+    let n = problems.len();
+    let mut estimates = vec![0.0; n * dim];
+    let mut covariances = vec![0.0; n * dim * dim];
+    // Each problem writes only its own output chunks, so no result depends on scheduling.
+    let summaries: Vec<FitSummary> = estimates
+        .par_chunks_mut(dim)
+        .zip(covariances.par_chunks_mut(dim * dim))
+        .enumerate()
+        .map_init(
+            Vec::new,
+            |obs: &mut Vec<Observation>, (p, (estimate, covariance))| {
+                obs.clear();
+                obs.extend(
+                    problems
+                        .rows(p)
+                        .iter()
+                        .map(|&m| measurements.observation(sensors, m as usize)),
+                );
+                let slots = FitSlots {
+                    estimate,
+                    covariance,
+                };
+                match problems.initial {
+                    Some(initial) => fit_into(
+                        layout,
+                        obs,
+                        &initial[p * dim..(p + 1) * dim],
+                        options,
+                        slots,
+                    ),
+                    None => match pseudo_linear_state(layout, obs) {
+                        Some(start) => fit_into(layout, obs, &start[..dim], options, slots),
+                        None => singular(slots),
+                    },
+                }
+            },
+        )
+        .collect();
+    Ok(BatchOutcome {
+        dim,
+        estimates,
+        covariances,
+        chi2: summaries.iter().map(|s| s.chi2).collect(),
+        iterations: summaries.iter().map(|s| s.iterations as u32).collect(),
+        termination: summaries.iter().map(|s| s.termination as u8).collect(),
+    })
+}
+
+fn singular(slots: FitSlots<'_>) -> FitSummary {
+    slots.estimate.fill(f64::NAN);
+    slots.covariance.fill(f64::NAN);
+    FitSummary {
+        chi2: f64::NAN,
+        iterations: 0,
+        termination: Termination::Singular,
+    }
+}

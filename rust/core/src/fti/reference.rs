@@ -1,0 +1,83 @@
+//! The unpruned paper algorithm, written as four nested loops, and the test that the
+//! pipeline with every pruning rule off is exactly it.
+
+use super::candidates::{fit_candidate, meet, Candidate, RayPair};
+use super::pipeline::candidates_of;
+use super::scans::Scans;
+use super::sim;
+use super::tests::run;
+use super::{InitiationOptions, Problem};
+use crate::geometry::model::{Motion, StateLayout};
+
+/// Every 4-tuple of every pair, fitted from the same start as the pipeline uses.
+pub fn all_fitted(problem: &Problem<'_>, scans: &Scans, pairs: &[[usize; 2]]) -> Vec<Candidate> {
+    let mut out = Vec::new();
+    for &[a, b] in pairs {
+        let (a1, a2) = scans.first_last(a).expect("validated");
+        let (b1, b2) = scans.first_last(b).expect("validated");
+        for &ra1 in scans.scan(a1) {
+            for &rb1 in scans.scan(b1) {
+                for &ra2 in scans.scan(a2) {
+                    for &rb2 in scans.scan(b2) {
+                        let f = RayPair {
+                            rows: [ra1, rb1],
+                            meeting: meet(problem, ra1, rb1),
+                        };
+                        let l = RayPair {
+                            rows: [ra2, rb2],
+                            meeting: meet(problem, ra2, rb2),
+                        };
+                        out.extend(fit_candidate(problem, &f, &l));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Every pruning rule switched off.
+pub fn rules_off() -> InitiationOptions {
+    InitiationOptions {
+        ray_gate: None,
+        reject_behind: false,
+        v_max: None,
+        chi2_gate: None,
+        ..InitiationOptions::default()
+    }
+}
+
+#[test]
+fn all_rules_off_is_the_unpruned_paper_algorithm() {
+    for sc in [sim::paper(9, true, 1, 3), sim::planar(9, true, 1, 3)] {
+        let sensors = sc.sensors();
+        let table = sc.measurements(&sensors);
+        let (got, counts, scans, pairs) =
+            candidates_of(&sensors, &table, 0.0, &rules_off()).expect("runs");
+        let problem = Problem {
+            sensors,
+            measurements: table,
+            layout: StateLayout::new(sc.space, Motion::ConstantVelocity { t0: 0.0 }),
+            t0: 0.0,
+        };
+        let expected = all_fitted(&problem, &scans, &pairs);
+        assert_eq!(counts.raw, counts.v_max);
+        assert_eq!(got, expected);
+        // Rules so loose they prune nothing change nothing downstream either.
+        let loose = InitiationOptions {
+            ray_gate: Some(1e12),
+            v_max: Some(1e12),
+            chi2_gate: Some(1e300),
+            reject_behind: false,
+            ..InitiationOptions::default()
+        };
+        let (a, b) = (
+            run(&sc, &rules_off()).expect("runs"),
+            run(&sc, &loose).expect("runs"),
+        );
+        assert_eq!(
+            (a.tracks, a.labels, a.descent_iterations),
+            (b.tracks, b.labels, b.descent_iterations)
+        );
+    }
+}

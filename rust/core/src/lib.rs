@@ -1,0 +1,19 @@
+//! `passive_assoc_core`: data association and track initiation for passive (angle-only)
+//! sensor networks, in plain Rust. The Python bindings are a separate crate (`rust/py`) that
+//! depends on this one; nothing here knows about Python.
+//!
+//! Layers, dependencies pointing down only:
+//! * [`fti`], [`static_los`] — one folder per published method (METHODS §1, §2);
+//! * [`assign`] — 2-D and S-D assignment solvers every method ends in;
+//! * [`estimation`] — Gauss-Newton ML fitting and the Fisher information / CRLB;
+//! * [`geometry`] — angles, the measurement model, line-of-sight geometry;
+//! * [`data`], [`error`], [`parallel`] — validated borrowed views, the error type, thread pools.
+
+pub mod assign;
+pub mod data;
+pub mod error;
+pub mod estimation;
+pub mod fti;
+pub mod geometry;
+pub mod parallel;
+pub mod static_los;

@@ -1,0 +1,124 @@
+//! Bindings for the assignment solvers: the sparse S-D assignment (`assign_sd`, like MATLAB's
+//! `assignsd` but sparse) and the dense 2-D linear assignment.
+
+use std::time::Duration;
+
+use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use super::convert::{count, owned, parse, slice1, to_numpy, to_usize, I64Array};
+use super::errors::{value_error, BindResult};
+use passive_assoc_core::assign::lagrangian::LagrangianOptions;
+use passive_assoc_core::assign::{branch_bound, lagrangian, lap, SdMethod, SdProblem};
+
+/// `passive_assoc._settings.SdSettings`, read by attribute.
+#[derive(FromPyObject)]
+pub struct SdSettings {
+    method: String,
+    max_iter: i64,
+    gap_tol: f64,
+    max_nodes: i64,
+    time_limit: Option<f64>,
+    warm_start: String,
+    sensor_order: String,
+    polish: bool,
+}
+
+/// What an S-D solver returns: the chosen tuples, costs, bound, and why it stopped.
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct SdResult {
+    /// Indices into the problem's tuples, ascending.
+    chosen: Py<PyArrayDyn<i64>>,
+    primal_cost: f64,
+    dual_bound: f64,
+    gap: f64,
+    iterations: usize,
+    termination: &'static str,
+    optimal: bool,
+}
+
+/// Solve a sparse S-D assignment; see `passive_assoc.assign_sd` for the Python-level docs.
+#[pyfunction]
+#[pyo3(signature = (tuples, costs, sizes, settings))]
+pub fn assign_sd(
+    py: Python<'_>,
+    tuples: PyReadonlyArray2<'_, i64>,
+    costs: PyReadonlyArray1<'_, f64>,
+    sizes: PyReadonlyArray1<'_, i64>,
+    settings: SdSettings,
+) -> BindResult<SdResult> {
+    let method: SdMethod = parse("method", &settings.method)?;
+    let root = LagrangianOptions::default()
+        .with_max_iter(count("max_iter", settings.max_iter, 1)?)?
+        .with_gap_tol(settings.gap_tol)?
+        .with_warm_start(parse("warm_start", &settings.warm_start)?)
+        .with_sensor_order(parse("sensor_order", &settings.sensor_order)?)
+        .with_polish(settings.polish);
+    let n_sensors = tuples.shape()[1];
+    let tuple_values = tuples
+        .as_slice()
+        .map_err(|_| value_error("tuples", "array must be C-contiguous"))?;
+    let problem = SdProblem::new(
+        to_usize("tuples", tuple_values)?,
+        n_sensors,
+        slice1("costs", &costs)?.to_vec(),
+        to_usize("sizes", slice1("sizes", &sizes)?)?,
+    )?;
+    let solution = match method {
+        SdMethod::Lagrangian => py.detach(|| lagrangian::solve(&problem, &root)),
+        SdMethod::Exact => {
+            let options = branch_bound::BranchBoundOptions::default()
+                .with_max_nodes(count("max_nodes", settings.max_nodes, 1)?)?
+                .with_root(root);
+            let options = match settings.time_limit {
+                Some(seconds) if seconds.is_finite() && seconds > 0.0 => {
+                    options.with_time_limit(Duration::from_secs_f64(seconds))?
+                }
+                Some(seconds) => {
+                    return Err(value_error(
+                        "time_limit",
+                        format!("must be > 0 seconds or None, got {seconds}"),
+                    ))
+                }
+                None => options.without_time_limit(),
+            };
+            py.detach(|| branch_bound::solve(&problem, &options))
+        }
+    };
+    let chosen = solution.chosen.iter().map(|&k| k as i64).collect();
+    Ok(SdResult {
+        chosen: owned(py, chosen)?,
+        primal_cost: solution.primal_cost,
+        dual_bound: solution.dual_bound,
+        gap: solution.gap,
+        iterations: solution.iterations,
+        termination: solution.termination.as_str(),
+        optimal: solution.termination.is_optimal(),
+    })
+}
+
+/// Dense rectangular min-cost 2-D assignment; returns (row_ind, col_ind, cost) like
+/// `scipy.optimize.linear_sum_assignment` plus the total.
+#[pyfunction]
+pub fn assign_2d<'py>(
+    py: Python<'py>,
+    costs: PyReadonlyArray2<'py, f64>,
+) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
+    let (n_rows, n_cols) = (costs.shape()[0], costs.shape()[1]);
+    let values = costs
+        .as_slice()
+        .map_err(|_| value_error("costs", "array must be C-contiguous"))?;
+    let solved = py.detach(|| lap::solve_dense(n_rows, n_cols, values))?;
+    let (rows, cols): (Vec<i64>, Vec<i64>) = solved
+        .row_to_col
+        .iter()
+        .enumerate()
+        .filter_map(|(r, c)| c.map(|c| (r as i64, c as i64)))
+        .unzip();
+    let n = rows.len();
+    Ok((
+        to_numpy(py, rows, &[n])?,
+        to_numpy(py, cols, &[n])?,
+        solved.cost,
+    ))
+}

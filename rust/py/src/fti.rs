@@ -1,0 +1,334 @@
+//! Bindings for fuzzy track initiation (METHODS §1) and its closeness function: extract,
+//! `py.detach`, delegate to the core, return arrays or a frozen result object.
+
+use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use pyo3::prelude::*;
+
+use super::convert::{
+    count, owned, parse, slice1, slice2, threads, to_numpy, F64Array, I64Array, MeasurementsArg,
+    SensorsArg,
+};
+use super::errors::{value_error, BindError, BindResult};
+use passive_assoc_core::error::ensure_finite;
+use passive_assoc_core::fti::closeness::closeness_batch;
+use passive_assoc_core::fti::descent::descend_from;
+use passive_assoc_core::fti::{
+    initiate as core_initiate, DescentOptions, Initiation, InitiationOptions, Precomputed, Spreads,
+    StageCounts as CoreCounts, StageSeconds as CoreSeconds,
+};
+use passive_assoc_core::parallel::with_threads;
+
+/// `passive_assoc._settings.InitiationSettings`, read by attribute.
+#[derive(FromPyObject)]
+pub struct InitiationSettings {
+    t0: f64,
+    gate_sigmas: f64,
+    n_detect: i64,
+    ray_gate_sigmas: Option<f64>,
+    reject_behind: bool,
+    v_max: Option<f64>,
+    chi2_gate: Option<f64>,
+    one_per_scan: bool,
+    merge_tol: f64,
+    descent_scaling: String,
+    descent_max_iter: i64,
+    max_candidates: i64,
+    refine_passes: i64,
+    n_threads: Option<i64>,
+}
+
+impl InitiationSettings {
+    fn options(&self, pairs: Option<Vec<[usize; 2]>>) -> BindResult<InitiationOptions> {
+        Ok(InitiationOptions {
+            pairs,
+            gate: self.gate_sigmas,
+            n_detect: count("n_detect", self.n_detect, 1)?,
+            ray_gate: self.ray_gate_sigmas,
+            reject_behind: self.reject_behind,
+            v_max: self.v_max,
+            chi2_gate: self.chi2_gate,
+            one_per_scan: self.one_per_scan,
+            merge_tol: self.merge_tol,
+            descent: DescentOptions {
+                max_iter: count("descent_max_iter", self.descent_max_iter, 0)?,
+                scaling: parse("descent_scaling", &self.descent_scaling)?,
+                ..DescentOptions::default()
+            },
+            max_candidates: count("max_candidates", self.max_candidates, 1)?,
+            refine_passes: count("refine_passes", self.refine_passes, 0)?,
+        })
+    }
+}
+
+/// Candidates and optima surviving each stage of one initiation.
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct StageCounts {
+    raw: usize,
+    ray_gate: usize,
+    behind: usize,
+    v_max: usize,
+    fitted: usize,
+    chi2_gate: usize,
+    optima: usize,
+    merged: usize,
+    detected: usize,
+}
+
+/// Seconds spent in each stage of one initiation.
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct StageSeconds {
+    candidates: f64,
+    fit: f64,
+    descent: f64,
+    detection: f64,
+    final_fit: f64,
+}
+
+/// What one initiation returns: per track its state, covariance, closeness and χ², and per
+/// measurement row its track index (−1 = clutter).
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct InitiationOutput {
+    estimates: Py<PyArrayDyn<f64>>,
+    covariances: Py<PyArrayDyn<f64>>,
+    closeness: Py<PyArrayDyn<f64>>,
+    chi2: Py<PyArrayDyn<f64>>,
+    labels: Py<PyArrayDyn<i64>>,
+    descent_iterations: Py<PyArrayDyn<i64>>,
+    stage_counts: Py<StageCounts>,
+    stage_seconds: Py<StageSeconds>,
+}
+
+/// Fuzzy track initiation. `pairs` is (K, 2) sensor indices; an empty (0, 2) array means every
+/// pair a < b; the spreads are per sensor.
+#[pyfunction]
+#[pyo3(signature = (measurements, sensors, pairs, spread_azimuth, spread_elevation, settings))]
+pub fn initiate(
+    py: Python<'_>,
+    measurements: MeasurementsArg<'_>,
+    sensors: SensorsArg<'_>,
+    pairs: PyReadonlyArray2<'_, i64>,
+    spread_azimuth: PyReadonlyArray1<'_, f64>,
+    spread_elevation: PyReadonlyArray1<'_, f64>,
+    settings: InitiationSettings,
+) -> BindResult<InitiationOutput> {
+    let network = sensors.view()?;
+    let columns = measurements.columns(network.space())?;
+    let table = columns.view(&network)?;
+    let spreads = Spreads::new(
+        network.space(),
+        network.len(),
+        slice1("spread_azimuth", &spread_azimuth)?,
+        slice1("spread_elevation", &spread_elevation)?,
+    )?;
+    let options = settings.options(pair_list(slice2("pairs", &pairs, 2)?)?)?;
+    let n_threads = threads(settings.n_threads)?;
+    let t0 = settings.t0;
+    let result = py.detach(|| {
+        with_threads(n_threads, || {
+            core_initiate(&network, &table, &spreads, t0, &options)
+        })
+    })??;
+    initiation_output(py, result)
+}
+
+fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<InitiationOutput> {
+    let (t, d) = (result.tracks.len(), result.dim);
+    let mut estimates = Vec::with_capacity(t * d);
+    let mut covariances = Vec::with_capacity(t * d * d);
+    for track in &result.tracks {
+        estimates.extend_from_slice(&track.estimate);
+        covariances.extend_from_slice(&track.covariance);
+    }
+    let iterations = result
+        .descent_iterations
+        .iter()
+        .map(|&i| i as i64)
+        .collect();
+    let CoreCounts {
+        raw,
+        ray_gate,
+        behind,
+        v_max,
+        fitted,
+        chi2_gate,
+        optima,
+        merged,
+        detected,
+    } = result.stage_counts;
+    let CoreSeconds {
+        candidates,
+        fit,
+        descent,
+        detection,
+        final_fit,
+    } = result.stage_seconds;
+    Ok(InitiationOutput {
+        estimates: to_numpy(py, estimates, &[t, d])?.unbind(),
+        covariances: to_numpy(py, covariances, &[t, d, d])?.unbind(),
+        closeness: owned(py, result.tracks.iter().map(|r| r.closeness).collect())?,
+        chi2: owned(py, result.tracks.iter().map(|r| r.chi2).collect())?,
+        labels: owned(py, result.labels)?,
+        descent_iterations: owned(py, iterations)?,
+        stage_counts: Py::new(
+            py,
+            StageCounts {
+                raw,
+                ray_gate,
+                behind,
+                v_max,
+                fitted,
+                chi2_gate,
+                optima,
+                merged,
+                detected,
+            },
+        )?,
+        stage_seconds: Py::new(
+            py,
+            StageSeconds {
+                candidates,
+                fit,
+                descent,
+                detection,
+                final_fit,
+            },
+        )?,
+    })
+}
+
+/// R and ∂R/∂X0 (METHODS §1 eq. 17–18) at each row of `states` (P, 4 or 6); returns
+/// (R: (P,), gradient: (P, D)).
+#[pyfunction]
+#[pyo3(signature = (measurements, sensors, spread_azimuth, spread_elevation, states, t0, n_threads))]
+pub fn closeness<'py>(
+    py: Python<'py>,
+    measurements: MeasurementsArg<'py>,
+    sensors: SensorsArg<'py>,
+    spread_azimuth: PyReadonlyArray1<'py, f64>,
+    spread_elevation: PyReadonlyArray1<'py, f64>,
+    states: PyReadonlyArray2<'py, f64>,
+    t0: f64,
+    n_threads: Option<i64>,
+) -> BindResult<(F64Array<'py>, F64Array<'py>)> {
+    let (pre, d) = precompute(
+        &measurements,
+        &sensors,
+        (&spread_azimuth, &spread_elevation),
+        t0,
+    )?;
+    let states = slice2("states", &states, d)?;
+    ensure_finite("states", states)?;
+    let threads = threads(n_threads)?;
+    let (values, gradients) =
+        py.detach(|| with_threads(threads, || closeness_batch(&pre, states)))?;
+    let p = values.len();
+    Ok((
+        to_numpy(py, values, &[p])?,
+        to_numpy(py, gradients, &[p, d])?,
+    ))
+}
+
+/// `passive_assoc._settings.DescentSettings`, read by attribute.
+#[derive(FromPyObject)]
+pub struct DescentSettings {
+    t0: f64,
+    scaling: String,
+    max_iter: i64,
+    n_threads: Option<i64>,
+}
+
+type Optima<'py> = (F64Array<'py>, F64Array<'py>, I64Array<'py>, I64Array<'py>);
+
+/// Steepest ascent of R (METHODS §1 eq. 19) from each row of `starts`, scaled by the matching
+/// covariance; returns (optima (P, D), R (P,), iterations (P,), evaluations (P,)).
+#[pyfunction]
+#[pyo3(signature = (measurements, sensors, spread_azimuth, spread_elevation, starts, covariances, settings))]
+pub fn maximize_closeness<'py>(
+    py: Python<'py>,
+    measurements: MeasurementsArg<'py>,
+    sensors: SensorsArg<'py>,
+    spread_azimuth: PyReadonlyArray1<'py, f64>,
+    spread_elevation: PyReadonlyArray1<'py, f64>,
+    starts: PyReadonlyArray2<'py, f64>,
+    covariances: PyReadonlyArray3<'py, f64>,
+    settings: DescentSettings,
+) -> BindResult<Optima<'py>> {
+    let (pre, d) = precompute(
+        &measurements,
+        &sensors,
+        (&spread_azimuth, &spread_elevation),
+        settings.t0,
+    )?;
+    let starts = slice2("starts", &starts, d)?;
+    let covariances = covariances
+        .as_slice()
+        .map_err(|_| value_error("covariances", "array must be C-contiguous"))?;
+    let options = DescentOptions {
+        max_iter: count("max_iter", settings.max_iter, 0)?,
+        scaling: parse("scaling", &settings.scaling)?,
+        ..DescentOptions::default()
+    };
+    let threads = threads(settings.n_threads)?;
+    let optima = py.detach(|| {
+        with_threads(threads, || {
+            descend_from(&pre, starts, covariances, &options)
+        })
+    })??;
+    let p = optima.len();
+    let states: Vec<f64> = optima.iter().flat_map(|o| o.x[..d].to_vec()).collect();
+    Ok((
+        to_numpy(py, states, &[p, d])?,
+        to_numpy(py, optima.iter().map(|o| o.closeness).collect(), &[p])?,
+        to_numpy(
+            py,
+            optima.iter().map(|o| o.iterations as i64).collect(),
+            &[p],
+        )?,
+        to_numpy(
+            py,
+            optima.iter().map(|o| o.evaluations as i64).collect(),
+            &[p],
+        )?,
+    ))
+}
+
+/// The validated closeness table of one call (owned: the array views end here) and the
+/// state dimension.
+fn precompute(
+    measurements: &MeasurementsArg<'_>,
+    sensors: &SensorsArg<'_>,
+    spreads: (&PyReadonlyArray1<'_, f64>, &PyReadonlyArray1<'_, f64>),
+    t0: f64,
+) -> BindResult<(Precomputed, usize)> {
+    let network = sensors.view()?;
+    let columns = measurements.columns(network.space())?;
+    let table = columns.view(&network)?;
+    let spreads = Spreads::new(
+        network.space(),
+        network.len(),
+        slice1("spread_azimuth", spreads.0)?,
+        slice1("spread_elevation", spreads.1)?,
+    )?;
+    let pre = Precomputed::new(&network, &table, &spreads, t0)?;
+    Ok((pre, 2 * network.space().position_dim()))
+}
+
+/// Row-major (K, 2) sensor indices → pairs; an empty array means "every pair".
+fn pair_list(flat: &[i64]) -> BindResult<Option<Vec<[usize; 2]>>> {
+    if flat.is_empty() {
+        return Ok(None);
+    }
+    flat.chunks_exact(2)
+        .enumerate()
+        .map(
+            |(k, p)| match (usize::try_from(p[0]), usize::try_from(p[1])) {
+                (Ok(a), Ok(b)) => Ok([a, b]),
+                _ => Err(value_error(
+                    "pairs",
+                    format!("pair {k} is ({}, {}); indices must be >= 0", p[0], p[1]),
+                )),
+            },
+        )
+        .collect::<Result<Vec<_>, BindError>>()
+        .map(Some)
+}

@@ -1,0 +1,36 @@
+//! The binding layer: the only code that knows about Python. Each function extracts typed
+//! input under the GIL (the `SensorNetwork`, `MeasurementTable` and settings objects are read
+//! by attribute), releases the GIL (`py.detach`) while the core works, and hands the core's
+//! vectors to NumPy without copying, as arrays or frozen result objects.
+
+mod assign;
+mod convert;
+mod errors;
+mod fit;
+mod fti;
+mod static_los;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(fit::fit_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::crlb, m)?)?;
+    m.add_function(wrap_pyfunction!(assign::assign_sd, m)?)?;
+    m.add_function(wrap_pyfunction!(assign::assign_2d, m)?)?;
+    m.add_function(wrap_pyfunction!(fti::initiate, m)?)?;
+    m.add_function(wrap_pyfunction!(fti::closeness, m)?)?;
+    m.add_function(wrap_pyfunction!(fti::maximize_closeness, m)?)?;
+    m.add_function(wrap_pyfunction!(static_los::enumerate_static, m)?)?;
+    m.add_function(wrap_pyfunction!(static_los::intensity_search, m)?)?;
+    m.add_class::<assign::SdResult>()?;
+    m.add_class::<fti::InitiationOutput>()?;
+    m.add_class::<fti::StageCounts>()?;
+    m.add_class::<fti::StageSeconds>()?;
+    m.add_class::<static_los::Candidates>()?;
+    m.add_class::<static_los::EnumerationStages>()?;
+    m.add_class::<static_los::IntensityResult>()?;
+    m.add_class::<static_los::IntensityLevel>()?;
+    Ok(())
+}

@@ -1,0 +1,209 @@
+//! Bindings for static LOS association (METHODS §2): candidate enumeration with eq. 2 costs,
+//! and the paper's intensity-ordered search. Extract, `py.detach`, delegate to the core,
+//! return frozen result objects.
+
+use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use super::convert::{
+    count, owned, slice1, threads, to_numpy, to_usize, MeasurementsArg, SensorsArg,
+};
+use super::errors::{value_error, BindResult};
+use passive_assoc_core::assign::CandidateSet;
+use passive_assoc_core::parallel::with_threads;
+use passive_assoc_core::static_los::{
+    enumerate, intensity_search as core_intensity_search, Candidates as CoreCandidates,
+    DetectionModel, EnumerateOptions, IntensityInput, IntensityOptions,
+};
+
+/// `passive_assoc._settings.EnumerationSettings`, read by attribute.
+#[derive(FromPyObject)]
+pub struct EnumerationSettings {
+    chi2_gate: f64,
+    min_intensity: i64,
+    max_candidates: i64,
+    n_threads: Option<i64>,
+}
+
+/// Partial tuples the enumeration examined: `tested[k]` / `pruned[k]` for prefixes with k
+/// lines of sight (entries 0 and 1 unused).
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct EnumerationStages {
+    tested: Vec<u64>,
+    pruned: Vec<u64>,
+    windowed_out: u64,
+    candidates: u64,
+}
+
+/// The gated candidate tuples of one scan, columnar, `K` rows in lexicographic tuple order.
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct Candidates {
+    /// `(K, S)`: 0 = missed, else the 1-based index among that sensor's rows.
+    tuples: Py<PyArrayDyn<i64>>,
+    /// `(K, S)`: the table row of each entry, −1 = missed.
+    rows: Py<PyArrayDyn<i64>>,
+    positions: Py<PyArrayDyn<f64>>,
+    covariances: Py<PyArrayDyn<f64>>,
+    costs: Py<PyArrayDyn<f64>>,
+    intensity: Py<PyArrayDyn<i64>>,
+    chi2: Py<PyArrayDyn<f64>>,
+    /// Reports per sensor.
+    sizes: Py<PyArrayDyn<i64>>,
+    stages: Py<EnumerationStages>,
+}
+
+/// Enumerates the gated candidate tuples of one scan with ML positions, covariances and eq. 2
+/// costs. Times play no part (one scan); the elevation column is ignored in 2-D.
+#[pyfunction]
+#[pyo3(signature = (measurements, sensors, pd, false_alarm_density, settings))]
+pub fn enumerate_static(
+    py: Python<'_>,
+    measurements: MeasurementsArg<'_>,
+    sensors: SensorsArg<'_>,
+    pd: PyReadonlyArray1<'_, f64>,
+    false_alarm_density: PyReadonlyArray1<'_, f64>,
+    settings: EnumerationSettings,
+) -> BindResult<Candidates> {
+    let options = EnumerateOptions {
+        gate: settings.chi2_gate,
+        min_intensity: count("min_intensity", settings.min_intensity, 2)?,
+        max_candidates: count("max_candidates", settings.max_candidates, 1)?,
+        ..EnumerateOptions::default()
+    };
+    let n_threads = threads(settings.n_threads)?;
+    let network = sensors.view()?;
+    let columns = measurements.columns(network.space())?;
+    // One scan: the table's times play no part, so a zero column stands in for them.
+    let time = vec![0.0; columns.len()];
+    let table = columns.view_with_time(&network, &time)?;
+    let detection = DetectionModel::new(
+        &network,
+        slice1("pd", &pd)?,
+        slice1("false_alarm_density", &false_alarm_density)?,
+    )?;
+    let found = py.detach(|| {
+        with_threads(n_threads, || {
+            enumerate(&network, &table, &detection, &options)
+        })
+    })??;
+    candidates_output(py, found)
+}
+
+fn candidates_output(py: Python<'_>, c: CoreCandidates) -> BindResult<Candidates> {
+    let (k, s, d) = (c.len(), c.n_sensors, c.dim);
+    let sizes = c.sizes.iter().map(|&n| n as i64).collect();
+    let stages = EnumerationStages {
+        tested: c.stages.tested.clone(),
+        pruned: c.stages.pruned.clone(),
+        windowed_out: c.stages.windowed_out,
+        candidates: c.stages.candidates,
+    };
+    Ok(Candidates {
+        tuples: to_numpy(py, c.tuples, &[k, s])?.unbind(),
+        rows: to_numpy(py, c.rows, &[k, s])?.unbind(),
+        positions: to_numpy(py, c.positions, &[k, d])?.unbind(),
+        covariances: to_numpy(py, c.covariances, &[k, d, d])?.unbind(),
+        costs: owned(py, c.costs)?,
+        intensity: owned(py, c.intensity)?,
+        chi2: owned(py, c.chi2)?,
+        sizes: owned(py, sizes)?,
+        stages: Py::new(py, stages)?,
+    })
+}
+
+/// `passive_assoc._settings.IntensitySettings`, read by attribute.
+#[derive(FromPyObject)]
+pub struct IntensitySettings {
+    vote_fraction: f64,
+    valid_airspace: bool,
+    max_chains: Option<i64>,
+    n_threads: Option<i64>,
+}
+
+/// One searched level of the intensity search.
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct IntensityLevel {
+    intensity: usize,
+    candidates: usize,
+    starts: usize,
+    chains: usize,
+    confirmed: usize,
+}
+
+/// The intensity search's choice (ascending indices into the candidates) and diagnostics.
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct IntensityResult {
+    chosen: Py<PyArrayDyn<i64>>,
+    airspace_radius: f64,
+    ghosts_dropped: usize,
+    chains: usize,
+    levels: Vec<Py<IntensityLevel>>,
+}
+
+/// The paper's intensity-ordered search over enumerated candidates: valid airspace, chains,
+/// vote, then the next lower intensity. The result is the same for any thread count.
+#[pyfunction]
+#[pyo3(signature = (tuples, positions, costs, sizes, settings))]
+pub fn intensity_search(
+    py: Python<'_>,
+    tuples: PyReadonlyArray2<'_, i64>,
+    positions: PyReadonlyArray2<'_, f64>,
+    costs: PyReadonlyArray1<'_, f64>,
+    sizes: PyReadonlyArray1<'_, i64>,
+    settings: IntensitySettings,
+) -> BindResult<IntensityResult> {
+    let n_threads = threads(settings.n_threads)?;
+    let max_chains = match settings.max_chains {
+        Some(n) => Some(count("max_chains", n, 1)?),
+        None => None,
+    };
+    let (k, n_sensors, dim) = (tuples.shape()[0], tuples.shape()[1], positions.shape()[1]);
+    if positions.shape()[0] != k {
+        return Err(value_error(
+            "positions",
+            format!("has {} rows, tuples has {k}", positions.shape()[0]),
+        ));
+    }
+    let contiguous = |name: &str| value_error(name, "array must be C-contiguous");
+    let tuple_slice = tuples.as_slice().map_err(|_| contiguous("tuples"))?;
+    let position_slice = positions.as_slice().map_err(|_| contiguous("positions"))?;
+    let set = CandidateSet::new(
+        to_usize("tuples", tuple_slice)?,
+        n_sensors,
+        slice1("costs", &costs)?.to_vec(),
+        to_usize("sizes", slice1("sizes", &sizes)?)?,
+    )?;
+    let input = IntensityInput::new(set, position_slice.to_vec(), dim)?;
+    let options = IntensityOptions {
+        vote_fraction: settings.vote_fraction,
+        valid_airspace: settings.valid_airspace,
+        max_chains,
+        ..IntensityOptions::default()
+    };
+    let outcome =
+        py.detach(|| with_threads(n_threads, || core_intensity_search(&input, &options)))??;
+    let chosen = outcome.chosen.iter().map(|&c| c as i64).collect();
+    let levels = outcome
+        .levels
+        .iter()
+        .map(|level| {
+            Py::new(
+                py,
+                IntensityLevel {
+                    intensity: level.intensity,
+                    candidates: level.candidates,
+                    starts: level.starts,
+                    chains: level.chains,
+                    confirmed: level.confirmed,
+                },
+            )
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(IntensityResult {
+        chosen: owned(py, chosen)?,
+        airspace_radius: outcome.airspace_radius,
+        ghosts_dropped: outcome.ghosts_dropped,
+        chains: outcome.chains,
+        levels,
+    })
+}
