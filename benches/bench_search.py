@@ -32,7 +32,7 @@ def candidate_starts(scenario: pa.Scenario) -> tuple[np.ndarray, np.ndarray]:
     return fit.estimates[keep], fit.covariances[keep]
 
 
-def numpy_closeness(scenario: pa.Scenario, spread: float):  # noqa: ANN201 - returns closures
+def numpy_closeness(scenario: pa.Scenario, spread: float):
     m, s = scenario.measurements, scenario.sensors.positions[scenario.measurements.sensor]
     t, az, el, n = m.time[:, None], m.azimuth, m.elevation, len(m)
 
@@ -55,7 +55,7 @@ def numpy_closeness(scenario: pa.Scenario, spread: float):  # noqa: ANN201 - ret
     return value_and_grad
 
 
-def scipy_search(value_and_grad, start: np.ndarray, cov: np.ndarray) -> np.ndarray:  # noqa: ANN001
+def scipy_search(value_and_grad, start: np.ndarray, cov: np.ndarray) -> np.ndarray:
     lower = np.linalg.cholesky(cov)
 
     def fun(y: np.ndarray) -> tuple[float, np.ndarray]:

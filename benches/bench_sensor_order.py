@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 import passive_assoc as pa
 import scipy.sparse as sp
-from passive_assoc.static_los import enumerate_candidates
 from passive_assoc.simulation import static_scan
+from passive_assoc.static_los import enumerate_candidates
 from scipy.optimize import linprog
 
 CONFIGS: dict[str, dict[str, Any]] = {

@@ -16,8 +16,8 @@ import time
 
 import numpy as np
 import passive_assoc as pa
-from passive_assoc.static_los import enumerate_candidates
 from passive_assoc.simulation import static_scan
+from passive_assoc.static_los import enumerate_candidates
 
 CASES = [(3, 18), (3, 50), (3, 100), (4, 50), (4, 100)]
 

@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 import pytest
-
 from passive_assoc import _core
 
 F = np.float64

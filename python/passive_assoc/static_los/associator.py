@@ -219,7 +219,7 @@ def associate_static(
     )
     report: dict[str, Any] = {
         "method": method,
-        "candidates": int(len(cands["costs"])),
+        "candidates": len(cands["costs"]),
         "stage_counts": dict(cands["stage_counts"]),
     }
     if method == "intensity":
