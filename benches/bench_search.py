@@ -86,7 +86,7 @@ def main() -> None:
         diag_best = min(diag_best, time.perf_counter() - t)
     value_and_grad = numpy_closeness(scenario, spread=2 * 5e-3)
     t = time.perf_counter()
-    theirs = np.array([scipy_search(value_and_grad, x, c) for x, c in zip(starts, covs)])
+    theirs = np.array([scipy_search(value_and_grad, x, c) for x, c in zip(starts, covs, strict=True)])
     scipy_seconds = time.perf_counter() - t
 
     r_ours = pa.closeness(m, sensors, ours.states)[0]

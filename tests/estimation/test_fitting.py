@@ -84,6 +84,7 @@ def test_thread_count_does_not_change_results() -> None:
     for a, b in zip(
         (one.estimates, one.covariances, one.chi2, one.iterations, one.termination),
         (two.estimates, two.covariances, two.chi2, two.iterations, two.termination),
+        strict=True,
     ):
         np.testing.assert_array_equal(a, b)
 

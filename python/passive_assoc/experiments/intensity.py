@@ -64,7 +64,7 @@ def truth_cost(scan: StaticScan, cands: dict[str, Any], costs: np.ndarray) -> fl
 
 def ghosts(scan: StaticScan, cands: dict[str, Any]) -> int:
     """Candidates every sensor sees (intensity S) that are not a target."""
-    full = {tuple(row) for row, i in zip(cands["rows"].tolist(), cands["intensity"]) if i == scan.sensors.n_sensors}
+    full = {tuple(row) for row, i in zip(cands["rows"].tolist(), cands["intensity"], strict=True) if i == scan.sensors.n_sensors}
     return len(full) - sum(1 for t in true_tuples(scan) if t in full)
 
 
