@@ -5,19 +5,20 @@ back; PanicException derives from BaseException, so `except Exception` does not 
 
 from __future__ import annotations
 
+import contextlib
 from typing import Any
 
 import numpy as np
 import pytest
 from passive_assoc import _core
 
-F = np.float64
-I = np.int64
+F64 = np.float64
+I64 = np.int64
 
 
 def _measurement_args() -> dict[str, Any]:
     return dict(
-        sensor=np.array([0, 1, 0, 1], I),
+        sensor=np.array([0, 1, 0, 1], I64),
         time=np.array([0.0, 5.0, 15.0, 20.0]),
         azimuth=np.array([1.0, 2.0, 1.0, 2.0]),
         elevation=np.array([0.1, 0.1, 0.1, 0.1]),
@@ -30,7 +31,7 @@ def _measurement_args() -> dict[str, Any]:
 CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
     "fit_batch": (
         _core.fit_batch,
-        {**_measurement_args(), "indices": np.arange(4, dtype=I), "offsets": np.array([0, 4], I)},
+        {**_measurement_args(), "indices": np.arange(4, dtype=I64), "offsets": np.array([0, 4], I64)},
         dict(ndim=3, motion="cv"),
     ),
     "crlb": (
@@ -39,7 +40,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
             sensor_positions=np.array([[0.0, 0, 0], [2e4, 0, 0]]),
             sigma_azimuth=np.array([5e-3, 5e-3]),
             sigma_elevation=np.array([5e-3, 5e-3]),
-            sensor_index=np.array([0, 1, 0, 1], I),
+            sensor_index=np.array([0, 1, 0, 1], I64),
             times=np.array([0.0, 5, 15, 20]),
             truth=np.array([1e3, 1e4, 1e3, 100, 0, 0.0]),
         ),
@@ -70,7 +71,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         _core.initiate,
         {
             **_measurement_args(),
-            "pairs": np.zeros((0, 2), I),
+            "pairs": np.zeros((0, 2), I64),
             "spread_azimuth": np.array([1e-2, 1e-2]),
             "spread_elevation": np.array([1e-2, 1e-2]),
         },
@@ -93,7 +94,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
     "enumerate_static": (
         _core.enumerate_static,
         {
-            "sensor": np.array([0, 1, 2], I),
+            "sensor": np.array([0, 1, 2], I64),
             "azimuth": np.array([1.0, 1.5, 2.0]),
             "elevation": np.zeros(3),
             "sensor_positions": np.array([[-1e4, 0, 0], [0, -5e3, 0], [1e4, 0, 0.0]]),
@@ -107,16 +108,16 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
     "intensity_search": (
         _core.intensity_search,
         {
-            "tuples": np.array([[1, 1, 1]], I),
+            "tuples": np.array([[1, 1, 1]], I64),
             "positions": np.zeros((1, 2)),
             "costs": np.array([-5.0]),
-            "sizes": np.array([1, 1, 1], I),
+            "sizes": np.array([1, 1, 1], I64),
         },
         {},
     ),
     "assign_sd": (
         _core.assign_sd,
-        {"tuples": np.array([[1, 1, 1]], I), "costs": np.array([-5.0]), "sizes": np.array([1, 1, 1], I)},
+        {"tuples": np.array([[1, 1, 1]], I64), "costs": np.array([-5.0]), "sizes": np.array([1, 1, 1], I64)},
         {},
     ),
     "assign_2d": (_core.assign_2d, {"costs": np.ones((3, 4))}, {}),
@@ -125,16 +126,16 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
 
 def _mutations(value: np.ndarray) -> list[Any]:
     out: list[Any] = [
-        value.astype(np.float32 if value.dtype == F else np.int32),
-        value.reshape(-1)[:0].reshape((0,) + value.shape[1:]),
-        np.zeros(value.shape[:-1] + (value.shape[-1] + 1,), value.dtype) if value.ndim else value,
+        value.astype(np.float32 if value.dtype == F64 else np.int32),
+        value.reshape(-1)[:0].reshape((0, *value.shape[1:])),
+        np.zeros((*value.shape[:-1], value.shape[-1] + 1), value.dtype) if value.ndim else value,
         "text",
         None,
     ]
-    if value.dtype == F:
+    if value.dtype == F64:
         out += [np.full_like(value, np.nan), np.full_like(value, np.inf), -value, np.full_like(value, 1e300)]
     else:
-        out += [value - 10, value + 10**9, np.full_like(value, np.iinfo(I).max)]
+        out += [value - 10, value + 10**9, np.full_like(value, np.iinfo(I64).max)]
     if value.ndim == 2:
         out.append(value.T.copy())
         out.append(np.asfortranarray(np.hstack([value, value]))[:, ::2])
@@ -142,10 +143,8 @@ def _mutations(value: np.ndarray) -> list[Any]:
 
 
 def _call(func: Any, args: dict[str, Any], kwargs: dict[str, Any]) -> None:
-    try:
+    with contextlib.suppress(ValueError, TypeError):
         func(*args.values(), **kwargs)
-    except (ValueError, TypeError):
-        pass
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
