@@ -64,7 +64,11 @@ def truth_cost(scan: StaticScan, cands: dict[str, Any], costs: np.ndarray) -> fl
 
 def ghosts(scan: StaticScan, cands: dict[str, Any]) -> int:
     """Candidates every sensor sees (intensity S) that are not a target."""
-    full = {tuple(row) for row, i in zip(cands["rows"].tolist(), cands["intensity"], strict=True) if i == scan.sensors.n_sensors}
+    full = {
+        tuple(row)
+        for row, i in zip(cands["rows"].tolist(), cands["intensity"], strict=True)
+        if i == scan.sensors.n_sensors
+    }
     return len(full) - sum(1 for t in true_tuples(scan) if t in full)
 
 
@@ -211,7 +215,7 @@ def timing_table(
             per_scan.append((len(scan.measurements), _time_scan(scan, solvers)))
 
         def median(key: str) -> float | None:
-            values = [t[key] for _, t in per_scan if t.get(key) is not None]
+            values = [t[key] for _, t in per_scan if t.get(key) is not None]  # noqa: B023 - called in this iteration only
             return float(np.median(values)) if values else None
 
         row: dict[str, Any] = {
@@ -282,7 +286,8 @@ def print_accuracy(table: dict[str, Any], runs: int, n_targets: int) -> None:
 
 def print_timing(rows: list[dict[str, Any]]) -> None:
     print(
-        "\nTable 1 — seconds per scan on one thread, enumeration included, median over the scans | paper (2000 hardware)"
+        "\nTable 1 — seconds per scan on one thread, enumeration included, median over the scans"
+        " | paper (2000 hardware)"
     )
     out = [
         [
@@ -320,8 +325,8 @@ def print_timing(rows: list[dict[str, Any]]) -> None:
         )
     print_rows(out, [2, 4, 8, 7, 10, 11, 11, 10, 10, 12, 16])
     print(
-        f"  median over {rows[0]['scans'] if rows else 0} scans per row (1 beyond M = 100); reports, candidates, gaps and"
-        " Lagrangian iterations (cap 200): medians too"
+        f"  median over {rows[0]['scans'] if rows else 0} scans per row (1 beyond M = 100); reports, candidates,"
+        " gaps and Lagrangian iterations (cap 200): medians too"
     )
     print("  *p/n exact: time limit reached on some scans, optimum proven on p of n; '-': not attempted")
     print(
