@@ -153,7 +153,10 @@ def main() -> None:
     total = int(np.prod(sizes + 1))
     slow = brute_force(sensor, bearing, sigma, GATE)
     fast = rust(sensor, bearing, sigma, density, 1)["tuples"]
-    as_set = lambda a: {tuple(int(v) for v in row) for row in a}
+
+    def as_set(a: np.ndarray) -> set[tuple[int, ...]]:
+        return {tuple(int(v) for v in row) for row in a}
+
     differ = len(as_set(slow) ^ as_set(fast))
     print(
         f"M = {args.targets}, R = {args.r:g}, σ = {1e3 * sigma:.3f} mrad, reports per sensor {sizes.tolist()}, "

@@ -78,7 +78,8 @@ def main() -> None:
         "dual/primal: mean % of |LP|; iterations: median"
     )
     print(
-        f"{'M':>4} {'reordered':>9} {'auto ms':>9} {'given ms':>9} {'auto/given':>11} {'LP-dual auto':>13} {'given':>7} "
+        f"{'M':>4} {'reordered':>9} {'auto ms':>9} {'given ms':>9} {'auto/given':>11} "
+        f"{'LP-dual auto':>13} {'given':>7} "
         f"{'primal-LP auto':>15} {'given':>7} {'it. auto':>9} {'given':>6} {'HiGHS LP ms':>12} "
         f"{'polish ms':>10} {'polish/auto':>12} {'primal-LP polish':>17}"
     )
