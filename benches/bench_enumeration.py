@@ -19,8 +19,11 @@ from __future__ import annotations
 import argparse
 import time
 
+from types import SimpleNamespace
+
 import numpy as np
 from passive_assoc import _core
+from passive_assoc._settings import EnumerationSettings
 
 SENSORS = np.array([[-15e3, 0.0, 0.0], [0.0, -5e3, 0.0], [15e3, 0.0, 0.0]])
 GATE = 6.634896601021214  # χ²(1 dof) 99 %, per angle
@@ -117,19 +120,14 @@ def _extend(keep, used, second, theta, x, y, sigma, gate) -> None:
 
 def rust(sensor, bearing, sigma, density, n_threads):
     s_count = len(SENSORS)
-    return _core.enumerate_static(
-        sensor,
-        bearing,
-        np.zeros_like(bearing),
-        SENSORS,
-        np.full(s_count, sigma),
-        np.full(s_count, sigma),
-        np.full(s_count, 0.95),
-        density,
-        ndim=2,
-        gate=GATE,
-        n_threads=n_threads,
+    # The binding reads the table and the network by attribute; these stand in for the
+    # validated MeasurementTable / SensorNetwork at no cost.
+    table = SimpleNamespace(sensor=sensor, time=np.zeros_like(bearing), azimuth=bearing, elevation=np.zeros_like(bearing))
+    network = SimpleNamespace(
+        positions=SENSORS, sigma_azimuth=np.full(s_count, sigma), sigma_elevation=np.full(s_count, sigma), ndim=2
     )
+    settings = EnumerationSettings(chi2_gate=GATE, min_intensity=2, max_candidates=1_000_000, n_threads=n_threads)
+    return _core.enumerate_static(table, network, np.full(s_count, 0.95), density, settings)
 
 
 def median_seconds(run, repeats: int) -> float:
@@ -152,7 +150,7 @@ def main() -> None:
     sizes = np.bincount(sensor, minlength=len(SENSORS))
     total = int(np.prod(sizes + 1))
     slow = brute_force(sensor, bearing, sigma, GATE)
-    fast = rust(sensor, bearing, sigma, density, 1)["tuples"]
+    fast = rust(sensor, bearing, sigma, density, 1).tuples
 
     def as_set(a: np.ndarray) -> set[tuple[int, ...]]:
         return {tuple(int(v) for v in row) for row in a}

@@ -40,7 +40,7 @@ CONFIGS: dict[str, dict[str, Any]] = {
 
 def lp_bound(cands: dict[str, Any]) -> tuple[float, float]:
     """The LP relaxation's optimum (every report at most once, 0 <= x <= 1) and its time, s."""
-    tuples, costs, sizes = cands["tuples"], cands["costs"], cands["sizes"]
+    tuples, costs, sizes = cands.tuples, cands.costs, cands.sizes
     offsets = np.concatenate([[0], np.cumsum(sizes)])
     rows, cols = [], []
     for s in range(tuples.shape[1]):
@@ -61,7 +61,7 @@ def best_of(cands: dict[str, Any], config: dict[str, Any], repeats: int) -> tupl
     times, result = [], None
     for _ in range(repeats):
         start = time.perf_counter()
-        result = pa.assign_sd(cands["tuples"], cands["costs"], cands["sizes"], **config)
+        result = pa.assign_sd(cands.tuples, cands.costs, cands.sizes, **config)
         times.append(time.perf_counter() - start)
     assert result is not None
     return float(np.min(times)), result
@@ -104,7 +104,7 @@ def main() -> None:
                 rec[o]["dual"].append(100 * (lp - r.dual_bound) / abs(lp))
                 rec[o]["primal"].append(100 * (r.primal_cost - lp) / abs(lp))
                 rec[o]["it"].append(r.iterations)
-            sizes = list(cands["sizes"])
+            sizes = list(cands.sizes)
             if max(range(3), key=lambda s: (sizes[s], s)) != 2:  # auto relaxes another sensor
                 ratio.append(best["auto"] / best["given"])
         a, g = rec["auto"], rec["given"]

@@ -26,7 +26,7 @@ def best_seconds(cands: dict, warm_start: str, repeats: int) -> float:
     times = []
     for _ in range(repeats):
         start = time.perf_counter()
-        pa.assign_sd(cands["tuples"], cands["costs"], cands["sizes"], warm_start=warm_start)
+        pa.assign_sd(cands.tuples, cands.costs, cands.sizes, warm_start=warm_start)
         times.append(time.perf_counter() - start)
     return float(np.min(times))
 

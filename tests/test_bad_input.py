@@ -4,12 +4,14 @@ argument — never a crash or a PanicException (issue: foundation, "Bad input").
 from __future__ import annotations
 
 from collections.abc import Callable
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 import passive_assoc as pa
 import pytest
 from passive_assoc import _core
+from passive_assoc._settings import FitSettings
 
 SENSORS = pa.SensorNetwork.spatial([[0, 0, 0], [20e3, 0, 0]], 5e-3, 5e-3)
 TABLE = pa.MeasurementTable.from_arrays(
@@ -32,9 +34,28 @@ def _raw_fit_args() -> dict[str, Any]:
 
 
 def _raw_fit(**change: Any) -> Any:
+    """Call the compiled fit directly, with duck-typed table and network objects (the binding
+    reads them by attribute), so that arrays a validated Python object would refuse reach it."""
     args = _raw_fit_args() | change
-    positional = [args.pop(k) for k in list(_raw_fit_args())]
-    return _core.fit_batch(*positional, ndim=args.pop("ndim", 3), motion=args.pop("motion", "cv"), **args)
+    measurements = SimpleNamespace(**{k: args.pop(k) for k in ("sensor", "time", "azimuth", "elevation")})
+    sensors = SimpleNamespace(
+        positions=args.pop("sensor_positions"),
+        sigma_azimuth=args.pop("sigma_azimuth"),
+        sigma_elevation=args.pop("sigma_elevation"),
+        ndim=args.pop("ndim", 3),
+    )
+    settings = FitSettings(
+        motion=args.pop("motion", "cv"),
+        t0=args.pop("t0", 0.0),
+        max_iter=args.pop("max_iter", 50),
+        xtol=args.pop("xtol", 1e-10),
+        step_sigmas=args.pop("step_sigmas", 1e-6),
+        max_halvings=args.pop("max_halvings", 30),
+        n_threads=args.pop("n_threads", None),
+    )
+    indices, offsets, initial = args.pop("indices"), args.pop("offsets"), args.pop("initial", None)
+    assert not args, f"unknown arguments {args}"
+    return _core.fit_batch(measurements, sensors, indices, offsets, initial, settings)
 
 
 RAW_CASES: list[tuple[str, dict[str, Any], type[Exception], str]] = [
@@ -113,7 +134,13 @@ def test_core_crlb_rejects() -> None:
     for change, message in cases:
         args = base | change
         with pytest.raises(ValueError, match=message):
-            _core.crlb(*args.values(), ndim=3, motion="cv")
+            sensors = SimpleNamespace(
+                positions=args["sensor_positions"],
+                sigma_azimuth=args["sigma_azimuth"],
+                sigma_elevation=args["sigma_elevation"],
+                ndim=3,
+            )
+            _core.crlb(sensors, args["truth"], args["sensor_index"], args["times"], "cv", 0.0)
 
 
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [

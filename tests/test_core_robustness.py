@@ -6,14 +6,27 @@ back; PanicException derives from BaseException, so `except Exception` does not 
 from __future__ import annotations
 
 import contextlib
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 import pytest
 from passive_assoc import _core
+from passive_assoc._settings import (
+    DescentSettings,
+    EnumerationSettings,
+    FitSettings,
+    InitiationSettings,
+    IntensitySettings,
+    SdSettings,
+)
 
 F64 = np.float64
 I64 = np.int64
+
+
+MEASUREMENT_KEYS = ("sensor", "time", "azimuth", "elevation")
+SENSOR_KEYS = {"sensor_positions": "positions", "sigma_azimuth": "sigma_azimuth", "sigma_elevation": "sigma_elevation"}
 
 
 def _measurement_args() -> dict[str, Any]:
@@ -28,14 +41,70 @@ def _measurement_args() -> dict[str, Any]:
     )
 
 
+def _objects(args: dict[str, Any], ndim: Any) -> tuple[Any, Any, dict[str, Any]]:
+    """Duck-typed table and network (the binding reads them by attribute) and the rest."""
+    rest = dict(args)
+    table = SimpleNamespace(**{k: rest.pop(k) for k in MEASUREMENT_KEYS if k in args})
+    network = SimpleNamespace(**{attr: rest.pop(k) for k, attr in SENSOR_KEYS.items()}, ndim=ndim)
+    return table, network, rest
+
+
+def _fit(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    table, network, rest = _objects(args, kw["ndim"])
+    settings = FitSettings(kw["motion"], 0.0, 50, 1e-10, 1e-6, 30, None)
+    return _core.fit_batch(table, network, rest["indices"], rest["offsets"], None, settings)
+
+
+def _crlb(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    _, network, rest = _objects(args, kw["ndim"])
+    return _core.crlb(network, rest["truth"], rest["sensor_index"], rest["times"], kw["motion"], 0.0)
+
+
+def _closeness(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    table, network, rest = _objects(args, kw["ndim"])
+    spreads = (rest["spread_azimuth"], rest["spread_elevation"])
+    return _core.closeness(table, network, *spreads, rest["states"], kw["t0"], None)
+
+
+def _maximize(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    table, network, rest = _objects(args, kw["ndim"])
+    spreads = (rest["spread_azimuth"], rest["spread_elevation"])
+    settings = DescentSettings(kw["t0"], "whitened", 100, None)
+    return _core.maximize_closeness(table, network, *spreads, rest["starts"], rest["covariances"], settings)
+
+
+def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    kw = dict(kw)
+    table, network, rest = _objects(args, kw.pop("ndim"))
+    settings = InitiationSettings(**kw, descent_scaling="whitened", refine_passes=2)
+    spreads = (rest["spread_azimuth"], rest["spread_elevation"])
+    return _core.initiate(table, network, rest["pairs"], *spreads, settings)
+
+
+def _enumerate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    table, network, rest = _objects({**args, "time": np.zeros(len(args["sensor"]))}, kw["ndim"])
+    settings = EnumerationSettings(kw["gate"], 2, 1_000_000, None)
+    return _core.enumerate_static(table, network, rest["pd"], rest["false_alarm_density"], settings)
+
+
+def _intensity(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    settings = IntensitySettings(0.5, True, None, None)
+    return _core.intensity_search(args["tuples"], args["positions"], args["costs"], args["sizes"], settings)
+
+
+def _assign_sd(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    settings = SdSettings("lagrangian", 200, 1e-3, 10_000_000, 10.0, "auto", "auto", False)
+    return _core.assign_sd(args["tuples"], args["costs"], args["sizes"], settings)
+
+
 CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
     "fit_batch": (
-        _core.fit_batch,
+        _fit,
         {**_measurement_args(), "indices": np.arange(4, dtype=I64), "offsets": np.array([0, 4], I64)},
         dict(ndim=3, motion="cv"),
     ),
     "crlb": (
-        _core.crlb,
+        _crlb,
         dict(
             sensor_positions=np.array([[0.0, 0, 0], [2e4, 0, 0]]),
             sigma_azimuth=np.array([5e-3, 5e-3]),
@@ -47,7 +116,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         dict(ndim=3, motion="cv"),
     ),
     "closeness": (
-        _core.closeness,
+        _closeness,
         {
             **_measurement_args(),
             "spread_azimuth": np.array([1e-2, 1e-2]),
@@ -57,7 +126,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         dict(ndim=3, t0=0.0),
     ),
     "maximize_closeness": (
-        _core.maximize_closeness,
+        _maximize,
         {
             **_measurement_args(),
             "spread_azimuth": np.array([1e-2, 1e-2]),
@@ -68,7 +137,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         dict(ndim=3, t0=0.0),
     ),
     "initiate": (
-        _core.initiate,
+        _initiate,
         {
             **_measurement_args(),
             "pairs": np.zeros((0, 2), I64),
@@ -78,9 +147,9 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         dict(
             ndim=3,
             t0=0.0,
-            gate=5.0,
+            gate_sigmas=5.0,
             n_detect=1,
-            ray_gate=None,
+            ray_gate_sigmas=None,
             reject_behind=True,
             v_max=None,
             chi2_gate=None,
@@ -92,7 +161,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         ),
     ),
     "enumerate_static": (
-        _core.enumerate_static,
+        _enumerate,
         {
             "sensor": np.array([0, 1, 2], I64),
             "azimuth": np.array([1.0, 1.5, 2.0]),
@@ -106,7 +175,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         dict(ndim=2, gate=6.6),
     ),
     "intensity_search": (
-        _core.intensity_search,
+        _intensity,
         {
             "tuples": np.array([[1, 1, 1]], I64),
             "positions": np.zeros((1, 2)),
@@ -116,11 +185,11 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         {},
     ),
     "assign_sd": (
-        _core.assign_sd,
+        _assign_sd,
         {"tuples": np.array([[1, 1, 1]], I64), "costs": np.array([-5.0]), "sizes": np.array([1, 1, 1], I64)},
         {},
     ),
-    "assign_2d": (_core.assign_2d, {"costs": np.ones((3, 4))}, {}),
+    "assign_2d": (lambda args, kw: _core.assign_2d(args["costs"]), {"costs": np.ones((3, 4))}, {}),
 }
 
 
@@ -144,13 +213,13 @@ def _mutations(value: np.ndarray) -> list[Any]:
 
 def _call(func: Any, args: dict[str, Any], kwargs: dict[str, Any]) -> None:
     with contextlib.suppress(ValueError, TypeError):
-        func(*args.values(), **kwargs)
+        func(args, kwargs)
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_core_function_survives_mutated_inputs(name: str) -> None:
     func, args, kwargs = CASES[name]
-    func(*args.values(), **kwargs)  # the unmutated call is valid
+    func(args, kwargs)  # the unmutated call is valid
     for key, value in args.items():
         for bad in _mutations(value):
             _call(func, {**args, key: bad}, kwargs)

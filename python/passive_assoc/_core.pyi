@@ -1,147 +1,218 @@
-"""Type stubs for the compiled core (``rust/src/py``). Use the typed wrappers in the package."""
+"""Type stubs for the compiled core (``rust/py``). Use the typed wrappers in the package.
 
-from typing import Any
+Every function takes the validated ``SensorNetwork`` / ``MeasurementTable`` objects and a
+settings object from ``passive_assoc._settings``, read by attribute; results are NumPy
+arrays or the frozen classes below.
+"""
+
+from typing import Literal, final
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ._settings import (
+    DescentSettings,
+    EnumerationSettings,
+    FitSettings,
+    InitiationSettings,
+    IntensitySettings,
+    Motion,
+    SdSettings,
+)
+from .data import MeasurementTable, SensorNetwork
+
 __version__: str
 
+Termination = Literal["optimal", "gap_reached", "max_iterations", "stalled", "node_limit", "time_limit"]
+
+@final
+class SdResult:
+    @property
+    def chosen(self) -> NDArray[np.int64]: ...
+    @property
+    def primal_cost(self) -> float: ...
+    @property
+    def dual_bound(self) -> float: ...
+    @property
+    def gap(self) -> float: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def termination(self) -> Termination: ...
+    @property
+    def optimal(self) -> bool: ...
+
+@final
+class StageCounts:
+    @property
+    def raw(self) -> int: ...
+    @property
+    def ray_gate(self) -> int: ...
+    @property
+    def behind(self) -> int: ...
+    @property
+    def v_max(self) -> int: ...
+    @property
+    def fitted(self) -> int: ...
+    @property
+    def chi2_gate(self) -> int: ...
+    @property
+    def optima(self) -> int: ...
+    @property
+    def merged(self) -> int: ...
+    @property
+    def detected(self) -> int: ...
+
+@final
+class StageSeconds:
+    @property
+    def candidates(self) -> float: ...
+    @property
+    def fit(self) -> float: ...
+    @property
+    def descent(self) -> float: ...
+    @property
+    def detection(self) -> float: ...
+    @property
+    def final_fit(self) -> float: ...
+
+@final
+class InitiationOutput:
+    @property
+    def estimates(self) -> NDArray[np.float64]: ...
+    @property
+    def covariances(self) -> NDArray[np.float64]: ...
+    @property
+    def closeness(self) -> NDArray[np.float64]: ...
+    @property
+    def chi2(self) -> NDArray[np.float64]: ...
+    @property
+    def labels(self) -> NDArray[np.int64]: ...
+    @property
+    def descent_iterations(self) -> NDArray[np.int64]: ...
+    @property
+    def stage_counts(self) -> StageCounts: ...
+    @property
+    def stage_seconds(self) -> StageSeconds: ...
+
+@final
+class EnumerationStages:
+    @property
+    def tested(self) -> list[int]: ...
+    @property
+    def pruned(self) -> list[int]: ...
+    @property
+    def windowed_out(self) -> int: ...
+    @property
+    def candidates(self) -> int: ...
+
+@final
+class Candidates:
+    @property
+    def tuples(self) -> NDArray[np.int64]: ...
+    @property
+    def rows(self) -> NDArray[np.int64]: ...
+    @property
+    def positions(self) -> NDArray[np.float64]: ...
+    @property
+    def covariances(self) -> NDArray[np.float64]: ...
+    @property
+    def costs(self) -> NDArray[np.float64]: ...
+    @property
+    def intensity(self) -> NDArray[np.int64]: ...
+    @property
+    def chi2(self) -> NDArray[np.float64]: ...
+    @property
+    def sizes(self) -> NDArray[np.int64]: ...
+    @property
+    def stages(self) -> EnumerationStages: ...
+
+@final
+class IntensityLevel:
+    @property
+    def intensity(self) -> int: ...
+    @property
+    def candidates(self) -> int: ...
+    @property
+    def starts(self) -> int: ...
+    @property
+    def chains(self) -> int: ...
+    @property
+    def confirmed(self) -> int: ...
+
+@final
+class IntensityResult:
+    @property
+    def chosen(self) -> NDArray[np.int64]: ...
+    @property
+    def airspace_radius(self) -> float: ...
+    @property
+    def ghosts_dropped(self) -> int: ...
+    @property
+    def chains(self) -> int: ...
+    @property
+    def levels(self) -> list[IntensityLevel]: ...
+
 def fit_batch(
-    sensor: NDArray[np.int64],
-    time: NDArray[np.float64],
-    azimuth: NDArray[np.float64],
-    elevation: NDArray[np.float64],
-    sensor_positions: NDArray[np.float64],
-    sigma_azimuth: NDArray[np.float64],
-    sigma_elevation: NDArray[np.float64],
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
     indices: NDArray[np.int64],
     offsets: NDArray[np.int64],
-    initial: NDArray[np.float64] | None = None,
-    *,
-    ndim: int,
-    motion: str,
-    t0: float = 0.0,
-    max_iter: int = 50,
-    xtol: float = 1e-10,
-    step_sigmas: float = 1e-6,
-    max_halvings: int = 30,
-    n_threads: int | None = None,
+    initial: NDArray[np.float64] | None,
+    settings: FitSettings,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint32], NDArray[np.uint8]]: ...
 def crlb(
-    sensor_positions: NDArray[np.float64],
-    sigma_azimuth: NDArray[np.float64],
-    sigma_elevation: NDArray[np.float64],
+    sensors: SensorNetwork,
+    truth: NDArray[np.float64],
     sensor_index: NDArray[np.int64],
     times: NDArray[np.float64],
-    truth: NDArray[np.float64],
-    *,
-    ndim: int,
-    motion: str,
-    t0: float = 0.0,
+    motion: Motion,
+    t0: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 def initiate(
-    sensor: NDArray[np.int64],
-    time: NDArray[np.float64],
-    azimuth: NDArray[np.float64],
-    elevation: NDArray[np.float64],
-    sensor_positions: NDArray[np.float64],
-    sigma_azimuth: NDArray[np.float64],
-    sigma_elevation: NDArray[np.float64],
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
     pairs: NDArray[np.int64],
     spread_azimuth: NDArray[np.float64],
     spread_elevation: NDArray[np.float64],
-    *,
-    ndim: int,
-    t0: float,
-    gate: float,
-    n_detect: int,
-    ray_gate: float | None,
-    reject_behind: bool,
-    v_max: float | None,
-    chi2_gate: float | None,
-    one_per_scan: bool,
-    merge_tol: float,
-    descent_max_iter: int,
-    max_candidates: int,
-    n_threads: int | None,
-    descent_scaling: str = "whitened",
-    refine_passes: int = 2,
-) -> dict[str, Any]: ...
+    settings: InitiationSettings,
+) -> InitiationOutput: ...
 def closeness(
-    sensor: NDArray[np.int64],
-    time: NDArray[np.float64],
-    azimuth: NDArray[np.float64],
-    elevation: NDArray[np.float64],
-    sensor_positions: NDArray[np.float64],
-    sigma_azimuth: NDArray[np.float64],
-    sigma_elevation: NDArray[np.float64],
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
     spread_azimuth: NDArray[np.float64],
     spread_elevation: NDArray[np.float64],
     states: NDArray[np.float64],
-    *,
-    ndim: int,
     t0: float,
-    n_threads: int | None = None,
+    n_threads: int | None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
-def assign_sd(
-    tuples: NDArray[np.int64],
-    costs: NDArray[np.float64],
-    sizes: NDArray[np.int64],
-    *,
-    method: str = "lagrangian",
-    max_iter: int = 200,
-    gap_tol: float = 1e-3,
-    max_nodes: int = 10_000_000,
-    time_limit: float | None = 10.0,
-    warm_start: str = "auto",
-    sensor_order: str = "auto",
-    polish: bool = False,
-) -> dict[str, Any]: ...
-def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
 def maximize_closeness(
-    sensor: NDArray[np.int64],
-    time: NDArray[np.float64],
-    azimuth: NDArray[np.float64],
-    elevation: NDArray[np.float64],
-    sensor_positions: NDArray[np.float64],
-    sigma_azimuth: NDArray[np.float64],
-    sigma_elevation: NDArray[np.float64],
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
     spread_azimuth: NDArray[np.float64],
     spread_elevation: NDArray[np.float64],
     starts: NDArray[np.float64],
     covariances: NDArray[np.float64],
-    *,
-    ndim: int,
-    t0: float,
-    scaling: str = "whitened",
-    max_iter: int = 100,
-    n_threads: int | None = None,
+    settings: DescentSettings,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]: ...
+def assign_sd(
+    tuples: NDArray[np.int64],
+    costs: NDArray[np.float64],
+    sizes: NDArray[np.int64],
+    settings: SdSettings,
+) -> SdResult: ...
+def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
 def enumerate_static(
-    sensor: NDArray[np.int64],
-    azimuth: NDArray[np.float64],
-    elevation: NDArray[np.float64],
-    sensor_positions: NDArray[np.float64],
-    sigma_azimuth: NDArray[np.float64],
-    sigma_elevation: NDArray[np.float64],
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
     pd: NDArray[np.float64],
     false_alarm_density: NDArray[np.float64],
-    *,
-    ndim: int,
-    gate: float,
-    min_intensity: int = 2,
-    max_candidates: int = 1_000_000,
-    n_threads: int | None = None,
-) -> dict[str, Any]: ...
+    settings: EnumerationSettings,
+) -> Candidates: ...
 def intensity_search(
     tuples: NDArray[np.int64],
     positions: NDArray[np.float64],
     costs: NDArray[np.float64],
     sizes: NDArray[np.int64],
-    *,
-    vote_fraction: float = 0.5,
-    valid_airspace: bool = True,
-    max_chains: int | None = None,
-    n_threads: int | None = None,
-) -> dict[str, Any]: ...
+    settings: IntensitySettings,
+) -> IntensityResult: ...

@@ -9,6 +9,7 @@ import numpy as np
 
 from .fti import InitiationResult
 from .simulation import Scenario
+from .static_los.associator import Method
 
 
 def _pyplot() -> Any:
@@ -101,9 +102,9 @@ def plot_static_scan(scan: Any, path: str) -> None:
         ax.plot([start[0], end[0]], [start[1], end[1]], color="0.75" if m.truth[row] < 0 else "0.45", lw=0.5, zorder=1)
     cands = enumerate_candidates(m, scan.sensors)
     for level, marker in ((2, "."), (scan.sensors.n_sensors, "o")):
-        sel = cands["intensity"] == level
+        sel = cands.intensity == level
         ax.scatter(
-            *cands["positions"][sel].T,
+            *cands.positions[sel].T,
             s=12 if level == 2 else 22,
             marker=marker,
             label=f"intensity-{level} candidates ({int(sel.sum())})",
@@ -111,7 +112,8 @@ def plot_static_scan(scan: Any, path: str) -> None:
             alpha=0.7,
         )
     ax.scatter(*scan.targets.T, s=140, facecolors="none", edgecolors="k", lw=1.5, label="true targets", zorder=3)
-    for k, (method, marker) in enumerate((("intensity", "x"), ("lagrangian", "+"), ("exact", "1"))):
+    methods: tuple[tuple[Method, str], ...] = (("intensity", "x"), ("lagrangian", "+"), ("exact", "1"))
+    for k, (method, marker) in enumerate(methods):
         out = associate_static(m, scan.sensors, method, time_limit=2.0)
         ax.scatter(*out.positions.T, s=90, marker=marker, color=f"C{k + 3}", label=f"accepted: {method}", zorder=4)
     ax.plot(*pos[:, :2].T, "k^", ms=9, label="sensors", zorder=5)
@@ -121,7 +123,7 @@ def plot_static_scan(scan: Any, path: str) -> None:
         xlabel="x (m)",
         ylabel="y (m)",
         aspect="equal",
-        title=f"one scan: {len(scan.targets)} targets, {len(m)} bearings, {len(cands['costs'])} candidates",
+        title=f"one scan: {len(scan.targets)} targets, {len(m)} bearings, {len(cands.costs)} candidates",
     )
     ax.legend(loc="lower left", fontsize=8)
     fig.tight_layout()

@@ -110,7 +110,7 @@ def test_polish_never_raises_the_primal_on_paper_scans() -> None:
     for seed in range(4):
         scan = static_scan(seed, n_targets=18, n_sensors=3, ratio=15.0)
         cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
-        tuples, costs, sizes = cands["tuples"], cands["costs"], cands["sizes"]
+        tuples, costs, sizes = cands.tuples, cands.costs, cands.sizes
         plain = pa.assign_sd(tuples, costs, sizes)
         polished = pa.assign_sd(tuples, costs, sizes, polish=True)
         assert feasible_cost(tuples, costs, polished.chosen) == pytest.approx(polished.primal_cost, abs=1e-9)
@@ -129,7 +129,7 @@ def test_lagrangian_dual_stays_below_the_lp_bound_on_paper_scans(sensor_order: L
     for seed in range(6):
         scan = static_scan(seed, n_targets=10, n_sensors=3, ratio=15.0)
         cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
-        tuples, costs, sizes = cands["tuples"], cands["costs"], cands["sizes"]
+        tuples, costs, sizes = cands.tuples, cands.costs, cands.sizes
         lp = lp_optimum(tuples, costs, sizes)
         lag = pa.assign_sd(tuples, costs, sizes, sensor_order=sensor_order)
         assert lag.dual_bound <= lp + 1e-7 * abs(lp)

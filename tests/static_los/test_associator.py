@@ -72,7 +72,7 @@ def test_enumeration_is_thread_count_invariant() -> None:
     one = pa.enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
     two = pa.enumerate_candidates(scan.measurements, scan.sensors, n_threads=2)
     for key in ("tuples", "rows", "positions", "covariances", "costs"):
-        np.testing.assert_array_equal(one[key], two[key])
+        np.testing.assert_array_equal(getattr(one, key), getattr(two, key))
 
 
 @pytest.mark.parametrize(
@@ -115,7 +115,7 @@ def test_solver_settings_reach_assign_sd_through_associate_static() -> None:
     costs = set()
     for order in ("auto", "given"):
         for polish in (False, True):
-            direct = pa.assign_sd(cands["tuples"], cands["costs"], cands["sizes"], sensor_order=order, polish=polish)
+            direct = pa.assign_sd(cands.tuples, cands.costs, cands.sizes, sensor_order=order, polish=polish)
             result = associate_static(
                 scan.measurements, scan.sensors, "lagrangian", n_threads=1, sensor_order=order, polish=polish
             )

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
+from .._settings import SdSettings
 from .._validation import as_float_array, as_int_array, as_int_scalar
 
 
@@ -125,10 +126,7 @@ def assign_sd(
         raise ValueError(f"sensor_order: must be 'auto' or 'given', got {sensor_order!r}")
     if not isinstance(polish, (bool, np.bool_)):
         raise TypeError(f"polish: must be a bool, got {type(polish).__name__}")
-    out = _core.assign_sd(
-        t,
-        c,
-        n,
+    settings = SdSettings(
         method=method,
         max_iter=as_int_scalar("max_iter", max_iter, minimum=1),
         gap_tol=float(gap_tol),
@@ -138,12 +136,7 @@ def assign_sd(
         sensor_order=sensor_order,
         polish=bool(polish),
     )
+    out = _core.assign_sd(t, c, n, settings)
     return SdAssignment(
-        out["chosen"],
-        float(out["primal_cost"]),
-        float(out["dual_bound"]),
-        float(out["gap"]),
-        int(out["iterations"]),
-        str(out["termination"]),
-        bool(out["optimal"]),
+        out.chosen, out.primal_cost, out.dual_bound, out.gap, out.iterations, out.termination, out.optimal
     )

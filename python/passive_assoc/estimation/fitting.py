@@ -16,7 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
-from .._inputs import check_network, core_columns
+from .._inputs import check_network, check_pair
+from .._settings import FitSettings
 from .._validation import as_float_array, as_float_scalar, as_int_array
 from ..data import MeasurementTable, SensorNetwork
 
@@ -133,23 +134,20 @@ def fit_ml(
     >>> fit.estimates.shape, bool(fit.converged.all())
     ((4, 6), True)
     """
-    columns = core_columns(measurements, sensors)
+    table, network = check_pair(measurements, sensors)
     indices, offsets = _groups_to_csr(groups)
     dim = sensors.ndim * (2 if motion == "cv" else 1)
     start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
-    out = _core.fit_batch(
-        *columns,
-        indices,
-        offsets,
-        start,
-        ndim=sensors.ndim,
+    settings = FitSettings(
         motion=motion,
         t0=as_float_scalar("t0", t0),
         max_iter=max_iter,
         xtol=xtol,
         step_sigmas=step_sigmas,
+        max_halvings=30,
         n_threads=n_threads,
     )
+    out = _core.fit_batch(table, network, indices, offsets, start, settings)
     return FitResult(*out)
 
 
@@ -197,13 +195,10 @@ def fisher_and_crlb(
     """The Fisher information and its inverse; see :func:`crlb`."""
     network = check_network(sensors)
     return _core.crlb(
-        network.positions,
-        network.sigma_azimuth,
-        network.sigma_elevation,
+        network,
+        as_float_array("truth", truth, ndim=1),
         as_int_array("sensor_index", sensor_index, ndim=1),
         as_float_array("times", times, ndim=1),
-        as_float_array("truth", truth, ndim=1),
-        ndim=network.ndim,
-        motion=motion,
-        t0=as_float_scalar("t0", t0),
+        motion,
+        as_float_scalar("t0", t0),
     )

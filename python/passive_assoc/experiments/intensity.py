@@ -52,27 +52,27 @@ def true_tuples(scan: StaticScan) -> list[tuple[int, ...]]:
     return [tuple(scan.true_tuples[k].tolist()) for k in np.flatnonzero(scan.observable())]
 
 
-def truth_cost(scan: StaticScan, cands: dict[str, Any], costs: np.ndarray) -> float:
+def truth_cost(scan: StaticScan, cands: Candidates, costs: np.ndarray) -> float:
     """``costs`` (one per candidate) summed over the true association; NaN if a true tuple
     failed the gate."""
-    index = {tuple(row): k for k, row in enumerate(cands["rows"].tolist())}
+    index = {tuple(row): k for k, row in enumerate(cands.rows.tolist())}
     true = true_tuples(scan)
     if any(t not in index for t in true):
         return float("nan")
     return float(sum(costs[index[t]] for t in true))
 
 
-def ghosts(scan: StaticScan, cands: dict[str, Any]) -> int:
+def ghosts(scan: StaticScan, cands: Candidates) -> int:
     """Candidates every sensor sees (intensity S) that are not a target."""
     full = {
         tuple(row)
-        for row, i in zip(cands["rows"].tolist(), cands["intensity"], strict=True)
+        for row, i in zip(cands.rows.tolist(), cands.intensity, strict=True)
         if i == scan.sensors.n_sensors
     }
     return len(full) - sum(1 for t in true_tuples(scan) if t in full)
 
 
-def score(scan: StaticScan, cands: dict[str, Any], method: Method, solvers: Solvers) -> dict[str, float]:
+def score(scan: StaticScan, cands: Candidates, method: Method, solvers: Solvers) -> dict[str, float]:
     """Accuracy (observable targets whose full tuple, misses included, is exactly recovered)
     and GOSPA of one method on one scan; for the exact method also whether the truth's own
     eq. 2 cost is higher than the proven optimum (then no optimiser of eq. 2 can return it).
@@ -86,11 +86,11 @@ def score(scan: StaticScan, cands: dict[str, Any], method: Method, solvers: Solv
     if method == "exact":
         out["ghosts"] = ghosts(scan, cands)
         if result.report["optimal"]:
-            out["truth_beaten"] = float(truth_cost(scan, cands, cands["costs"]) > result.report["primal_cost"] + 1e-9)
+            out["truth_beaten"] = float(truth_cost(scan, cands, cands.costs) > result.report["primal_cost"] + 1e-9)
     return out
 
 
-def bayes_map(scan: StaticScan, cands: dict[str, Any], time_limit: float) -> dict[str, float]:
+def bayes_map(scan: StaticScan, cands: Candidates, time_limit: float) -> dict[str, float]:
     """The best any method can expect here: the exact MAP association under the scenario's own
     model, which eq. 2 only approximates. Each candidate's cost becomes the negative log
     posterior ratio with the true prior — targets uniform over the square at density M/area —
@@ -99,16 +99,16 @@ def bayes_map(scan: StaticScan, cands: dict[str, Any], time_limit: float) -> dic
     own cost is higher than that MAP's (then no estimator of the association can prefer it)."""
     from scipy.stats import norm
 
-    pos, cov = cands["positions"], cands["covariances"]
+    pos, cov = cands.positions, cands.covariances
     sd = np.sqrt(np.stack([cov[:, 0, 0], cov[:, 1, 1]], axis=1))
     lo, hi = np.array([SQUARE_X[0], SQUARE_Y[0]]), np.array([SQUARE_X[1], SQUARE_Y[1]])
     mass = np.prod(norm.cdf((hi - pos) / sd) - norm.cdf((lo - pos) / sd), axis=1)
     density = len(scan.targets) / float(np.prod(hi - lo))
     with np.errstate(divide="ignore"):
-        cost = cands["costs"] - np.log(density) - np.log(2 * np.pi) - 0.5 * np.log(np.linalg.det(cov)) - np.log(mass)
+        cost = cands.costs - np.log(density) - np.log(2 * np.pi) - 0.5 * np.log(np.linalg.det(cov)) - np.log(mass)
     keep = np.flatnonzero(np.isfinite(cost) & (cost < 0))
-    solved = assign_sd(cands["tuples"][keep], cost[keep], cands["sizes"], method="exact", time_limit=time_limit)
-    found = {tuple(cands["rows"][keep[k]].tolist()) for k in solved.chosen}
+    solved = assign_sd(cands.tuples[keep], cost[keep], cands.sizes, method="exact", time_limit=time_limit)
+    found = {tuple(cands.rows[keep[k]].tolist()) for k in solved.chosen}
     true = true_tuples(scan)
     out = {"accuracy": float(np.mean([t in found for t in true])) if true else float("nan")}
     # A true tuple costing > 0 would never be chosen: the truth's best price leaves it out.

@@ -13,19 +13,22 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
-from .._inputs import core_columns
+from .._inputs import check_pair
+from .._settings import DescentSettings
 from .._validation import as_float_array, as_float_scalar, as_int_scalar
 from ..data import MeasurementTable, SensorNetwork
 
 
-def _columns(measurements: MeasurementTable, sensors: SensorNetwork, spread_factor: float) -> tuple:
-    """Core columns plus the per-sensor spreads (azimuth, elevation)."""
-    columns = core_columns(measurements, sensors)
+def _spreads(
+    measurements: MeasurementTable, sensors: SensorNetwork, spread_factor: float
+) -> tuple[MeasurementTable, SensorNetwork, NDArray[np.float64], NDArray[np.float64]]:
+    """The checked pair plus the per-sensor spreads (azimuth, elevation)."""
+    table, network = check_pair(measurements, sensors)
     factor = as_float_scalar("spread_factor", spread_factor, finite=True)
     if factor <= 0:
         raise ValueError(f"spread_factor: must be > 0, got {factor}")
     sigma_el = sensors.sigma_azimuth if sensors.ndim == 2 else sensors.sigma_elevation
-    return (*columns, factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float))
+    return table, network, factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float)
 
 
 def closeness(
@@ -58,11 +61,7 @@ def closeness(
     d = 2 * sensors.ndim
     x = as_float_array("states", states, shape=(None, d))
     return _core.closeness(
-        *_columns(measurements, sensors, spread_factor),
-        x,
-        ndim=sensors.ndim,
-        t0=as_float_scalar("t0", t0, finite=True),
-        n_threads=n_threads,
+        *_spreads(measurements, sensors, spread_factor), x, as_float_scalar("t0", t0, finite=True), n_threads
     )
 
 
@@ -111,14 +110,11 @@ def maximize_closeness(
     c = as_float_array("covariances", covariances, shape=(x.shape[0], d, d))
     if scaling not in ("whitened", "diagonal"):
         raise ValueError(f"scaling: must be 'whitened' or 'diagonal', got {scaling!r}")
-    out = _core.maximize_closeness(
-        *_columns(measurements, sensors, spread_factor),
-        x,
-        c,
-        ndim=sensors.ndim,
+    settings = DescentSettings(
         t0=as_float_scalar("t0", t0, finite=True),
         scaling=scaling,
         max_iter=as_int_scalar("max_iter", max_iter, minimum=0),
         n_threads=n_threads,
     )
+    out = _core.maximize_closeness(*_spreads(measurements, sensors, spread_factor), x, c, settings)
     return ClosenessOptima(*out)

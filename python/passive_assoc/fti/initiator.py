@@ -19,13 +19,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import _core
-from .._inputs import core_columns
+from .._inputs import check_pair
+from .._settings import InitiationSettings
 from .._validation import as_float_scalar, as_int_array, as_int_scalar
 from ..data import MeasurementTable, SensorNetwork
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
 CHI2_2DOF_999 = 13.815510557964274
+
+
+#: The stages of :class:`InitiationDiagnostics` ``stage_counts``, in pipeline order.
+STAGE_COUNT_NAMES = ("raw", "ray_gate", "behind", "v_max", "fitted", "chi2_gate", "optima", "merged", "detected")
+#: The timed stages (``stage_seconds`` calls the last one ``"final"``).
+STAGE_SECOND_NAMES = ("candidates", "fit", "descent", "detection", "final_fit")
 
 
 @dataclass(frozen=True)
@@ -228,42 +235,39 @@ class FuzzyTrackInitiator:
         -------
         InitiationResult
         """
-        columns = core_columns(measurements, sensors)
+        table, network = check_pair(measurements, sensors)
         epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
         spread_az, spread_el = self._spreads(sensors)
-        out = _core.initiate(
-            *columns,
-            self._pairs(sensors.n_sensors),
-            spread_az,
-            spread_el,
-            ndim=sensors.ndim,
+        settings = InitiationSettings(
             t0=epoch,
-            gate=float(self.gate),
+            gate_sigmas=float(self.gate),
             n_detect=int(self.n_detect),
-            ray_gate=self.ray_gate,
+            ray_gate_sigmas=self.ray_gate,
             reject_behind=self.reject_behind,
             v_max=self.v_max,
             chi2_gate=self.chi2_gate,
             one_per_scan=self.one_per_scan,
             merge_tol=float(self.merge_tol),
+            descent_scaling=self.descent_scaling,
             descent_max_iter=int(self.descent_max_iter),
             max_candidates=int(self.max_candidates),
-            n_threads=self.n_threads,
-            descent_scaling=self.descent_scaling,
             refine_passes=int(self.refine_passes),
+            n_threads=self.n_threads,
         )
-        labels = out["labels"]
+        out = _core.initiate(table, network, self._pairs(network.n_sensors), spread_az, spread_el, settings)
+        labels = out.labels
         tracks = [
             InitiatedTrack(
-                out["estimates"][k],
-                out["covariances"][k],
-                float(out["closeness"][k]),
-                float(out["chi2"][k]),
+                out.estimates[k],
+                out.covariances[k],
+                float(out.closeness[k]),
+                float(out.chi2[k]),
                 np.flatnonzero(labels == k),
             )
-            for k in range(len(out["closeness"]))
+            for k in range(len(out.closeness))
         ]
-        diagnostics = InitiationDiagnostics(
-            dict(out["stage_counts"]), out["descent_iterations"], dict(out["stage_seconds"])
-        )
+        counts = {name: int(getattr(out.stage_counts, name)) for name in STAGE_COUNT_NAMES}
+        seconds = {name: float(getattr(out.stage_seconds, name)) for name in STAGE_SECOND_NAMES}
+        seconds["final"] = seconds.pop("final_fit")
+        diagnostics = InitiationDiagnostics(counts, out.descent_iterations, seconds)
         return InitiationResult(tracks, labels, epoch, diagnostics)

@@ -17,12 +17,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
-from .._inputs import check_network, core_columns
+from .._core import Candidates
+from .._inputs import check_pair
+from .._settings import EnumerationSettings, IntensitySettings
 from .._validation import as_float_array, as_float_scalar, as_int_scalar
 from ..assignment import assign_sd
 from ..data import MeasurementTable, SensorNetwork
 
 Method = Literal["intensity", "lagrangian", "exact"]
+#: The per-level diagnostics of the intensity search, as ``report["levels"]`` lists them.
+_LEVEL_FIELDS = ("intensity", "candidates", "starts", "chains", "confirmed")
 #: χ²(1 dof) at 99 %: default gate on each normalised squared angle residual (eq. 3).
 CHI2_1DOF_99 = 6.634896601021214
 
@@ -99,40 +103,43 @@ def enumerate_candidates(
     min_intensity: int = 2,
     max_candidates: int = 1_000_000,
     n_threads: int | None = None,
-) -> dict[str, Any]:
+) -> Candidates:
     """All gated candidate tuples of one scan with their ML positions and costs (eq. 2–4).
 
-    Parameters are those of :func:`associate_static`. Returns a dict of arrays: ``tuples``
-    (K, S; 0 = missed, else 1-based report index within the sensor), ``rows`` (K, S; table
-    row or −1), ``positions``, ``covariances``, ``costs``, ``intensity``, ``chi2``, ``sizes``
-    and ``stage_counts`` (partial tuples tested and pruned per depth).
+    Parameters are those of :func:`associate_static`. Returns a frozen :class:`Candidates` with
+    the arrays ``tuples`` (K, S; 0 = missed, else 1-based report index within the sensor),
+    ``rows`` (K, S; table row or −1), ``positions``, ``covariances``, ``costs``,
+    ``intensity``, ``chi2``, ``sizes`` and ``stages`` (see :func:`stage_counts`).
     """
-    if check_network(sensors).n_sensors < 2:
-        raise ValueError(f"sensors: static association needs at least 2 sensors, got {sensors.n_sensors}")
-    sensor, _, azimuth, elevation, positions, sigma_az, sigma_el = core_columns(measurements, sensors)
-    n = sensors.n_sensors
+    table, network = check_pair(measurements, sensors)
+    if network.n_sensors < 2:
+        raise ValueError(f"sensors: static association needs at least 2 sensors, got {network.n_sensors}")
+    n = network.n_sensors
     density = (
-        default_false_alarm_density(measurements, n)
+        default_false_alarm_density(table, n)
         if false_alarm_density is None
         else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf)
     )
-    return dict(
-        _core.enumerate_static(
-            sensor,
-            azimuth,
-            elevation,
-            positions,
-            sigma_az,
-            sigma_el,
-            _per_sensor("pd", pd, n, 0.0, 1.0),
-            density,
-            ndim=sensors.ndim,
-            gate=as_float_scalar("gate", gate, finite=True),
-            min_intensity=as_int_scalar("min_intensity", min_intensity, minimum=2),
-            max_candidates=as_int_scalar("max_candidates", max_candidates, minimum=1),
-            n_threads=n_threads,
-        )
+    settings = EnumerationSettings(
+        chi2_gate=as_float_scalar("gate", gate, finite=True),
+        min_intensity=as_int_scalar("min_intensity", min_intensity, minimum=2),
+        max_candidates=as_int_scalar("max_candidates", max_candidates, minimum=1),
+        n_threads=n_threads,
     )
+    return _core.enumerate_static(table, network, _per_sensor("pd", pd, n, 0.0, 1.0), density, settings)
+
+
+def stage_counts(candidates: Candidates) -> dict[str, int]:
+    """The enumeration's partial tuples tested and pruned per depth k (``tested_k``,
+    ``pruned_k`` for k = 2..S), those skipped by the bearing window, and the ``final`` count."""
+    stages = candidates.stages
+    counts: dict[str, int] = {}
+    for k in range(2, len(stages.tested)):
+        counts[f"tested_{k}"] = int(stages.tested[k])
+        counts[f"pruned_{k}"] = int(stages.pruned[k])
+    counts["windowed_out"] = int(stages.windowed_out)
+    counts["final"] = int(stages.candidates)
+    return counts
 
 
 def associate_static(
@@ -219,27 +226,29 @@ def associate_static(
     )
     report: dict[str, Any] = {
         "method": method,
-        "candidates": len(cands["costs"]),
-        "stage_counts": dict(cands["stage_counts"]),
+        "candidates": len(cands.costs),
+        "stage_counts": stage_counts(cands),
     }
     if method == "intensity":
-        out = _core.intensity_search(
-            cands["tuples"],
-            cands["positions"],
-            cands["costs"],
-            cands["sizes"],
+        settings = IntensitySettings(
             vote_fraction=float(vote_fraction),
             valid_airspace=bool(valid_airspace),
             max_chains=None if max_chains is None else as_int_scalar("max_chains", max_chains, minimum=1),
             n_threads=n_threads,
         )
-        chosen = out.pop("chosen")
-        report.update(out)
+        out = _core.intensity_search(cands.tuples, cands.positions, cands.costs, cands.sizes, settings)
+        chosen = out.chosen
+        report.update(
+            airspace_radius=out.airspace_radius,
+            ghosts_dropped=out.ghosts_dropped,
+            chains=out.chains,
+            levels=[{name: getattr(level, name) for name in _LEVEL_FIELDS} for level in out.levels],
+        )
     else:
         solved = assign_sd(
-            cands["tuples"],
-            cands["costs"],
-            cands["sizes"],
+            cands.tuples,
+            cands.costs,
+            cands.sizes,
             method=method,
             max_iter=max_iter,
             gap_tol=gap_tol,
@@ -259,8 +268,8 @@ def associate_static(
     return _result(cands, np.asarray(chosen, dtype=np.int64), len(measurements), report)
 
 
-def _result(cands: dict[str, Any], chosen: NDArray[np.int64], n_rows: int, report: dict[str, Any]) -> StaticAssociation:
-    rows = cands["rows"][chosen]
+def _result(cands: Candidates, chosen: NDArray[np.int64], n_rows: int, report: dict[str, Any]) -> StaticAssociation:
+    rows = cands.rows[chosen]
     used = rows >= 0
     flat = rows[used]
     if len(np.unique(flat)) != len(flat):
@@ -268,5 +277,5 @@ def _result(cands: dict[str, Any], chosen: NDArray[np.int64], n_rows: int, repor
     labels = np.full(n_rows, -1, dtype=np.int64)
     labels[flat] = np.nonzero(used)[0]  # row-major: each used entry's target index
     return StaticAssociation(
-        rows, cands["positions"][chosen], cands["covariances"][chosen], cands["costs"][chosen], labels, report
+        rows, cands.positions[chosen], cands.covariances[chosen], cands.costs[chosen], labels, report
     )

@@ -116,9 +116,9 @@ impl SensorsArg<'_> {
     pub fn view(&self) -> BindResult<Sensors<'_>> {
         Ok(Sensors::new(
             self.space()?,
-            slice2("sensors.positions", &self.positions, 3)?,
-            slice1("sensors.sigma_azimuth", &self.sigma_azimuth)?,
-            slice1("sensors.sigma_elevation", &self.sigma_elevation)?,
+            slice2("sensor_positions", &self.positions, 3)?,
+            slice1("sigma_azimuth", &self.sigma_azimuth)?,
+            slice1("sigma_elevation", &self.sigma_elevation)?,
         )?)
     }
 }
@@ -145,17 +145,17 @@ pub struct Columns<'a> {
 
 impl MeasurementsArg<'_> {
     pub fn columns(&self, space: Space) -> BindResult<Columns<'_>> {
-        let sensor = slice1("measurements.sensor", &self.sensor)?;
+        let sensor = slice1("sensor", &self.sensor)?;
         let elevation = match space {
             Space::Planar => vec![0.0; sensor.len()],
             Space::Spatial => Vec::new(),
         };
         Ok(Columns {
             sensor,
-            time: slice1("measurements.time", &self.time)?,
-            azimuth: slice1("measurements.azimuth", &self.azimuth)?,
+            time: slice1("time", &self.time)?,
+            azimuth: slice1("azimuth", &self.azimuth)?,
             elevation,
-            table_elevation: slice1("measurements.elevation", &self.elevation)?,
+            table_elevation: slice1("elevation", &self.elevation)?,
         })
     }
 }

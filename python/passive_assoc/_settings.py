@@ -1,0 +1,83 @@
+"""The settings objects the compiled core reads, one per core entry point.
+
+Each is a frozen dataclass whose field names are the attribute names the binding layer
+(``rust/py``) extracts; the public classes and functions build them from their validated
+parameters, so a public parameter may be renamed without touching Rust. Pure Python: must not
+import the compiled extension.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+Motion = Literal["static", "cv"]
+Scaling = Literal["whitened", "diagonal"]
+SdMethod = Literal["lagrangian", "exact"]
+WarmStart = Literal["auto", "always", "never"]
+SensorOrder = Literal["auto", "given"]
+
+
+@dataclass(frozen=True)
+class FitSettings:
+    motion: Motion
+    t0: float
+    max_iter: int
+    xtol: float
+    step_sigmas: float
+    max_halvings: int
+    n_threads: int | None
+
+
+@dataclass(frozen=True)
+class SdSettings:
+    method: SdMethod
+    max_iter: int
+    gap_tol: float
+    max_nodes: int
+    time_limit: float | None
+    warm_start: WarmStart
+    sensor_order: SensorOrder
+    polish: bool
+
+
+@dataclass(frozen=True)
+class InitiationSettings:
+    t0: float
+    gate_sigmas: float
+    n_detect: int
+    ray_gate_sigmas: float | None
+    reject_behind: bool
+    v_max: float | None
+    chi2_gate: float | None
+    one_per_scan: bool
+    merge_tol: float
+    descent_scaling: Scaling
+    descent_max_iter: int
+    max_candidates: int
+    refine_passes: int
+    n_threads: int | None
+
+
+@dataclass(frozen=True)
+class DescentSettings:
+    t0: float
+    scaling: Scaling
+    max_iter: int
+    n_threads: int | None
+
+
+@dataclass(frozen=True)
+class EnumerationSettings:
+    chi2_gate: float
+    min_intensity: int
+    max_candidates: int
+    n_threads: int | None
+
+
+@dataclass(frozen=True)
+class IntensitySettings:
+    vote_fraction: float
+    valid_airspace: bool
+    max_chains: int | None
+    n_threads: int | None
