@@ -31,7 +31,9 @@ def _demo(args: argparse.Namespace) -> int:
     scenario = paper_fti_scenario(seed=args.seed)
     fit = perfect_association_fit(scenario)
     bounds = np.sqrt(np.diagonal(target_crlbs(scenario), axis1=1, axis2=2))
-    n_clutter = int(np.sum(scenario.measurements.truth < 0))
+    truth = scenario.measurements.truth
+    assert truth is not None  # a simulated table always carries truth
+    n_clutter = int(np.sum(truth < 0))
     print(
         f"paper-000 scenario (seed {args.seed}): 2 sensors, 4 targets, {len(scenario.measurements)} measurements "
         f"({n_clutter} clutter), T = 15 s, 8 scans, sigma = 5 mrad"
@@ -75,7 +77,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _add_reproduce(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def _add_reproduce(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     reproduce = commands.add_parser(
         "reproduce",
         help="run a paper's experiment and print our figures beside the paper's",
