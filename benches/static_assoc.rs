@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use passive_assoc_core::data::{Measurements, Sensors};
 use passive_assoc_core::geometry::model::{predict, Space};
 use passive_assoc_core::static_los::{
-    enumerate, intensity_search, DetectionModel, EnumerateOptions, IntensityInput, IntensityOptions,
+    enumerate, intensity_search, DetectionModel, EnumerateOptions, IntensityOptions,
 };
 
 const SENSORS_KM: [[f64; 2]; 5] = [
@@ -106,16 +106,7 @@ fn bench_case(c: &mut Criterion, name: &str, s: &Scan) {
         .expect("pool");
     let run = || {
         let cands = enumerate(&sensors, &table, &detection, &options).expect("enumerates");
-        let sizes: Vec<i64> = cands.sizes.iter().map(|&n| n as i64).collect();
-        let input = IntensityInput::new(
-            &cands.tuples,
-            cands.n_sensors,
-            &cands.positions,
-            cands.dim,
-            &cands.costs,
-            &sizes,
-        )
-        .expect("valid");
+        let input = cands.intensity_input().expect("valid");
         let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
         (cands, out)
     };
@@ -153,16 +144,7 @@ fn bench_case(c: &mut Criterion, name: &str, s: &Scan) {
     c.bench_function(&format!("static/{name}/enumerate+intensity"), |b| {
         b.iter(|| pool.install(run))
     });
-    let sizes: Vec<i64> = cands.sizes.iter().map(|&n| n as i64).collect();
-    let input = IntensityInput::new(
-        &cands.tuples,
-        cands.n_sensors,
-        &cands.positions,
-        cands.dim,
-        &cands.costs,
-        &sizes,
-    )
-    .expect("valid");
+    let input = cands.intensity_input().expect("valid");
     c.bench_function(&format!("static/{name}/intensity"), |b| {
         b.iter(|| {
             pool.install(|| {

@@ -63,14 +63,14 @@ def _crlb(args: dict[str, Any], kw: dict[str, Any]) -> Any:
 def _closeness(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects(args, kw["ndim"])
     spreads = (rest["spread_azimuth"], rest["spread_elevation"])
-    return _core.closeness(table, network, *spreads, rest["states"], kw["t0"], None)
+    return _core.closeness(table, network, spreads, rest["states"], kw["t0"], None)
 
 
 def _maximize(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects(args, kw["ndim"])
     spreads = (rest["spread_azimuth"], rest["spread_elevation"])
     settings = DescentSettings(kw["t0"], "whitened", 100, None)
-    return _core.maximize_closeness(table, network, *spreads, rest["starts"], rest["covariances"], settings)
+    return _core.maximize_closeness(table, network, spreads, rest["starts"], rest["covariances"], settings)
 
 
 def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
@@ -78,7 +78,7 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects(args, kw.pop("ndim"))
     settings = InitiationSettings(**kw, descent_scaling="whitened", refine_passes=2)
     spreads = (rest["spread_azimuth"], rest["spread_elevation"])
-    return _core.initiate(table, network, rest["pairs"], *spreads, settings)
+    return _core.initiate(table, network, rest["pairs"], spreads, settings)
 
 
 def _enumerate(args: dict[str, Any], kw: dict[str, Any]) -> Any:

@@ -173,15 +173,13 @@ def initiate(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     pairs: NDArray[np.int64],
-    spread_azimuth: NDArray[np.float64],
-    spread_elevation: NDArray[np.float64],
+    spreads: tuple[NDArray[np.float64], NDArray[np.float64]],
     settings: InitiationSettings,
 ) -> InitiationOutput: ...
 def closeness(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
-    spread_azimuth: NDArray[np.float64],
-    spread_elevation: NDArray[np.float64],
+    spreads: tuple[NDArray[np.float64], NDArray[np.float64]],
     states: NDArray[np.float64],
     t0: float,
     n_threads: int | None,
@@ -189,8 +187,7 @@ def closeness(
 def maximize_closeness(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
-    spread_azimuth: NDArray[np.float64],
-    spread_elevation: NDArray[np.float64],
+    spreads: tuple[NDArray[np.float64], NDArray[np.float64]],
     starts: NDArray[np.float64],
     covariances: NDArray[np.float64],
     settings: DescentSettings,

@@ -21,14 +21,14 @@ from ..data import MeasurementTable, SensorNetwork
 
 def _spreads(
     measurements: MeasurementTable, sensors: SensorNetwork, spread_factor: float
-) -> tuple[MeasurementTable, SensorNetwork, NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[MeasurementTable, SensorNetwork, tuple[NDArray[np.float64], NDArray[np.float64]]]:
     """The checked pair plus the per-sensor spreads (azimuth, elevation)."""
     table, network = check_pair(measurements, sensors)
     factor = as_float_scalar("spread_factor", spread_factor, finite=True)
     if factor <= 0:
         raise ValueError(f"spread_factor: must be > 0, got {factor}")
     sigma_el = sensors.sigma_azimuth if sensors.ndim == 2 else sensors.sigma_elevation
-    return table, network, factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float)
+    return table, network, (factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float))
 
 
 def closeness(

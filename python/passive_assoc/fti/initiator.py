@@ -254,7 +254,7 @@ class FuzzyTrackInitiator:
             refine_passes=int(self.refine_passes),
             n_threads=self.n_threads,
         )
-        out = _core.initiate(table, network, self._pairs(network.n_sensors), spread_az, spread_el, settings)
+        out = _core.initiate(table, network, self._pairs(network.n_sensors), (spread_az, spread_el), settings)
         labels = out.labels
         tracks = [
             InitiatedTrack(

@@ -18,6 +18,9 @@ use passive_assoc_core::fti::{
 };
 use passive_assoc_core::parallel::with_threads;
 
+/// The membership spreads per sensor, (azimuth, elevation), radians.
+type SpreadArrays<'py> = (PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, f64>);
+
 /// `passive_assoc._settings.InitiationSettings`, read by attribute.
 #[derive(FromPyObject)]
 pub struct InitiationSettings {
@@ -99,16 +102,15 @@ pub struct InitiationOutput {
 }
 
 /// Fuzzy track initiation. `pairs` is (K, 2) sensor indices; an empty (0, 2) array means every
-/// pair a < b; the spreads are per sensor.
+/// pair a < b; `spreads` is (azimuth, elevation), one per sensor.
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, pairs, spread_azimuth, spread_elevation, settings))]
+#[pyo3(signature = (measurements, sensors, pairs, spreads, settings))]
 pub fn initiate(
     py: Python<'_>,
     measurements: MeasurementsArg<'_>,
     sensors: SensorsArg<'_>,
     pairs: PyReadonlyArray2<'_, i64>,
-    spread_azimuth: PyReadonlyArray1<'_, f64>,
-    spread_elevation: PyReadonlyArray1<'_, f64>,
+    spreads: SpreadArrays<'_>,
     settings: InitiationSettings,
 ) -> BindResult<InitiationOutput> {
     let network = sensors.view()?;
@@ -117,8 +119,8 @@ pub fn initiate(
     let spreads = Spreads::new(
         network.space(),
         network.len(),
-        slice1("spread_azimuth", &spread_azimuth)?,
-        slice1("spread_elevation", &spread_elevation)?,
+        slice1("spread_azimuth", &spreads.0)?,
+        slice1("spread_elevation", &spreads.1)?,
     )?;
     let options = settings.options(pair_list(slice2("pairs", &pairs, 2)?)?)?;
     let n_threads = threads(settings.n_threads)?;
@@ -199,23 +201,17 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
 /// R and ∂R/∂X0 (METHODS §1 eq. 17–18) at each row of `states` (P, 4 or 6); returns
 /// (R: (P,), gradient: (P, D)).
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, spread_azimuth, spread_elevation, states, t0, n_threads))]
+#[pyo3(signature = (measurements, sensors, spreads, states, t0, n_threads))]
 pub fn closeness<'py>(
     py: Python<'py>,
     measurements: MeasurementsArg<'py>,
     sensors: SensorsArg<'py>,
-    spread_azimuth: PyReadonlyArray1<'py, f64>,
-    spread_elevation: PyReadonlyArray1<'py, f64>,
+    spreads: SpreadArrays<'py>,
     states: PyReadonlyArray2<'py, f64>,
     t0: f64,
     n_threads: Option<i64>,
 ) -> BindResult<(F64Array<'py>, F64Array<'py>)> {
-    let (pre, d) = precompute(
-        &measurements,
-        &sensors,
-        (&spread_azimuth, &spread_elevation),
-        t0,
-    )?;
+    let (pre, d) = precompute(&measurements, &sensors, &spreads, t0)?;
     let states = slice2("states", &states, d)?;
     ensure_finite("states", states)?;
     let threads = threads(n_threads)?;
@@ -242,23 +238,17 @@ type Optima<'py> = (F64Array<'py>, F64Array<'py>, I64Array<'py>, I64Array<'py>);
 /// Steepest ascent of R (METHODS §1 eq. 19) from each row of `starts`, scaled by the matching
 /// covariance; returns (optima (P, D), R (P,), iterations (P,), evaluations (P,)).
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, spread_azimuth, spread_elevation, starts, covariances, settings))]
+#[pyo3(signature = (measurements, sensors, spreads, starts, covariances, settings))]
 pub fn maximize_closeness<'py>(
     py: Python<'py>,
     measurements: MeasurementsArg<'py>,
     sensors: SensorsArg<'py>,
-    spread_azimuth: PyReadonlyArray1<'py, f64>,
-    spread_elevation: PyReadonlyArray1<'py, f64>,
+    spreads: SpreadArrays<'py>,
     starts: PyReadonlyArray2<'py, f64>,
     covariances: PyReadonlyArray3<'py, f64>,
     settings: DescentSettings,
 ) -> BindResult<Optima<'py>> {
-    let (pre, d) = precompute(
-        &measurements,
-        &sensors,
-        (&spread_azimuth, &spread_elevation),
-        settings.t0,
-    )?;
+    let (pre, d) = precompute(&measurements, &sensors, &spreads, settings.t0)?;
     let starts = slice2("starts", &starts, d)?;
     let covariances = covariances
         .as_slice()
@@ -297,7 +287,7 @@ pub fn maximize_closeness<'py>(
 fn precompute(
     measurements: &MeasurementsArg<'_>,
     sensors: &SensorsArg<'_>,
-    spreads: (&PyReadonlyArray1<'_, f64>, &PyReadonlyArray1<'_, f64>),
+    spreads: &SpreadArrays<'_>,
     t0: f64,
 ) -> BindResult<(Precomputed, usize)> {
     let network = sensors.view()?;
@@ -306,8 +296,8 @@ fn precompute(
     let spreads = Spreads::new(
         network.space(),
         network.len(),
-        slice1("spread_azimuth", spreads.0)?,
-        slice1("spread_elevation", spreads.1)?,
+        slice1("spread_azimuth", &spreads.0)?,
+        slice1("spread_elevation", &spreads.1)?,
     )?;
     let pre = Precomputed::new(&network, &table, &spreads, t0)?;
     Ok((pre, 2 * network.space().position_dim()))

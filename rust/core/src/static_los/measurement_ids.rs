@@ -25,7 +25,7 @@ impl MeasurementIds {
             .flat_map(|c| (0..s_count).map(move |s| (c, s)))
             .filter_map(|(c, s)| {
                 let t = input.tuple(c)[s];
-                (t > 0).then_some((c * s_count + s, s, t as usize))
+                (t > 0).then_some((c * s_count + s, s, t))
             });
         let mut ids = vec![Self::NONE; searched.len() * s_count];
         let n_meas = if input.sizes_total() <= 4 * ids.len() + 1024 {

@@ -68,6 +68,7 @@ pub use cost::DetectionModel;
 pub use enumerate::enumerate;
 pub use intensity::{intensity_search, IntensityInput, IntensityOptions, IntensityOutcome};
 
+use crate::assign::CandidateSet;
 use crate::error::{CoreError, CoreResult};
 use crate::estimation::fit::FitOptions;
 
@@ -235,5 +236,27 @@ impl Candidates {
     /// Tuple `k` (caller guarantees `k < len()`).
     pub fn tuple(&self, k: usize) -> &[i64] {
         &self.tuples[k * self.n_sensors..(k + 1) * self.n_sensors]
+    }
+
+    /// The tuples and costs as the shared [`CandidateSet`], which the S-D solvers (through
+    /// [`crate::assign::SdProblem::from_set`]) and the intensity search read.
+    pub fn candidate_set(&self) -> CoreResult<CandidateSet> {
+        // Enumerated entries are 0 (missed) or a 1-based report index: never negative.
+        let tuples = self
+            .tuples
+            .iter()
+            .map(|&t| usize::try_from(t).map_err(|_| CoreError::out_of_range("tuples", "negative")))
+            .collect::<CoreResult<Vec<usize>>>()?;
+        CandidateSet::new(
+            tuples,
+            self.n_sensors,
+            self.costs.clone(),
+            self.sizes.clone(),
+        )
+    }
+
+    /// The intensity search's input: the candidate set and the ML positions.
+    pub fn intensity_input(&self) -> CoreResult<IntensityInput> {
+        IntensityInput::new(self.candidate_set()?, self.positions.clone(), self.dim)
     }
 }
