@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import time
-
 from types import SimpleNamespace
 
 import numpy as np
@@ -122,7 +121,9 @@ def rust(sensor, bearing, sigma, density, n_threads):
     s_count = len(SENSORS)
     # The binding reads the table and the network by attribute; these stand in for the
     # validated MeasurementTable / SensorNetwork at no cost.
-    table = SimpleNamespace(sensor=sensor, time=np.zeros_like(bearing), azimuth=bearing, elevation=np.zeros_like(bearing))
+    table = SimpleNamespace(
+        sensor=sensor, time=np.zeros_like(bearing), azimuth=bearing, elevation=np.zeros_like(bearing)
+    )
     network = SimpleNamespace(
         positions=SENSORS, sigma_azimuth=np.full(s_count, sigma), sigma_elevation=np.full(s_count, sigma), ndim=2
     )

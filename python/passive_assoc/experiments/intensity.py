@@ -14,6 +14,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from .._core import Candidates
 from ..assignment import assign_sd
 from ..evaluation import gospa
 from ..simulation.static_los import SQUARE_X, SQUARE_Y, StaticScan, static_scan
@@ -65,9 +66,7 @@ def truth_cost(scan: StaticScan, cands: Candidates, costs: np.ndarray) -> float:
 def ghosts(scan: StaticScan, cands: Candidates) -> int:
     """Candidates every sensor sees (intensity S) that are not a target."""
     full = {
-        tuple(row)
-        for row, i in zip(cands.rows.tolist(), cands.intensity, strict=True)
-        if i == scan.sensors.n_sensors
+        tuple(row) for row, i in zip(cands.rows.tolist(), cands.intensity, strict=True) if i == scan.sensors.n_sensors
     }
     return len(full) - sum(1 for t in true_tuples(scan) if t in full)
 
