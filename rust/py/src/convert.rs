@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 
 use super::errors::{value_error, BindResult};
 use passive_assoc_core::data::{Measurements, Sensors};
-use passive_assoc_core::geometry::model::{Motion, Space, StateLayout};
+use passive_assoc_core::geometry::model::{MotionKind, Space, StateLayout};
 
 /// The NumPy arrays the bindings return (owned by Python, filled without a copy).
 pub type F64Array<'py> = Bound<'py, PyArrayDyn<f64>>;
@@ -70,20 +70,10 @@ pub fn threads(n_threads: Option<i64>) -> BindResult<Option<usize>> {
     n_threads.map(|n| count("n_threads", n, 1)).transpose()
 }
 
-/// `motion` ("static" or "cv") and `t0` → the state layout.
+/// `motion` ("static" or "cv", parsed by the core) and `t0` → the state layout.
 pub fn layout(space: Space, motion: &str, t0: f64) -> BindResult<StateLayout> {
-    let motion = match motion {
-        "static" => Motion::Static,
-        "cv" if t0.is_finite() => Motion::ConstantVelocity { t0 },
-        "cv" => return Err(value_error("t0", format!("must be finite, got {t0}"))),
-        other => {
-            return Err(value_error(
-                "motion",
-                format!("must be 'static' or 'cv', got {other:?}"),
-            ))
-        }
-    };
-    Ok(StateLayout::new(space, motion))
+    let kind: MotionKind = parse("motion", motion)?;
+    Ok(StateLayout::new(space, kind.at(t0)?))
 }
 
 /// Non-negative int64 → usize, naming the argument and index of the first negative entry.

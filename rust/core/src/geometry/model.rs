@@ -1,6 +1,7 @@
 //! The passive measurement model of METHODS §0: what a sensor at `p_j` measures of a point,
 //! and how that changes with the point and with a constant-velocity initial state.
 
+use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 use crate::geometry::fastmath;
 
 /// What each sensor measures.
@@ -37,6 +38,46 @@ pub enum Motion {
     Static,
     /// The state is `X0 = (position at t0, velocity)`.
     ConstantVelocity { t0: f64 },
+}
+
+/// The motion model by name, before its epoch is known: `"static"` or `"cv"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionKind {
+    Static,
+    ConstantVelocity,
+}
+
+impl std::str::FromStr for MotionKind {
+    type Err = UnknownOption;
+
+    /// `"static"` or `"cv"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [("static", Self::Static), ("cv", Self::ConstantVelocity)];
+        parse_option(value, &choices, "'static' or 'cv'")
+    }
+}
+
+impl MotionKind {
+    /// The motion with its epoch; `t0` must be finite for constant velocity (unused for a
+    /// static state).
+    ///
+    /// ```
+    /// use passive_assoc_core::geometry::model::{Motion, MotionKind};
+    /// let cv: MotionKind = "cv".parse().unwrap();
+    /// assert_eq!(cv.at(5.0).unwrap(), Motion::ConstantVelocity { t0: 5.0 });
+    /// assert!(cv.at(f64::NAN).is_err());
+    /// assert!("spline".parse::<MotionKind>().is_err());
+    /// ```
+    pub fn at(self, t0: f64) -> CoreResult<Motion> {
+        match self {
+            Self::Static => Ok(Motion::Static),
+            Self::ConstantVelocity if t0.is_finite() => Ok(Motion::ConstantVelocity { t0 }),
+            Self::ConstantVelocity => Err(CoreError::out_of_range(
+                "t0",
+                format!("must be finite, got {t0}"),
+            )),
+        }
+    }
 }
 
 /// A state parameterisation: the space and the motion. Its dimension is 2, 3, 4 or 6.
