@@ -53,6 +53,23 @@ def test_paper_run_with_clutter_finds_the_four_targets(assert_partition: Partiti
     result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors, t0=0.0)
     assert_partition(result, len(scenario.measurements))
     assert len(result.tracks) == 4
+    # The right four: each track is mostly one target's measurements (on this run all 16 of
+    # its target's and nothing else), the four targets are distinct, and each track's
+    # initial state is nearest its target's in position and within 5 of its own standard
+    # deviations of it in every component (measured: at most 1.53).
+    truth = scenario.measurements.truth
+    assert truth is not None
+    matched = []
+    for track in result.tracks:
+        labels, label_counts = np.unique(truth[track.measurements], return_counts=True)
+        k = int(labels[np.argmax(label_counts)])
+        assert k >= 0 and label_counts.max() >= 0.9 * len(track.measurements), (labels, label_counts)
+        distance = np.linalg.norm(scenario.true_states[:, :3] - track.state[:3], axis=1)
+        assert int(np.argmin(distance)) == k
+        sd = np.sqrt(np.diag(track.covariance))
+        assert np.all(np.abs(track.state - scenario.true_states[k]) < 5 * sd)
+        matched.append(k)
+    assert sorted(matched) == [0, 1, 2, 3]
     counts = result.diagnostics.stage_counts
     assert list(counts) == ["raw", "ray_gate", "behind", "v_max", "fitted", "chi2_gate", "optima", "merged", "detected"]
     assert counts["raw"] == 12**4 and counts["detected"] == 4
@@ -77,40 +94,52 @@ def test_all_pruning_off_gives_the_same_targets_on_a_small_case() -> None:
     assert np.array_equal(pruned.labels, unpruned.labels)
 
 
-@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(
-    seed=st.integers(0, 2**31),
-    n_targets=st.integers(1, 3),
-    n_sensors=st.integers(2, 3),
-    n_scans=st.integers(2, 6),
-    clutter=st.sampled_from([0.0, 0.5, 2.0]),
-    pd=st.sampled_from([0.7, 1.0]),
-    planar=st.booleans(),
-)
-def test_random_scenarios_keep_the_partition_and_never_panic(
-    seed: int,
-    n_targets: int,
-    n_sensors: int,
-    n_scans: int,
-    clutter: float,
-    pd: float,
-    planar: bool,
-    assert_partition: PartitionCheck,
-) -> None:
-    if planar:
-        scenario = pa.bearing_only_2d_scenario(
-            seed=seed, n_targets=n_targets, n_sensors=n_sensors, n_scans=n_scans, clutter_ratio=clutter, pd=pd
-        )
-    else:
-        scenario = pa.paper_fti_scenario(seed=seed, n_scans=n_scans, clutter_ratio=clutter, pd=pd)
-    table = scenario.measurements
-    try:
-        result = FuzzyTrackInitiator(max_candidates=200_000).initiate(table, scenario.sensors)
-    except ValueError as err:
-        # The only acceptable refusal: a sensor without two scans to build candidates from.
-        assert "scan" in str(err), err
-        return
-    assert_partition(result, len(table))
+def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: PartitionCheck) -> None:
+    """Random short windows, 2-D and 3-D, with and without clutter and misses: every row ends in
+    exactly one track or the clutter, and nothing but a too-short window is refused.
+
+    The partition check says little about a result with no tracks (everything is clutter), so
+    the detection threshold follows the window: a target must relate more than half of the
+    measurements it can have (sensors x scans), where the paper's fixed 9 leaves most windows
+    of 2-6 scans without a track (measured: 70 of 400 examples had one). The examples that end
+    with tracks are counted, and most must.
+    """
+    outcomes: list[str] = []
+
+    @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+    @given(
+        seed=st.integers(0, 2**31),
+        n_targets=st.integers(1, 3),
+        n_sensors=st.integers(2, 3),
+        n_scans=st.integers(2, 6),
+        clutter=st.sampled_from([0.0, 0.5, 2.0]),
+        pd=st.sampled_from([0.7, 1.0]),
+        planar=st.booleans(),
+    )
+    def check(seed: int, n_targets: int, n_sensors: int, n_scans: int, clutter: float, pd: float, planar: bool) -> None:
+        if planar:
+            scenario = pa.bearing_only_2d_scenario(
+                seed=seed, n_targets=n_targets, n_sensors=n_sensors, n_scans=n_scans, clutter_ratio=clutter, pd=pd
+            )
+        else:
+            scenario = pa.paper_fti_scenario(seed=seed, n_scans=n_scans, clutter_ratio=clutter, pd=pd)
+        table = scenario.measurements
+        n_detect = max(1, scenario.sensors.n_sensors * n_scans // 2)
+        try:
+            result = FuzzyTrackInitiator(max_candidates=200_000, n_detect=n_detect).initiate(table, scenario.sensors)
+        except ValueError as err:
+            # The only acceptable refusal: a sensor without two scans to build candidates from.
+            assert "scan" in str(err), err
+            outcomes.append("refused")
+            return
+        assert_partition(result, len(table))
+        outcomes.append("tracks" if result.tracks else "no tracks")
+
+    check()
+    with_tracks = outcomes.count("tracks") / len(outcomes)
+    # Measured with this rule: 0.935 and 0.955 of 400 examples had tracks (two runs); over 1000 runs of 30
+    # examples the fraction's mean was 0.929, its 1st percentile 0.77 and its minimum 0.67.
+    assert with_tracks >= 0.5, f"only {outcomes.count('tracks')} of {len(outcomes)} examples produced tracks"
 
 
 @pytest.mark.parametrize(
