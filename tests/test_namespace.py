@@ -103,6 +103,8 @@ def test_dependencies_point_one_way() -> None:
         own = rel[0]
         package = ["passive_assoc", *rel[:-1]]
         for target in _relative_imports(path, package):
+            unplaced = [part for part in (own, target) if part not in layer]
+            assert not unplaced, f"{unplaced} has no layer: add it to LAYERS"
             if target != own and layer[target] >= layer[own]:
                 wrong.append(f"{'.'.join(rel)} imports {target}")
     assert not wrong, wrong
