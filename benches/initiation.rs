@@ -158,7 +158,7 @@ fn bench_descent(c: &mut Criterion) {
             d(a).total_cmp(&d(b))
         })
         .expect("some candidate");
-    let probe = descend(&pre, &nearest.estimate, &nearest.factor, &options.descent);
+    let probe = descend(&pre, &nearest.estimate, &nearest.factor, options.descent());
     println!(
         "descent/one: {} iterations, {} evaluations",
         probe.iterations, probe.evaluations
@@ -169,7 +169,7 @@ fn bench_descent(c: &mut Criterion) {
                 &pre,
                 black_box(&nearest.estimate),
                 &nearest.factor,
-                &options.descent,
+                options.descent(),
             )
         })
     });

@@ -42,24 +42,22 @@ pub struct InitiationSettings {
 
 impl InitiationSettings {
     fn options(&self, pairs: Option<Vec<[usize; 2]>>) -> BindResult<InitiationOptions> {
-        Ok(InitiationOptions {
-            pairs,
-            gate: self.gate_sigmas,
-            n_detect: count("n_detect", self.n_detect, 1)?,
-            ray_gate: self.ray_gate_sigmas,
-            reject_behind: self.reject_behind,
-            v_max: self.v_max,
-            chi2_gate: self.chi2_gate,
-            one_per_scan: self.one_per_scan,
-            merge_tol: self.merge_tol,
-            descent: DescentOptions {
-                max_iter: count("descent_max_iter", self.descent_max_iter, 0)?,
-                scaling: parse("descent_scaling", &self.descent_scaling)?,
-                ..DescentOptions::default()
-            },
-            max_candidates: count("max_candidates", self.max_candidates, 1)?,
-            refine_passes: count("refine_passes", self.refine_passes, 0)?,
-        })
+        let descent = DescentOptions::default()
+            .with_max_iter(count("descent_max_iter", self.descent_max_iter, 0)?)
+            .with_scaling(parse("descent_scaling", &self.descent_scaling)?);
+        Ok(InitiationOptions::default()
+            .with_pairs(pairs)
+            .with_gate(self.gate_sigmas)?
+            .with_n_detect(count("n_detect", self.n_detect, 1)?)?
+            .with_ray_gate(self.ray_gate_sigmas)?
+            .with_reject_behind(self.reject_behind)
+            .with_v_max(self.v_max)?
+            .with_chi2_gate(self.chi2_gate)?
+            .with_one_per_scan(self.one_per_scan)
+            .with_merge_tol(self.merge_tol)?
+            .with_descent(descent)
+            .with_max_candidates(count("max_candidates", self.max_candidates, 1)?)?
+            .with_refine_passes(count("refine_passes", self.refine_passes, 0)?))
     }
 }
 
@@ -253,11 +251,9 @@ pub fn maximize_closeness<'py>(
     let covariances = covariances
         .as_slice()
         .map_err(|_| value_error("covariances", "array must be C-contiguous"))?;
-    let options = DescentOptions {
-        max_iter: count("max_iter", settings.max_iter, 0)?,
-        scaling: parse("scaling", &settings.scaling)?,
-        ..DescentOptions::default()
-    };
+    let options = DescentOptions::default()
+        .with_max_iter(count("max_iter", settings.max_iter, 0)?)
+        .with_scaling(parse("scaling", &settings.scaling)?);
     let threads = threads(settings.n_threads)?;
     let optima = py.detach(|| {
         with_threads(threads, || {

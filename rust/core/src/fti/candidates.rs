@@ -141,15 +141,16 @@ fn ray_pairs(
                 continue;
             }
             passed_ray += 1;
-            if options.reject_behind && !meeting.is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
+            if options.reject_behind()
+                && !meeting.is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
             {
                 continue;
             }
-            if out.len() == options.max_candidates {
+            if out.len() == options.max_candidates() {
                 return Err(CoreError::CapExceeded {
                     what: "ray pairs of one scan pair",
                     count: out.len() + 1,
-                    cap: options.max_candidates,
+                    cap: options.max_candidates(),
                     hint: "tighten ray_gate, enable reject_behind, or raise max_candidates",
                 });
             }
@@ -200,14 +201,14 @@ fn ray_gate_passes(
     meeting: Option<&Meeting>,
     options: &InitiationOptions,
 ) -> bool {
-    let Some(gate) = options.ray_gate else {
+    let Some(gate) = options.ray_gate() else {
         return true;
     };
     if problem.layout.space == Space::Planar {
         return true; // lines in the plane always meet: the rule is vacuous
     }
     let (oa, ob) = (problem.observation(ra), problem.observation(rb));
-    let motion = match options.v_max {
+    let motion = match options.v_max() {
         Some(v) => v * (oa.time - ob.time).abs(),
         None if oa.time != ob.time => return true, // unbounded motion between the samples
         None => 0.0,
@@ -230,15 +231,15 @@ fn combine(
     let mut chunk: Vec<(&RayPair, &RayPair)> = Vec::with_capacity(CHUNK);
     for f in firsts {
         for l in lasts {
-            if !speed_passes(f, l, options.v_max) {
+            if !speed_passes(f, l, options.v_max()) {
                 continue;
             }
             set.counts.v_max += 1;
-            if set.counts.v_max > options.max_candidates {
+            if set.counts.v_max > options.max_candidates() {
                 return Err(CoreError::CapExceeded {
                     what: "candidates reaching the fitting stage",
                     count: set.counts.v_max,
-                    cap: options.max_candidates,
+                    cap: options.max_candidates(),
                     hint:
                         "tighten ray_gate or v_max, enable reject_behind, use fewer sensor pairs, \
                            or raise max_candidates",
@@ -282,7 +283,7 @@ fn fit_chunk(
     for candidate in fitted.into_iter().flatten() {
         set.counts.fitted += 1;
         let gate = match problem.layout.space {
-            Space::Spatial => options.chi2_gate,
+            Space::Spatial => options.chi2_gate(),
             Space::Planar => None, // 0 degrees of freedom: see the module doc
         };
         if gate.is_some_and(|g| candidate.chi2.is_nan() || candidate.chi2 > g) {

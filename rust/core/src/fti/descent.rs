@@ -75,7 +75,7 @@ pub fn descend_all(
     candidates
         .par_iter()
         .map(|c| {
-            let factor = match options.scaling {
+            let factor = match options.scaling() {
                 Scaling::Whitened => c.factor,
                 Scaling::Diagonal => diagonal(&c.scale),
             };
@@ -120,7 +120,7 @@ pub fn descend_from(
         .par_iter()
         .enumerate()
         .map(|(k, lower)| {
-            let factor = match options.scaling {
+            let factor = match options.scaling() {
                 Scaling::Whitened => *lower,
                 Scaling::Diagonal => diagonal(&std::array::from_fn(|i| {
                     if i < d {
@@ -179,7 +179,7 @@ pub fn descend(
     let mut gy = scaled(&g, factor, d);
     let mut next_step: Option<f64> = None;
     let (mut iterations, mut evaluations) = (0, 1);
-    while iterations < options.max_iter && r.is_finite() {
+    while iterations < options.max_iter() && r.is_finite() {
         let g2: f64 = gy.iter().map(|v| v * v).sum();
         if !(g2 > 0.0 && g2.is_finite()) {
             break; // stationary (or every row in the exact-zero tail)
@@ -210,7 +210,7 @@ pub fn descend(
         x = trial;
         r = rt;
         gy = gy_new;
-        if step < options.step_tol || gain <= options.r_tol * r.abs() {
+        if step < options.step_tol() || gain <= options.r_tol() * r.abs() {
             break;
         }
     }

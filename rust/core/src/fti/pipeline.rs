@@ -28,7 +28,6 @@ pub fn initiate(
     t0: f64,
     options: &InitiationOptions,
 ) -> CoreResult<Initiation> {
-    options.validate()?;
     let pre = Precomputed::new(sensors, measurements, spreads, t0)?;
     let problem = Problem {
         sensors: *sensors,
@@ -38,7 +37,7 @@ pub fn initiate(
     };
     let dim = problem.layout.dim();
     let scans = Scans::new(measurements, sensors.len());
-    let pairs = resolve_pairs(options.pairs.as_deref(), &scans)?;
+    let pairs = resolve_pairs(options.pairs(), &scans)?;
 
     let set = candidates::generate(&problem, &scans, &pairs, options)?;
     let mut counts = set.counts;
@@ -49,8 +48,8 @@ pub fn initiate(
     };
 
     let clock = Instant::now();
-    let optima = descend_all(&pre, &set.candidates, &options.descent);
-    let order = merge(&optima, dim, options.merge_tol);
+    let optima = descend_all(&pre, &set.candidates, options.descent());
+    let order = merge(&optima, dim, options.merge_tol());
     seconds.descent = clock.elapsed().as_secs_f64();
     counts.optima = optima.len();
     counts.merged = order.len();
@@ -61,9 +60,9 @@ pub fn initiate(
         &scans,
         &optima,
         &order,
-        options.gate,
-        options.n_detect,
-        options.one_per_scan,
+        options.gate(),
+        options.n_detect(),
+        options.one_per_scan(),
     );
     counts.detected = accepted.len();
     let states: Vec<[f64; MAX_DIM]> = accepted.iter().map(|&i| optima[i].x).collect();
@@ -71,21 +70,21 @@ pub fn initiate(
         &problem,
         &scans,
         &states,
-        options.gate,
-        options.one_per_scan,
+        options.gate(),
+        options.one_per_scan(),
     )?;
     seconds.detection = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
     let (mut tracks, mut labels) = final_tracks(&problem, &pre, &states, labels);
-    for _ in 0..options.refine_passes {
+    for _ in 0..options.refine_passes() {
         let refined: Vec<[f64; MAX_DIM]> = tracks.iter().map(|t| padded(&t.estimate)).collect();
         let relabelled = classify(
             &problem,
             &scans,
             &refined,
-            options.gate,
-            options.one_per_scan,
+            options.gate(),
+            options.one_per_scan(),
         )?;
         if relabelled == labels {
             break;
@@ -195,7 +194,7 @@ pub(crate) fn candidates_of(
         t0,
     };
     let scans = Scans::new(measurements, sensors.len());
-    let pairs = resolve_pairs(options.pairs.as_deref(), &scans)?;
+    let pairs = resolve_pairs(options.pairs(), &scans)?;
     let set = candidates::generate(&problem, &scans, &pairs, options)?;
     Ok((set.candidates, set.counts, scans, pairs))
 }

@@ -38,13 +38,12 @@ pub fn all_fitted(problem: &Problem<'_>, scans: &Scans, pairs: &[[usize; 2]]) ->
 
 /// Every pruning rule switched off.
 pub fn rules_off() -> InitiationOptions {
-    InitiationOptions {
-        ray_gate: None,
-        reject_behind: false,
-        v_max: None,
-        chi2_gate: None,
-        ..InitiationOptions::default()
-    }
+    InitiationOptions::default()
+        .with_ray_gate(None)
+        .and_then(|o| o.with_v_max(None))
+        .and_then(|o| o.with_chi2_gate(None))
+        .expect("None is always valid")
+        .with_reject_behind(false)
 }
 
 #[test]
@@ -64,13 +63,12 @@ fn all_rules_off_is_the_unpruned_paper_algorithm() {
         assert_eq!(counts.raw, counts.v_max);
         assert_eq!(got, expected);
         // Rules so loose they prune nothing change nothing downstream either.
-        let loose = InitiationOptions {
-            ray_gate: Some(1e12),
-            v_max: Some(1e12),
-            chi2_gate: Some(1e300),
-            reject_behind: false,
-            ..InitiationOptions::default()
-        };
+        let loose = InitiationOptions::default()
+            .with_ray_gate(Some(1e12))
+            .and_then(|o| o.with_v_max(Some(1e12)))
+            .and_then(|o| o.with_chi2_gate(Some(1e300)))
+            .expect("valid")
+            .with_reject_behind(false);
         let (a, b) = (
             run(&sc, &rules_off()).expect("runs"),
             run(&sc, &loose).expect("runs"),

@@ -105,12 +105,11 @@ fn descent_climbs_to_the_noiseless_optimum_in_few_steps() {
         truth[k] + (0..=k).map(|c| own.factor[k][c] * offset[c]).sum::<f64>()
     });
     let opt = descend(&pre, &start, &own.factor, &DescentOptions::default());
-    let tight = DescentOptions {
-        max_iter: 5000,
-        step_tol: 1e-9,
-        r_tol: 0.0,
-        ..DescentOptions::default()
-    };
+    let tight = DescentOptions::default()
+        .with_max_iter(5000)
+        .with_step_tol(1e-9)
+        .and_then(|o| o.with_r_tol(0.0))
+        .expect("valid");
     let best = descend(&pre, &truth, &own.factor, &tight);
     assert!(opt.closeness >= closeness(&pre, &start), "R must not fall");
     assert!(opt.iterations <= 30, "{} iterations", opt.iterations);
@@ -247,10 +246,7 @@ fn bad_input_is_reported_with_the_argument() {
         Err(e) => e,
         Ok(_) => panic!("accepted {options:?}"),
     };
-    let with_pairs = |p: Vec<[usize; 2]>| InitiationOptions {
-        pairs: Some(p),
-        ..InitiationOptions::default()
-    };
+    let with_pairs = |p: Vec<[usize; 2]>| InitiationOptions::default().with_pairs(Some(p));
     assert!(matches!(
         reason(with_pairs(vec![[0, 2]])),
         CoreError::OutOfRange { arg: "pairs", .. }
@@ -263,34 +259,24 @@ fn bad_input_is_reported_with_the_argument() {
         reason(with_pairs(vec![[0, 1], [1, 0]])),
         CoreError::OutOfRange { arg: "pairs", .. }
     ));
+    // Value-only settings are rejected by their setters, before any data is seen.
+    let defaults = InitiationOptions::default;
     assert!(matches!(
-        reason(InitiationOptions {
-            gate: 0.0,
-            ..Default::default()
-        }),
-        CoreError::OutOfRange { arg: "gate", .. }
+        defaults().with_gate(0.0),
+        Err(CoreError::OutOfRange { arg: "gate", .. })
     ));
     assert!(matches!(
-        reason(InitiationOptions {
-            n_detect: 0,
-            ..Default::default()
-        }),
-        CoreError::OutOfRange {
+        defaults().with_n_detect(0),
+        Err(CoreError::OutOfRange {
             arg: "n_detect",
             ..
-        }
+        })
     ));
     assert!(matches!(
-        reason(InitiationOptions {
-            v_max: Some(-1.0),
-            ..Default::default()
-        }),
-        CoreError::OutOfRange { arg: "v_max", .. }
+        defaults().with_v_max(Some(-1.0)),
+        Err(CoreError::OutOfRange { arg: "v_max", .. })
     ));
-    let capped = InitiationOptions {
-        max_candidates: 5,
-        ..rules_off()
-    };
+    let capped = rules_off().with_max_candidates(5).expect("valid");
     assert!(matches!(
         reason(capped),
         CoreError::CapExceeded { cap: 5, .. }

@@ -1,0 +1,343 @@
+//! The initiation's settings, built with validated `with_*` setters: [`InitiationOptions`] and
+//! the steepest-ascent search's [`DescentOptions`].
+
+use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+
+/// 99.9 % quantile of χ²(2): the default candidate gate in 3-D, where a candidate's 4
+/// measurements give 8 equations for 6 unknowns.
+pub const CHI2_2DOF_999: f64 = 13.815510557964274;
+
+/// The linear change of variables each descent works in. See [`descent`](super::descent).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scaling {
+    /// `x = x_c + L·y` with `L·Lᵀ` the candidate fit's covariance (default).
+    Whitened,
+    /// `x_k = x_ck + σ_k·y_k` with σ the candidate fit's standard deviations.
+    Diagonal,
+}
+
+impl std::str::FromStr for Scaling {
+    type Err = UnknownOption;
+
+    /// `"whitened"` or `"diagonal"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [("whitened", Self::Whitened), ("diagonal", Self::Diagonal)];
+        parse_option(value, &choices, "'whitened' or 'diagonal'")
+    }
+}
+
+/// Settings of the steepest-ascent search (eq. 19), built with validated `with_*` setters.
+/// See [`descent`](super::descent) for the method.
+///
+/// ```
+/// use passive_assoc_core::fti::{DescentOptions, Scaling};
+/// let o = DescentOptions::default().with_max_iter(20).with_scaling(Scaling::Diagonal)
+///     .with_step_tol(1e-3).unwrap();
+/// assert_eq!((o.max_iter(), o.scaling(), o.step_tol()), (20, Scaling::Diagonal, 1e-3));
+/// assert!(DescentOptions::default().with_step_tol(0.0).is_err());
+/// assert!(DescentOptions::default().with_r_tol(-1.0).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DescentOptions {
+    scaling: Scaling,
+    max_iter: usize,
+    step_tol: f64,
+    r_tol: f64,
+}
+
+impl Default for DescentOptions {
+    /// Whitened scaling, `max_iter = 100`, `step_tol = 1e-2` (scaled units), `r_tol = 1e-9`.
+    fn default() -> Self {
+        Self {
+            scaling: Scaling::Whitened,
+            max_iter: 100,
+            step_tol: 1e-2,
+            r_tol: 1e-9,
+        }
+    }
+}
+
+impl DescentOptions {
+    /// The change of variables: whitened (the default) or diagonal.
+    pub fn with_scaling(mut self, scaling: Scaling) -> Self {
+        self.scaling = scaling;
+        self
+    }
+
+    /// Iteration cap per descent (0 = keep the candidate fits as the optima).
+    pub fn with_max_iter(mut self, max_iter: usize) -> Self {
+        self.max_iter = max_iter;
+        self
+    }
+
+    /// Stop when an accepted step is shorter than this in scaled units (standard deviations
+    /// of the candidate fit; finite, `> 0`): far below the estimation noise; the final
+    /// Gauss-Newton refit supplies the precision.
+    pub fn with_step_tol(mut self, step_tol: f64) -> CoreResult<Self> {
+        positive("descent step_tol", Some(step_tol))?;
+        self.step_tol = step_tol;
+        Ok(self)
+    }
+
+    /// Stop when an accepted step raises R by less than `r_tol·R` (finite, `>= 0`).
+    pub fn with_r_tol(mut self, r_tol: f64) -> CoreResult<Self> {
+        if !(r_tol.is_finite() && r_tol >= 0.0) {
+            return Err(CoreError::out_of_range(
+                "descent r_tol",
+                "must be finite and >= 0",
+            ));
+        }
+        self.r_tol = r_tol;
+        Ok(self)
+    }
+
+    pub fn scaling(&self) -> Scaling {
+        self.scaling
+    }
+
+    pub fn max_iter(&self) -> usize {
+        self.max_iter
+    }
+
+    pub fn step_tol(&self) -> f64 {
+        self.step_tol
+    }
+
+    pub fn r_tol(&self) -> f64 {
+        self.r_tol
+    }
+}
+
+/// Every parameter of the initiation except the data, built with validated `with_*` setters.
+/// `Default` gives the recommended values:
+///
+/// | field | default | why |
+/// |---|---|---|
+/// | `pairs` | every pair a < b | |
+/// | `gate` | 5 | the paper's g |
+/// | `n_detect` | 9 | the paper's Nd (2 sensors × 8 scans) |
+/// | `ray_gate` | 5 σ | misses a true ray pair with probability < 10⁻⁵ (3-D only) |
+/// | `reject_behind` | on | a passive sensor cannot see a target behind it |
+/// | `v_max` | 500 m/s | 2.5× the paper's fastest target; loosening it mostly costs fits |
+/// | `chi2_gate` | 13.8155 | χ²(2) 99.9 % (3-D only) |
+/// | `one_per_scan` | on | a point target yields one report per scan; see [`detection`](super::detection) |
+/// | `merge_tol` | 1 σ | distinct targets are many σ apart; duplicates converge within 0.1 σ |
+/// | `descent` | see [`DescentOptions`] | |
+/// | `max_candidates` | 500 000 | ≈ 0.45 kB per stored candidate, ≈ 3 s of fitting per thread |
+/// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
+///
+/// Every scalar is checked by its setter; the pairs need the data and are checked by
+/// [`initiate`](super::initiate).
+///
+/// ```
+/// use passive_assoc_core::fti::{DescentOptions, InitiationOptions};
+/// let o = InitiationOptions::default()
+///     .with_pairs(Some(vec![[0, 1]]))
+///     .with_gate(4.0).unwrap()
+///     .with_v_max(None).unwrap()
+///     .with_descent(DescentOptions::default().with_max_iter(50));
+/// assert_eq!((o.gate(), o.v_max(), o.descent().max_iter()), (4.0, None, 50));
+/// assert_eq!(o.pairs(), Some(&[[0, 1]][..]));
+/// assert!(InitiationOptions::default().with_gate(0.0).is_err());
+/// assert!(InitiationOptions::default().with_n_detect(0).is_err());
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct InitiationOptions {
+    pairs: Option<Vec<[usize; 2]>>,
+    gate: f64,
+    n_detect: usize,
+    ray_gate: Option<f64>,
+    reject_behind: bool,
+    v_max: Option<f64>,
+    chi2_gate: Option<f64>,
+    one_per_scan: bool,
+    merge_tol: f64,
+    descent: DescentOptions,
+    max_candidates: usize,
+    refine_passes: usize,
+}
+
+impl Default for InitiationOptions {
+    /// The values of the table above: every pair, `gate = 5`, `n_detect = 9`,
+    /// `ray_gate = Some(5)`, `reject_behind`, `v_max = Some(500)`,
+    /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, `merge_tol = 1`, the default
+    /// descent, `max_candidates = 500_000`, `refine_passes = 2`.
+    fn default() -> Self {
+        Self {
+            pairs: None,
+            gate: 5.0,
+            n_detect: 9,
+            ray_gate: Some(5.0),
+            reject_behind: true,
+            v_max: Some(500.0),
+            chi2_gate: Some(CHI2_2DOF_999),
+            one_per_scan: true,
+            merge_tol: 1.0,
+            descent: DescentOptions::default(),
+            max_candidates: 500_000,
+            refine_passes: 2,
+        }
+    }
+}
+
+impl InitiationOptions {
+    /// Sensor pairs that form candidates; `None` = every pair a < b. Checked against the data
+    /// (sensor indices, a ≠ b, no repeats, first and last scans) when the initiation runs.
+    pub fn with_pairs(mut self, pairs: Option<Vec<[usize; 2]>>) -> Self {
+        self.pairs = pairs;
+        self
+    }
+
+    /// Relation gate g of eq. 23, in σ (paper 5; finite, `> 0`).
+    pub fn with_gate(mut self, gate: f64) -> CoreResult<Self> {
+        positive("gate", Some(gate))?;
+        self.gate = gate;
+        Ok(self)
+    }
+
+    /// A detected target needs more than `n_detect` related measurements (paper Nd = 9; at
+    /// least 1).
+    pub fn with_n_detect(mut self, n_detect: usize) -> CoreResult<Self> {
+        if n_detect < 1 {
+            return Err(CoreError::out_of_range("n_detect", "must be at least 1"));
+        }
+        self.n_detect = n_detect;
+        Ok(self)
+    }
+
+    /// Ray gate in σ units (3-D only; finite, `> 0`; `None` = off). See
+    /// [`candidates`](super::candidates).
+    pub fn with_ray_gate(mut self, ray_gate: Option<f64>) -> CoreResult<Self> {
+        positive("ray_gate", ray_gate)?;
+        self.ray_gate = ray_gate;
+        Ok(self)
+    }
+
+    /// Reject ray pairs that meet behind either sensor (on by default).
+    pub fn with_reject_behind(mut self, reject_behind: bool) -> Self {
+        self.reject_behind = reject_behind;
+        self
+    }
+
+    /// Largest plausible target speed, m/s (finite, `> 0`; `None` = off). See
+    /// [`candidates`](super::candidates).
+    pub fn with_v_max(mut self, v_max: Option<f64>) -> CoreResult<Self> {
+        positive("v_max", v_max)?;
+        self.v_max = v_max;
+        Ok(self)
+    }
+
+    /// Candidate χ² gate after the 4-measurement fit (3-D only; finite, `> 0`; `None` = off).
+    pub fn with_chi2_gate(mut self, chi2_gate: Option<f64>) -> CoreResult<Self> {
+        positive("chi2_gate", chi2_gate)?;
+        self.chi2_gate = chi2_gate;
+        Ok(self)
+    }
+
+    /// A target takes at most one measurement per (sensor, scan) (on by default). See
+    /// [`detection`](super::detection).
+    pub fn with_one_per_scan(mut self, one_per_scan: bool) -> Self {
+        self.one_per_scan = one_per_scan;
+        self
+    }
+
+    /// Optima closer than this scaled distance are one optimum (finite, `>= 0`). See
+    /// [`descent`](super::descent).
+    pub fn with_merge_tol(mut self, merge_tol: f64) -> CoreResult<Self> {
+        if !(merge_tol.is_finite() && merge_tol >= 0.0) {
+            return Err(CoreError::out_of_range(
+                "merge_tol",
+                format!("{merge_tol} must be finite and >= 0"),
+            ));
+        }
+        self.merge_tol = merge_tol;
+        Ok(self)
+    }
+
+    /// Settings of the steepest-ascent search (already validated by its own setters).
+    pub fn with_descent(mut self, descent: DescentOptions) -> Self {
+        self.descent = descent;
+        self
+    }
+
+    /// Cap on candidates reaching the fitting stage (and on ray pairs per scan pair; at least
+    /// 1): past it the call fails with [`CoreError::CapExceeded`] instead of exhausting memory.
+    pub fn with_max_candidates(mut self, max_candidates: usize) -> CoreResult<Self> {
+        if max_candidates < 1 {
+            return Err(CoreError::out_of_range(
+                "max_candidates",
+                "must be at least 1",
+            ));
+        }
+        self.max_candidates = max_candidates;
+        Ok(self)
+    }
+
+    /// Extra classify-and-refit passes after the final fit (project extension, not in the
+    /// paper): measurements are re-related (eq. 23–24) to the ML estimates, which are more
+    /// accurate than the closeness optima the first classification used, and the targets
+    /// refitted; stops early when the partition no longer changes. 0 = the paper's pipeline.
+    pub fn with_refine_passes(mut self, refine_passes: usize) -> Self {
+        self.refine_passes = refine_passes;
+        self
+    }
+
+    pub fn pairs(&self) -> Option<&[[usize; 2]]> {
+        self.pairs.as_deref()
+    }
+
+    pub fn gate(&self) -> f64 {
+        self.gate
+    }
+
+    pub fn n_detect(&self) -> usize {
+        self.n_detect
+    }
+
+    pub fn ray_gate(&self) -> Option<f64> {
+        self.ray_gate
+    }
+
+    pub fn reject_behind(&self) -> bool {
+        self.reject_behind
+    }
+
+    pub fn v_max(&self) -> Option<f64> {
+        self.v_max
+    }
+
+    pub fn chi2_gate(&self) -> Option<f64> {
+        self.chi2_gate
+    }
+
+    pub fn one_per_scan(&self) -> bool {
+        self.one_per_scan
+    }
+
+    pub fn merge_tol(&self) -> f64 {
+        self.merge_tol
+    }
+
+    pub fn descent(&self) -> &DescentOptions {
+        &self.descent
+    }
+
+    pub fn max_candidates(&self) -> usize {
+        self.max_candidates
+    }
+
+    pub fn refine_passes(&self) -> usize {
+        self.refine_passes
+    }
+}
+
+/// `Ok` for `None` or a finite positive value; otherwise the error naming `arg`.
+fn positive(arg: &'static str, value: Option<f64>) -> CoreResult<()> {
+    match value {
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(CoreError::out_of_range(
+            arg,
+            format!("{v} must be finite and > 0"),
+        )),
+        _ => Ok(()),
+    }
+}
