@@ -156,10 +156,9 @@ fn bench_case(c: &mut Criterion, name: &str, s: &Scan) {
         })
     });
     // The same with at most 64 chains per level (not the paper's rule; for large scans).
-    let capped = IntensityOptions {
-        max_chains: Some(64),
-        ..IntensityOptions::default()
-    };
+    let capped = IntensityOptions::default()
+        .with_max_chains(Some(64))
+        .expect("valid");
     c.bench_function(&format!("static/{name}/intensity_max_chains_64"), |b| {
         b.iter(|| {
             pool.install(|| {

@@ -64,12 +64,10 @@ pub fn enumerate_static(
     false_alarm_density: PyReadonlyArray1<'_, f64>,
     settings: EnumerationSettings,
 ) -> BindResult<Candidates> {
-    let options = EnumerateOptions {
-        gate: settings.chi2_gate,
-        min_intensity: count("min_intensity", settings.min_intensity, 2)?,
-        max_candidates: count("max_candidates", settings.max_candidates, 1)?,
-        ..EnumerateOptions::default()
-    };
+    let options = EnumerateOptions::default()
+        .with_gate(settings.chi2_gate)?
+        .with_min_intensity(count("min_intensity", settings.min_intensity, 2)?)?
+        .with_max_candidates(count("max_candidates", settings.max_candidates, 1)?)?;
     let n_threads = threads(settings.n_threads)?;
     let network = sensors.view()?;
     let columns = measurements.columns(network.space())?;
@@ -174,12 +172,10 @@ pub fn intensity_search(
         to_usize("sizes", slice1("sizes", &sizes)?)?,
     )?;
     let input = IntensityInput::new(set, position_slice.to_vec(), dim)?;
-    let options = IntensityOptions {
-        vote_fraction: settings.vote_fraction,
-        valid_airspace: settings.valid_airspace,
-        max_chains,
-        ..IntensityOptions::default()
-    };
+    let options = IntensityOptions::default()
+        .with_vote_fraction(settings.vote_fraction)?
+        .with_valid_airspace(settings.valid_airspace)
+        .with_max_chains(max_chains)?;
     let outcome =
         py.detach(|| with_threads(n_threads, || core_intensity_search(&input, &options)))??;
     let chosen = outcome.chosen.iter().map(|&c| c as i64).collect();

@@ -91,7 +91,7 @@ impl Prepared<'_> {
                     Some((e, first_wedge)) => {
                         // Only prefixes that can still grow need the window.
                         let grows = s + 1 < self.n_sensors;
-                        let window = if self.options.use_window && grows {
+                        let window = if self.options.use_window() && grows {
                             Window::new(first_wedge, ray.wedge)
                         } else {
                             None
@@ -137,12 +137,12 @@ impl Prepared<'_> {
             return;
         }
         if s == self.n_sensors {
-            if node.rays >= self.options.min_intensity {
+            if node.rays >= self.options.min_intensity() {
                 self.emit(node, ctx, shared);
             }
             return;
         }
-        if node.rays + (self.n_sensors - s) < self.options.min_intensity {
+        if node.rays + (self.n_sensors - s) < self.options.min_intensity() {
             return;
         }
         if let Some(child) = self.branch(s, None, node, ctx) {
@@ -176,7 +176,7 @@ impl Prepared<'_> {
             return;
         };
         let seen = shared.count.fetch_add(1, Ordering::Relaxed) + 1;
-        if seen > self.options.max_candidates {
+        if seen > self.options.max_candidates() {
             shared.abort.store(true, Ordering::Relaxed);
             return;
         }
@@ -262,8 +262,8 @@ pub(crate) fn enumerate_prepared(p: &Prepared<'_>) -> CoreResult<Candidates> {
     if shared.abort.load(Ordering::Relaxed) {
         return Err(CoreError::CapExceeded {
             what: "candidate tuples",
-            count: p.options.max_candidates + 1,
-            cap: p.options.max_candidates,
+            count: p.options.max_candidates() + 1,
+            cap: p.options.max_candidates(),
             hint: "the enumeration stopped at the first tuple over the cap; raise max_candidates, lower the gate or raise min_intensity",
         });
     }

@@ -45,33 +45,8 @@ use super::airspace::PointIndex;
 use super::chains::Level;
 pub use super::intensity_input::IntensityInput;
 use super::measurement_ids::MeasurementIds;
-use crate::error::{CoreError, CoreResult};
-
-/// Settings of [`intensity_search`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct IntensityOptions {
-    /// τ: confirmed when accepted by more than this fraction of the chains; in [0, 1).
-    pub vote_fraction: f64,
-    /// Drop ghosts outside the valid airspace (step 1).
-    pub valid_airspace: bool,
-    /// Lowest intensity searched; `None` = S − 1 (at least 2).
-    pub lowest_intensity: Option<usize>,
-    /// Run at most this many chains per level (`None` = one from every point of H, the
-    /// paper's rule). When H is larger, its best points by (cost, index) start the chains and
-    /// the vote threshold is τ times `max_chains` (the starts, even when the vote stops early).
-    pub max_chains: Option<usize>,
-}
-
-impl Default for IntensityOptions {
-    fn default() -> Self {
-        Self {
-            vote_fraction: 0.5,
-            valid_airspace: true,
-            lowest_intensity: None,
-            max_chains: None,
-        }
-    }
-}
+pub use super::options::IntensityOptions;
+use crate::error::CoreResult;
 
 /// One searched level.
 #[derive(Clone, Debug, PartialEq)]
@@ -104,29 +79,9 @@ pub fn intensity_search(
     input: &IntensityInput,
     options: &IntensityOptions,
 ) -> CoreResult<IntensityOutcome> {
-    let tau = options.vote_fraction;
-    if !(tau.is_finite() && (0.0..1.0).contains(&tau)) {
-        return Err(CoreError::out_of_range(
-            "vote_fraction",
-            format!("{tau} must be in [0, 1)"),
-        ));
-    }
+    let tau = options.vote_fraction();
     let s_count = input.n_sensors();
-    let lowest = options
-        .lowest_intensity
-        .unwrap_or(s_count.saturating_sub(1).max(2));
-    if lowest < 2 || lowest > s_count {
-        return Err(CoreError::out_of_range(
-            "lowest_intensity",
-            format!("{lowest} must be in 2..={s_count}"),
-        ));
-    }
-    if options.max_chains == Some(0) {
-        return Err(CoreError::out_of_range(
-            "max_chains",
-            "must be at least 1 (or None for one chain per point of H)",
-        ));
-    }
+    let lowest = options.lowest_for(s_count)?;
     let k = input.len();
     let intensity: Vec<usize> = (0..k).map(|c| input.intensity(c)).collect();
     let searched: Vec<bool> = intensity.iter().map(|&i| i >= lowest).collect();
@@ -134,7 +89,7 @@ pub fn intensity_search(
 
     let mut alive = searched.clone();
     let (mut airspace_radius, mut ghosts_dropped) = (f64::NAN, 0);
-    if options.valid_airspace && full.len() >= 2 {
+    if options.valid_airspace() && full.len() >= 2 {
         let index = PointIndex::new(input, &full);
         let d = index.radius();
         airspace_radius = d;
@@ -159,7 +114,7 @@ pub fn intensity_search(
             })
             .collect();
         let level = Level::new(input, &members, level_intensity, n_meas, &meas);
-        let starts = level.start_points(options.max_chains);
+        let starts = level.start_points(options.max_chains());
         let threshold = tau * starts.len() as f64;
         // With τ >= 0.5 the confirmed set is conflict-free, so only membership matters and the
         // vote may stop once it is decided; below 0.5 conflicts are settled by vote counts.

@@ -58,6 +58,7 @@ mod enumerate;
 pub mod intensity;
 mod intensity_input;
 mod measurement_ids;
+mod options;
 mod prepared;
 mod window;
 
@@ -66,91 +67,14 @@ mod tests;
 
 pub use cost::DetectionModel;
 pub use enumerate::enumerate;
-pub use intensity::{intensity_search, IntensityInput, IntensityOptions, IntensityOutcome};
+pub use intensity::{intensity_search, IntensityInput, IntensityOutcome};
+pub use options::{
+    enumeration_fit_options, EnumerateOptions, IntensityOptions, DEFAULT_GATE,
+    DEFAULT_MAX_CANDIDATES, DEFAULT_MIN_INTENSITY,
+};
 
 use crate::assign::CandidateSet;
 use crate::error::{CoreError, CoreResult};
-use crate::estimation::fit::FitOptions;
-
-/// χ²(1 dof) 99 % quantile: the default per-angle gate γ of eq. 3.
-pub const DEFAULT_GATE: f64 = 6.634896601021214;
-
-/// Default lowest intensity kept: two lines of sight are the fewest that fix a point.
-pub const DEFAULT_MIN_INTENSITY: usize = 2;
-
-/// Default cap on the number of candidates (≈ 120 MB of output at S = 3 in 2-D, 170 MB in 3-D).
-pub const DEFAULT_MAX_CANDIDATES: usize = 1_000_000;
-
-/// Settings of [`enumerate`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EnumerateOptions {
-    /// Per-angle gate γ on the normalised squared residual (eq. 3).
-    pub gate: f64,
-    /// Keep tuples with at least this many lines of sight (2..=S).
-    pub min_intensity: usize,
-    /// Fail with [`CoreError::CapExceeded`] when more candidates than this survive.
-    pub max_candidates: usize,
-    /// The Gauss-Newton settings of every fit (default [`enumeration_fit_options`]).
-    pub fit: FitOptions,
-    /// Use the exact bearing-window shortcut (on by default; off only to test that it is exact).
-    pub use_window: bool,
-}
-
-impl Default for EnumerateOptions {
-    fn default() -> Self {
-        Self {
-            gate: DEFAULT_GATE,
-            min_intensity: DEFAULT_MIN_INTENSITY,
-            max_candidates: DEFAULT_MAX_CANDIDATES,
-            fit: enumeration_fit_options(),
-            use_window: true,
-        }
-    }
-}
-
-/// The Gauss-Newton settings of the enumeration: the library defaults, except that a step
-/// shorter than 10⁻³ standard deviations of the estimate ends the fit (the default is 10⁻⁶).
-/// The point is then within ~10⁻³σ of the ML point and χ² within ~10⁻⁶ of its minimum —
-/// immaterial to the gate and the cost — and the typical three-ray fit takes 2–3 iterations
-/// instead of 5–8.
-pub fn enumeration_fit_options() -> FitOptions {
-    let defaults = FitOptions::default();
-    defaults.with_step_sigmas(1e-3).unwrap_or(defaults)
-}
-
-impl EnumerateOptions {
-    /// Checks the settings for a network of `n_sensors` sensors.
-    pub fn validate(&self, n_sensors: usize) -> CoreResult<()> {
-        if n_sensors < 2 {
-            return Err(CoreError::out_of_range(
-                "sensor_positions",
-                format!("static association needs at least 2 sensors, got {n_sensors}"),
-            ));
-        }
-        if !(self.gate.is_finite() && self.gate > 0.0) {
-            return Err(CoreError::out_of_range(
-                "gate",
-                format!(
-                    "{} must be finite and > 0 (a normalised squared residual per angle)",
-                    self.gate
-                ),
-            ));
-        }
-        if self.min_intensity < 2 || self.min_intensity > n_sensors {
-            return Err(CoreError::out_of_range(
-                "min_intensity",
-                format!("{} must be in 2..={n_sensors} (two rays fix a point; there are {n_sensors} sensors)", self.min_intensity),
-            ));
-        }
-        if self.max_candidates == 0 {
-            return Err(CoreError::out_of_range(
-                "max_candidates",
-                "must be at least 1",
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// Partial tuples examined by the enumeration, for diagnostics. `tested[k]` / `pruned[k]`
 /// count prefixes with k lines of sight whose point was estimated / that failed the gate

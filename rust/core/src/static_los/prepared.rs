@@ -57,7 +57,7 @@ impl<'a> Prepared<'a> {
         options: &EnumerateOptions,
     ) -> CoreResult<Self> {
         let n_sensors = sensors.len();
-        options.validate(n_sensors)?;
+        options.check_sensor_count(n_sensors)?;
         if detection.len() != n_sensors {
             return Err(CoreError::shape(
                 "pd",
@@ -66,7 +66,7 @@ impl<'a> Prepared<'a> {
         }
         let space = sensors.space();
         let layout = StateLayout::new(space, Motion::Static);
-        let root_gate = options.gate.sqrt();
+        let root_gate = options.gate().sqrt();
         let half_width: Vec<f64> = (0..n_sensors)
             .map(|s| root_gate * sensors.sigma(s)[0] * (1.0 + 1e-9) + 1e-12)
             .collect();
@@ -140,7 +140,7 @@ impl<'a> Prepared<'a> {
             let rows = residual_rows(&self.layout, &point[..dim], o)?;
             for r in &rows.residual[..rows.count] {
                 let r2 = r * r;
-                if r2.is_nan() || r2 > self.options.gate {
+                if r2.is_nan() || r2 > self.options.gate() {
                     return None;
                 }
                 chi2 += r2;
@@ -166,7 +166,7 @@ impl<'a> Prepared<'a> {
             &self.layout,
             obs,
             &start[..dim],
-            &self.options.fit,
+            self.options.fit(),
             FitSlots {
                 estimate: &mut estimate[..dim],
                 covariance: &mut covariance[..dim * dim],

@@ -33,10 +33,9 @@ fn enumeration_equals_brute_force_2d() {
         for min_intensity in [2, 3, 4] {
             assert_matches_brute_force(
                 &s4,
-                &EnumerateOptions {
-                    min_intensity,
-                    ..Default::default()
-                },
+                &EnumerateOptions::default()
+                    .with_min_intensity(min_intensity)
+                    .expect("valid"),
             );
         }
     }
@@ -52,10 +51,9 @@ fn enumeration_equals_brute_force_3d() {
         let s4 = scene(Space::Spatial, 4, 4, 6e-3, 0.8, 1, true, 300 + seed);
         assert_matches_brute_force(
             &s4,
-            &EnumerateOptions {
-                min_intensity: 3,
-                ..Default::default()
-            },
+            &EnumerateOptions::default()
+                .with_min_intensity(3)
+                .expect("valid"),
         );
     }
     assert!(total > 20, "the cases should not be trivial: {total}");
@@ -69,13 +67,7 @@ fn window_is_exact_and_prunes() {
             .run(&EnumerateOptions::default(), Some(2))
             .expect("enumerates");
         let without = s
-            .run(
-                &EnumerateOptions {
-                    use_window: false,
-                    ..Default::default()
-                },
-                Some(2),
-            )
+            .run(&EnumerateOptions::default().with_use_window(false), Some(2))
             .expect("enumerates");
         assert!(with.stages.windowed_out > 0);
         assert_eq!(without.stages.windowed_out, 0);
@@ -198,10 +190,9 @@ fn cap_and_bad_input_are_errors() {
     let s = scene(Space::Planar, 3, 5, 3e-3, 1.0, 0, true, 5);
     let err = s
         .run(
-            &EnumerateOptions {
-                max_candidates: 3,
-                ..Default::default()
-            },
+            &EnumerateOptions::default()
+                .with_max_candidates(3)
+                .expect("valid"),
             Some(2),
         )
         .unwrap_err();
@@ -209,46 +200,21 @@ fn cap_and_bad_input_are_errors() {
         matches!(err, CoreError::CapExceeded { cap: 3, .. }),
         "{err}"
     );
-    for (options, arg) in [
-        (
-            EnumerateOptions {
-                gate: 0.0,
-                ..Default::default()
-            },
-            "gate",
-        ),
-        (
-            EnumerateOptions {
-                gate: f64::NAN,
-                ..Default::default()
-            },
-            "gate",
-        ),
-        (
-            EnumerateOptions {
-                min_intensity: 1,
-                ..Default::default()
-            },
-            "min_intensity",
-        ),
-        (
-            EnumerateOptions {
-                min_intensity: 4,
-                ..Default::default()
-            },
-            "min_intensity",
-        ),
-        (
-            EnumerateOptions {
-                max_candidates: 0,
-                ..Default::default()
-            },
-            "max_candidates",
-        ),
+    // Value-only settings are rejected by their setters.
+    let defaults = EnumerateOptions::default;
+    for (built, arg) in [
+        (defaults().with_gate(0.0), "gate"),
+        (defaults().with_gate(f64::NAN), "gate"),
+        (defaults().with_min_intensity(1), "min_intensity"),
+        (defaults().with_max_candidates(0), "max_candidates"),
     ] {
-        let err = s.run(&options, None).unwrap_err();
+        let err = built.unwrap_err();
         assert!(err.to_string().starts_with(arg), "{err}");
     }
+    // More than the 3 sensors: only the enumeration, which knows them, can tell.
+    let four = defaults().with_min_intensity(4).expect("valid on its own");
+    let err = s.run(&four, None).unwrap_err();
+    assert!(err.to_string().starts_with("min_intensity"), "{err}");
     // One sensor.
     let one = Sensors::new(Space::Planar, &[0.0; 3], &[1e-3], &[1e-3]).expect("valid");
     let table = Measurements::new(&one, &[0], &[0.0], &[0.3], &[0.0]).expect("valid");
@@ -271,16 +237,29 @@ fn cap_and_bad_input_are_errors() {
     assert!(intensity_input(&[1, 1], 1, &[0.0], 1, &[-1.0], &[1]).is_err());
     let input = intensity_input(&tuples, 3, &positions, 2, &costs, &[2, 1, 1]).expect("valid");
     for tau in [1.0, -0.1, f64::NAN] {
-        let err = intensity_search(
-            &input,
-            &IntensityOptions {
-                vote_fraction: tau,
-                ..Default::default()
-            },
-        )
-        .unwrap_err();
+        let err = IntensityOptions::default()
+            .with_vote_fraction(tau)
+            .unwrap_err();
         assert!(err.to_string().starts_with("vote_fraction"), "{err}");
     }
+    let err = IntensityOptions::default()
+        .with_lowest_intensity(Some(1))
+        .unwrap_err();
+    assert!(err.to_string().starts_with("lowest_intensity"), "{err}");
+    let err = IntensityOptions::default()
+        .with_max_chains(Some(0))
+        .unwrap_err();
+    assert!(err.to_string().starts_with("max_chains"), "{err}");
+    // Above S = 3: only the search, which knows S, can tell.
+    let four = IntensityOptions::default()
+        .with_lowest_intensity(Some(4))
+        .expect("valid on its own");
+    let err = intensity_search(&input, &four).unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("lowest_intensity: 4 must be in 2..=3"),
+        "{err}"
+    );
 }
 
 /// Sensors among the targets (the bearing window's awkward cases: a sensor inside or next to
@@ -347,10 +326,7 @@ fn enumeration_equals_brute_force_with_sensors_among_targets() {
         let gate = rng.random_range(1.0..30.0);
         total += assert_matches_brute_force(
             &s,
-            &EnumerateOptions {
-                gate,
-                ..Default::default()
-            },
+            &EnumerateOptions::default().with_gate(gate).expect("valid"),
         );
     }
     assert!(total > 200, "the cases should not be trivial: {total}");

@@ -22,10 +22,7 @@ fn airspace_drops_the_far_point() {
     assert_eq!(out.chosen, vec![0, 1, 2, 3]);
     let off = intensity_search(
         &input,
-        &IntensityOptions {
-            valid_airspace: false,
-            ..Default::default()
-        },
+        &IntensityOptions::default().with_valid_airspace(false),
     )
     .expect("searches");
     assert!(off.airspace_radius.is_nan());
@@ -48,10 +45,7 @@ fn exclusive_rays_outrank_cost() {
         intensity_input(&tuples, 3, &[0.0; 6], 2, &[-5.0, -50.0, -5.0], &[2, 2, 2]).expect("valid");
     let out = intensity_search(
         &input,
-        &IntensityOptions {
-            valid_airspace: false,
-            ..Default::default()
-        },
+        &IntensityOptions::default().with_valid_airspace(false),
     )
     .expect("searches");
     assert_eq!(out.chosen, vec![0, 2]);
@@ -65,10 +59,7 @@ fn vote_needs_a_majority_and_conflicts_go_to_the_cheaper() {
     let tuples = [1, 1, 1, 2, 2, 2, 1, 2, 1, 2, 1, 3];
     let costs = [-5.0, -5.0, -50.0, -6.0];
     let input = intensity_input(&tuples, 3, &[0.0; 8], 2, &costs, &[2, 2, 3]).expect("valid");
-    let no_airspace = IntensityOptions {
-        valid_airspace: false,
-        ..Default::default()
-    };
+    let no_airspace = IntensityOptions::default().with_valid_airspace(false);
     let out = intensity_search(&input, &no_airspace).expect("searches");
     assert_eq!(
         out.chosen,
@@ -76,14 +67,8 @@ fn vote_needs_a_majority_and_conflicts_go_to_the_cheaper() {
         "no strict majority at τ = 0.5"
     );
     // τ = 0.4 confirms all four; greedy by cost keeps 2 (−50) and 3 (−6), which are disjoint.
-    let out = intensity_search(
-        &input,
-        &IntensityOptions {
-            vote_fraction: 0.4,
-            ..no_airspace
-        },
-    )
-    .expect("searches");
+    let out = intensity_search(&input, &no_airspace.with_vote_fraction(0.4).expect("valid"))
+        .expect("searches");
     assert_eq!(out.chosen, vec![2, 3]);
     // Identical tuples: m = [0, 0], each chain keeps its own start; τ = 0.4 → the cheaper one.
     let same = intensity_input(
@@ -101,10 +86,9 @@ fn vote_needs_a_majority_and_conflicts_go_to_the_cheaper() {
         .is_empty());
     let out = intensity_search(
         &same,
-        &IntensityOptions {
-            vote_fraction: 0.4,
-            ..Default::default()
-        },
+        &IntensityOptions::default()
+            .with_vote_fraction(0.4)
+            .expect("valid"),
     )
     .expect("searches");
     assert_eq!(out.chosen, vec![1]);
@@ -119,10 +103,7 @@ fn lower_level_fills_in_missed_targets() {
     let input = intensity_input(&tuples, 3, &positions, 2, &costs, &[2, 1, 2]).expect("valid");
     let out = intensity_search(
         &input,
-        &IntensityOptions {
-            valid_airspace: false,
-            ..Default::default()
-        },
+        &IntensityOptions::default().with_valid_airspace(false),
     )
     .expect("searches");
     // Level 3 confirms 0; level 2 loses 2 and 3 (they use A's reports) and confirms 1.
@@ -309,11 +290,10 @@ fn intensity_search_equals_the_obvious_implementation() {
         for tau in [0.5, 0.3, 0.0] {
             let fast = intensity_search(
                 &input,
-                &IntensityOptions {
-                    vote_fraction: tau,
-                    valid_airspace: false,
-                    ..Default::default()
-                },
+                &IntensityOptions::default()
+                    .with_vote_fraction(tau)
+                    .expect("valid")
+                    .with_valid_airspace(false),
             )
             .expect("searches");
             assert_eq!(
@@ -363,10 +343,7 @@ fn report_ids_by_sort_equal_those_by_table() {
         let costs: Vec<f64> = (0..k).map(|_| -(rng.random_range(1..9) as f64)).collect();
         let positions = vec![0.0; 2 * k];
         let huge = vec![1i64 << 40; n_sensors];
-        let options = IntensityOptions {
-            valid_airspace: false,
-            ..Default::default()
-        };
+        let options = IntensityOptions::default().with_valid_airspace(false);
         let expected = naive_intensity(&tuples, n_sensors, &costs, 0.5);
         for sizes in [&sizes, &huge] {
             let input =
@@ -398,11 +375,10 @@ fn early_decided_vote_equals_the_full_vote() {
         let input =
             intensity_input(&tuples, n_sensors, &positions, 2, &costs, &sizes).expect("valid");
         for tau in [0.5, 0.8] {
-            let options = IntensityOptions {
-                vote_fraction: tau,
-                valid_airspace: false,
-                ..Default::default()
-            };
+            let options = IntensityOptions::default()
+                .with_vote_fraction(tau)
+                .expect("valid")
+                .with_valid_airspace(false);
             let fast = intensity_search(&input, &options).expect("searches");
             assert_eq!(
                 fast.chosen,

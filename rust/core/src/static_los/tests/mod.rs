@@ -204,7 +204,7 @@ impl Scene {
                 .filter(|(_, &i)| i > 0)
                 .map(|(s, &i)| p.rays[s][i - 1])
                 .collect();
-            if chosen.len() >= options.min_intensity {
+            if chosen.len() >= options.min_intensity() {
                 let obs: Vec<Observation> = chosen.iter().map(|r| r.obs).collect();
                 let mut estimate = p.estimate_pair(&chosen[0], &chosen[1]);
                 for k in 3..=chosen.len() {

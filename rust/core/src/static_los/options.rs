@@ -1,0 +1,267 @@
+//! The settings of static association, built with validated `with_*` setters:
+//! [`EnumerateOptions`] for [`enumerate`](fn@super::enumerate) and [`IntensityOptions`] for
+//! [`intensity_search`](super::intensity_search). The setters check every value on its own;
+//! the checks that need the network (the sensor count) run when the options are used.
+
+use crate::error::{CoreError, CoreResult};
+use crate::estimation::fit::FitOptions;
+
+/// χ²(1 dof) 99 % quantile: the default per-angle gate γ of eq. 3.
+pub const DEFAULT_GATE: f64 = 6.634896601021214;
+
+/// Default lowest intensity kept: two lines of sight are the fewest that fix a point.
+pub const DEFAULT_MIN_INTENSITY: usize = 2;
+
+/// Default cap on the number of candidates (≈ 120 MB of output at S = 3 in 2-D, 170 MB in 3-D).
+pub const DEFAULT_MAX_CANDIDATES: usize = 1_000_000;
+
+/// Settings of [`enumerate`](fn@super::enumerate), built with validated `with_*` setters.
+/// `min_intensity` is also checked against the number of sensors when the enumeration runs.
+///
+/// ```
+/// use passive_assoc_core::static_los::EnumerateOptions;
+/// let o = EnumerateOptions::default().with_gate(9.0).unwrap()
+///     .with_min_intensity(3).unwrap()
+///     .with_max_candidates(10_000).unwrap();
+/// assert_eq!((o.gate(), o.min_intensity(), o.max_candidates()), (9.0, 3, 10_000));
+/// assert!(o.use_window());
+/// assert!(EnumerateOptions::default().with_gate(f64::NAN).is_err());
+/// assert!(EnumerateOptions::default().with_min_intensity(1).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnumerateOptions {
+    gate: f64,
+    min_intensity: usize,
+    max_candidates: usize,
+    fit: FitOptions,
+    use_window: bool,
+}
+
+impl Default for EnumerateOptions {
+    /// `gate = `[`DEFAULT_GATE`] (χ²(1) 99 %), `min_intensity = `[`DEFAULT_MIN_INTENSITY`],
+    /// `max_candidates = `[`DEFAULT_MAX_CANDIDATES`], `fit = `[`enumeration_fit_options`]`()`,
+    /// the bearing window on.
+    fn default() -> Self {
+        Self {
+            gate: DEFAULT_GATE,
+            min_intensity: DEFAULT_MIN_INTENSITY,
+            max_candidates: DEFAULT_MAX_CANDIDATES,
+            fit: enumeration_fit_options(),
+            use_window: true,
+        }
+    }
+}
+
+/// The Gauss-Newton settings of the enumeration: the library defaults, except that a step
+/// shorter than 10⁻³ standard deviations of the estimate ends the fit (the default is 10⁻⁶).
+/// The point is then within ~10⁻³σ of the ML point and χ² within ~10⁻⁶ of its minimum —
+/// immaterial to the gate and the cost — and the typical three-ray fit takes 2–3 iterations
+/// instead of 5–8.
+pub fn enumeration_fit_options() -> FitOptions {
+    let defaults = FitOptions::default();
+    defaults.with_step_sigmas(1e-3).unwrap_or(defaults)
+}
+
+impl EnumerateOptions {
+    /// Per-angle gate γ on the normalised squared residual (eq. 3; finite, `> 0`).
+    pub fn with_gate(mut self, gate: f64) -> CoreResult<Self> {
+        if !(gate.is_finite() && gate > 0.0) {
+            return Err(CoreError::out_of_range(
+                "gate",
+                format!("{gate} must be finite and > 0 (a normalised squared residual per angle)"),
+            ));
+        }
+        self.gate = gate;
+        Ok(self)
+    }
+
+    /// Keep tuples with at least this many lines of sight: at least 2 here, and at most the
+    /// number of sensors, which the enumeration checks.
+    pub fn with_min_intensity(mut self, min_intensity: usize) -> CoreResult<Self> {
+        if min_intensity < 2 {
+            return Err(CoreError::out_of_range(
+                "min_intensity",
+                format!("{min_intensity} must be at least 2 (two rays fix a point)"),
+            ));
+        }
+        self.min_intensity = min_intensity;
+        Ok(self)
+    }
+
+    /// Fail with [`CoreError::CapExceeded`] when more candidates than this (at least 1)
+    /// survive.
+    pub fn with_max_candidates(mut self, max_candidates: usize) -> CoreResult<Self> {
+        if max_candidates == 0 {
+            return Err(CoreError::out_of_range(
+                "max_candidates",
+                "must be at least 1",
+            ));
+        }
+        self.max_candidates = max_candidates;
+        Ok(self)
+    }
+
+    /// The Gauss-Newton settings of every fit (default [`enumeration_fit_options`]).
+    pub fn with_fit(mut self, fit: FitOptions) -> Self {
+        self.fit = fit;
+        self
+    }
+
+    /// Use the exact bearing-window shortcut (on by default; off only to test that it is
+    /// exact).
+    pub fn with_use_window(mut self, use_window: bool) -> Self {
+        self.use_window = use_window;
+        self
+    }
+
+    pub fn gate(&self) -> f64 {
+        self.gate
+    }
+
+    pub fn min_intensity(&self) -> usize {
+        self.min_intensity
+    }
+
+    pub fn max_candidates(&self) -> usize {
+        self.max_candidates
+    }
+
+    pub fn fit(&self) -> &FitOptions {
+        &self.fit
+    }
+
+    pub fn use_window(&self) -> bool {
+        self.use_window
+    }
+
+    /// The checks that need the network: at least 2 sensors, and `min_intensity` at most
+    /// their number.
+    pub(super) fn check_sensor_count(&self, n_sensors: usize) -> CoreResult<()> {
+        if n_sensors < 2 {
+            return Err(CoreError::out_of_range(
+                "sensor_positions",
+                format!("static association needs at least 2 sensors, got {n_sensors}"),
+            ));
+        }
+        if self.min_intensity > n_sensors {
+            return Err(CoreError::out_of_range(
+                "min_intensity",
+                format!("{} must be in 2..={n_sensors} (two rays fix a point; there are {n_sensors} sensors)", self.min_intensity),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Settings of [`intensity_search`](super::intensity_search), built with validated `with_*`
+/// setters. `lowest_intensity` is also checked against the number of sensors when the search
+/// runs.
+///
+/// ```
+/// use passive_assoc_core::static_los::IntensityOptions;
+/// let o = IntensityOptions::default().with_vote_fraction(0.4).unwrap()
+///     .with_max_chains(Some(64)).unwrap()
+///     .with_valid_airspace(false);
+/// assert_eq!((o.vote_fraction(), o.max_chains(), o.valid_airspace()), (0.4, Some(64), false));
+/// assert!(IntensityOptions::default().with_vote_fraction(1.0).is_err());
+/// assert!(IntensityOptions::default().with_max_chains(Some(0)).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IntensityOptions {
+    vote_fraction: f64,
+    valid_airspace: bool,
+    lowest_intensity: Option<usize>,
+    max_chains: Option<usize>,
+}
+
+impl Default for IntensityOptions {
+    /// `vote_fraction = 0.5` (a strict majority), the valid airspace on, lowest intensity
+    /// S − 1 (at least 2), one chain from every point of H (the paper's rules).
+    fn default() -> Self {
+        Self {
+            vote_fraction: 0.5,
+            valid_airspace: true,
+            lowest_intensity: None,
+            max_chains: None,
+        }
+    }
+}
+
+impl IntensityOptions {
+    /// τ: confirmed when accepted by more than this fraction of the chains; in [0, 1).
+    pub fn with_vote_fraction(mut self, vote_fraction: f64) -> CoreResult<Self> {
+        if !(vote_fraction.is_finite() && (0.0..1.0).contains(&vote_fraction)) {
+            return Err(CoreError::out_of_range(
+                "vote_fraction",
+                format!("{vote_fraction} must be in [0, 1)"),
+            ));
+        }
+        self.vote_fraction = vote_fraction;
+        Ok(self)
+    }
+
+    /// Drop ghosts outside the valid airspace (step 1; on by default).
+    pub fn with_valid_airspace(mut self, valid_airspace: bool) -> Self {
+        self.valid_airspace = valid_airspace;
+        self
+    }
+
+    /// Lowest intensity searched; `None` = S − 1 (at least 2). At least 2 here, and at most
+    /// the number of sensors S, which the search checks.
+    pub fn with_lowest_intensity(mut self, lowest_intensity: Option<usize>) -> CoreResult<Self> {
+        if let Some(lowest) = lowest_intensity.filter(|&v| v < 2) {
+            return Err(CoreError::out_of_range(
+                "lowest_intensity",
+                format!("{lowest} must be at least 2"),
+            ));
+        }
+        self.lowest_intensity = lowest_intensity;
+        Ok(self)
+    }
+
+    /// Run at most this many chains per level (at least 1; `None` = one from every point of
+    /// H, the paper's rule). When H is larger, its best points by (cost, index) start the
+    /// chains and the vote threshold is τ times `max_chains` (the starts, even when the vote
+    /// stops early).
+    pub fn with_max_chains(mut self, max_chains: Option<usize>) -> CoreResult<Self> {
+        if max_chains == Some(0) {
+            return Err(CoreError::out_of_range(
+                "max_chains",
+                "must be at least 1 (or None for one chain per point of H)",
+            ));
+        }
+        self.max_chains = max_chains;
+        Ok(self)
+    }
+
+    pub fn vote_fraction(&self) -> f64 {
+        self.vote_fraction
+    }
+
+    pub fn valid_airspace(&self) -> bool {
+        self.valid_airspace
+    }
+
+    pub fn lowest_intensity(&self) -> Option<usize> {
+        self.lowest_intensity
+    }
+
+    pub fn max_chains(&self) -> Option<usize> {
+        self.max_chains
+    }
+
+    /// The lowest intensity searched for `n_sensors` sensors: the set value or S − 1 (at
+    /// least 2); an error when it exceeds `n_sensors`, the check that needs the data.
+    pub(super) fn lowest_for(&self, n_sensors: usize) -> CoreResult<usize> {
+        let lowest = self
+            .lowest_intensity
+            .unwrap_or(n_sensors.saturating_sub(1).max(2));
+        if lowest < 2 || lowest > n_sensors {
+            return Err(CoreError::out_of_range(
+                "lowest_intensity",
+                format!("{lowest} must be in 2..={n_sensors}"),
+            ));
+        }
+        Ok(lowest)
+    }
+}
