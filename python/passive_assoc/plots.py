@@ -102,9 +102,9 @@ def plot_static_scan(scan: Any, path: str) -> None:
         ax.plot([start[0], end[0]], [start[1], end[1]], color="0.75" if m.truth[row] < 0 else "0.45", lw=0.5, zorder=1)
     cands = enumerate_candidates(m, scan.sensors)
     for level, marker in ((2, "."), (scan.sensors.n_sensors, "o")):
-        sel = cands["intensity"] == level
+        sel = cands.intensity == level
         ax.scatter(
-            *cands["positions"][sel].T,
+            *cands.positions[sel].T,
             s=12 if level == 2 else 22,
             marker=marker,
             label=f"intensity-{level} candidates ({int(sel.sum())})",
@@ -123,7 +123,7 @@ def plot_static_scan(scan: Any, path: str) -> None:
         xlabel="x (m)",
         ylabel="y (m)",
         aspect="equal",
-        title=f"one scan: {len(scan.targets)} targets, {len(m)} bearings, {len(cands['costs'])} candidates",
+        title=f"one scan: {len(scan.targets)} targets, {len(m)} bearings, {len(cands.costs)} candidates",
     )
     ax.legend(loc="lower left", fontsize=8)
     fig.tight_layout()
