@@ -83,7 +83,7 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
 
 def _enumerate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects({**args, "time": np.zeros(len(args["sensor"]))}, kw["ndim"])
-    settings = EnumerationSettings(kw["gate"], 2, 1_000_000, None)
+    settings = EnumerationSettings(kw["chi2_gate"], 2, 1_000_000, None)
     return _core.enumerate_static(table, network, rest["pd"], rest["false_alarm_density"], settings)
 
 
@@ -172,7 +172,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
             "pd": np.full(3, 0.9),
             "false_alarm_density": np.full(3, 1.0),
         },
-        dict(ndim=2, gate=6.6),
+        dict(ndim=2, chi2_gate=6.6),
     ),
     "intensity_search": (
         _intensity,

@@ -67,7 +67,7 @@ def test_subpackage_all_resolves(name: str) -> None:
 #: (parts on one layer do not import each other). plots sits below experiments because the
 #: experiments draw their figures with it (a deferred import, matplotlib being optional).
 LAYERS = [
-    ["_core", "_validation", "_settings", "__version__"],  # cli's `from . import __version__` is _core's
+    ["_core", "_validation", "_settings", "_params", "__version__"],  # cli's `from . import __version__` is _core's
     ["data"],
     ["_inputs"],
     ["estimation"],

@@ -87,7 +87,7 @@ def test_thread_count_does_not_change_the_result() -> None:
 def test_all_pruning_off_gives_the_same_targets_on_a_small_case() -> None:
     scenario = pa.paper_fti_scenario(seed=13, clutter_ratio=0.25, n_scans=4)
     pruned = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
-    unpruned = FuzzyTrackInitiator(ray_gate=None, reject_behind=False, v_max=None, chi2_gate=None).initiate(
+    unpruned = FuzzyTrackInitiator(ray_gate_sigmas=None, reject_behind=False, v_max=None, chi2_gate=None).initiate(
         scenario.measurements, scenario.sensors
     )
     assert unpruned.diagnostics.stage_counts["fitted"] >= pruned.diagnostics.stage_counts["fitted"]
@@ -145,7 +145,7 @@ def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: P
 @pytest.mark.parametrize(
     "kwargs,exc,message",
     [
-        (dict(gate=0.0), ValueError, "gate: must be > 0"),
+        (dict(gate_sigmas=0.0), ValueError, "gate_sigmas: must be > 0"),
         (dict(n_detect=0), ValueError, "n_detect"),
         (dict(n_detect=2.5), TypeError, "n_detect"),
         (dict(spread=-1.0), ValueError, "spread: must be > 0"),

@@ -82,7 +82,7 @@ def test_enumeration_is_thread_count_invariant() -> None:
         (dict(pd=1.0), ValueError, r"pd: sensor 0 has 1.0, must be in \(0.0, 1.0\)"),
         (dict(pd=[0.9, 0.9]), ValueError, "pd: expected a scalar or 3 values"),
         (dict(false_alarm_density=-1.0), ValueError, "false_alarm_density"),
-        (dict(gate=float("nan")), ValueError, "gate"),
+        (dict(chi2_gate=float("nan")), ValueError, "chi2_gate"),
         (dict(min_intensity=1), ValueError, "min_intensity"),
         (dict(max_chains=0), ValueError, "max_chains"),
         (dict(max_candidates=3), ValueError, "max_candidates|cap"),

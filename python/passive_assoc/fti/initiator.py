@@ -13,20 +13,24 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .. import _core
 from .._inputs import check_pair
+from .._params import Boolean, Constraint, Interval, Options, validate
 from .._settings import InitiationSettings
-from .._validation import as_float_scalar, as_int_array, as_int_scalar
+from .._validation import as_float_scalar, as_int_array
 from ..data import MeasurementTable, SensorNetwork
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
 CHI2_2DOF_999 = 13.815510557964274
+
+#: A finite number > 0.
+POSITIVE = Interval(float, 0.0, None, closed="neither")
 
 
 #: The stages of :class:`InitiationDiagnostics` ``stage_counts``, in pipeline order.
@@ -96,15 +100,6 @@ class InitiationResult:
         return np.stack([t.state for t in self.tracks])
 
 
-def _optional_positive(name: str, value: float | None) -> float | None:
-    if value is None:
-        return None
-    v = as_float_scalar(name, value, finite=True)
-    if v <= 0:
-        raise ValueError(f"{name}: must be > 0 (or None to switch the rule off), got {v}")
-    return v
-
-
 @dataclass(frozen=True)
 class FuzzyTrackInitiator:
     """Fuzzy track initiator with the paper's defaults.
@@ -116,14 +111,15 @@ class FuzzyTrackInitiator:
         ``s = spread_factor * sigma``. The paper uses ``s = 2 sigma`` (10 mrad at 5 mrad).
     spread : float, optional
         A fixed spread in radians for every sensor and angle, overriding ``spread_factor``.
-    gate : float
-        Detection gate g in standard deviations (eq. 23); paper 5.
+    gate_sigmas : float
+        Detection gate g of eq. 23, in standard deviations (a σ-gate on each measurement's
+        normalised residual); paper 5.
     n_detect : int
         Nd: an optimum becomes a target when more than this many not-yet-taken measurements
         are related to it; paper 9.
     pairs : sequence of (int, int), optional
         Sensor pairs that generate candidates; default every pair.
-    ray_gate : float or None
+    ray_gate_sigmas : float or None
         Prune a pair of first- or last-scan rays whose closest approach exceeds this many
         standard deviations of the crossing, plus ``v_max`` times the two sensors' time
         offset (asynchronous sensors; 3-D only, 2-D lines always meet); None: off.
@@ -134,7 +130,8 @@ class FuzzyTrackInitiator:
         default, 500 m/s, is 2.5x the paper's fastest target; raise it for faster targets
         (more candidates then reach the fitting stage).
     chi2_gate : float or None
-        Prune candidates whose 4-measurement fit has χ² above this (3-D: 2 dof); None: off.
+        Prune candidates whose 4-measurement fit has χ² above this value (a χ² gate, not in
+        σ; 3-D: 2 dof); None: off.
     one_per_scan : bool
         A target takes at most one measurement per sensor and scan (the closest), as a
         sensor reports a target once per scan.
@@ -164,10 +161,10 @@ class FuzzyTrackInitiator:
 
     spread_factor: float = 2.0
     spread: float | None = None
-    gate: float = 5.0
+    gate_sigmas: float = 5.0
     n_detect: int = 9
     pairs: Sequence[tuple[int, int]] | None = None
-    ray_gate: float | None = 5.0
+    ray_gate_sigmas: float | None = 5.0
     reject_behind: bool = True
     v_max: float | None = 500.0
     chi2_gate: float | None = CHI2_2DOF_999
@@ -179,24 +176,30 @@ class FuzzyTrackInitiator:
     max_candidates: int = 500_000
     n_threads: int | None = None
 
+    #: The declared constraints of every scalar parameter (``pairs`` is checked against the
+    #: network at :meth:`initiate`).
+    _constraints: ClassVar[dict[str, list[Constraint]]] = {
+        "spread_factor": [POSITIVE],
+        "spread": [POSITIVE, None],
+        "gate_sigmas": [POSITIVE],
+        "n_detect": [Interval(int, 1, None)],
+        "ray_gate_sigmas": [POSITIVE, None],
+        "reject_behind": [Boolean()],
+        "v_max": [POSITIVE, None],
+        "chi2_gate": [POSITIVE, None],
+        "one_per_scan": [Boolean()],
+        "merge_tol": [POSITIVE],
+        "descent_scaling": [Options("whitened", "diagonal")],
+        "descent_max_iter": [Interval(int, 1, None)],
+        "refine_passes": [Interval(int, 0, None)],
+        "max_candidates": [Interval(int, 1, None)],
+        "n_threads": [Interval(int, 1, None), None],
+    }
+
     def __post_init__(self) -> None:
-        for name in ("spread_factor", "gate", "merge_tol"):
-            if as_float_scalar(name, getattr(self, name), finite=True) <= 0:
-                raise ValueError(f"{name}: must be > 0, got {getattr(self, name)}")
-        _optional_positive("spread", self.spread)
-        for name in ("ray_gate", "v_max", "chi2_gate"):
-            _optional_positive(name, getattr(self, name))
-        as_int_scalar("n_detect", self.n_detect, minimum=1)
-        as_int_scalar("descent_max_iter", self.descent_max_iter, minimum=1)
-        as_int_scalar("refine_passes", self.refine_passes, minimum=0)
-        as_int_scalar("max_candidates", self.max_candidates, minimum=1)
-        if self.n_threads is not None:
-            as_int_scalar("n_threads", self.n_threads, minimum=1)
-        if self.descent_scaling not in ("whitened", "diagonal"):
-            raise ValueError(f"descent_scaling: must be 'whitened' or 'diagonal', got {self.descent_scaling!r}")
-        for name in ("reject_behind", "one_per_scan"):
-            if not isinstance(getattr(self, name), bool):
-                raise TypeError(f"{name}: expected a bool, got {getattr(self, name)!r}")
+        checked = validate({name: getattr(self, name) for name in self._constraints}, self._constraints)
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)  # normalised: NumPy scalars become int/float
 
     def _pairs(self, n_sensors: int) -> NDArray[np.int64]:
         if self.pairs is None:
@@ -240,18 +243,18 @@ class FuzzyTrackInitiator:
         spread_az, spread_el = self._spreads(sensors)
         settings = InitiationSettings(
             t0=epoch,
-            gate_sigmas=float(self.gate),
-            n_detect=int(self.n_detect),
-            ray_gate_sigmas=self.ray_gate,
+            gate_sigmas=self.gate_sigmas,
+            n_detect=self.n_detect,
+            ray_gate_sigmas=self.ray_gate_sigmas,
             reject_behind=self.reject_behind,
             v_max=self.v_max,
             chi2_gate=self.chi2_gate,
             one_per_scan=self.one_per_scan,
-            merge_tol=float(self.merge_tol),
+            merge_tol=self.merge_tol,
             descent_scaling=self.descent_scaling,
-            descent_max_iter=int(self.descent_max_iter),
-            max_candidates=int(self.max_candidates),
-            refine_passes=int(self.refine_passes),
+            descent_max_iter=self.descent_max_iter,
+            max_candidates=self.max_candidates,
+            refine_passes=self.refine_passes,
             n_threads=self.n_threads,
         )
         out = _core.initiate(table, network, self._pairs(network.n_sensors), (spread_az, spread_el), settings)

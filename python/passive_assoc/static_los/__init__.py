@@ -2,6 +2,17 @@
 
 from __future__ import annotations
 
-from .associator import StaticAssociation, associate_static, default_false_alarm_density, enumerate_candidates
+from .associator import Method, StaticAssociation, StaticAssociator, associate_static
+from .candidates import CHI2_1DOF_99, Candidates, default_false_alarm_density, enumerate_candidates, stage_counts
 
-__all__ = ["StaticAssociation", "associate_static", "default_false_alarm_density", "enumerate_candidates"]
+__all__ = [
+    "CHI2_1DOF_99",
+    "Candidates",
+    "Method",
+    "StaticAssociation",
+    "StaticAssociator",
+    "associate_static",
+    "default_false_alarm_density",
+    "enumerate_candidates",
+    "stage_counts",
+]

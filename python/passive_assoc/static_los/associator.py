@@ -10,30 +10,34 @@ Lagrangian relaxation, or exact branch-and-bound.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._core import Candidates
-from .._inputs import check_pair
-from .._settings import EnumerationSettings, IntensitySettings
-from .._validation import as_float_array, as_float_scalar, as_int_scalar
+from .._params import Boolean, Constraint, Interval, Options, validate
+from .._settings import IntensitySettings
 from ..assignment import assign_sd
 from ..data import MeasurementTable, SensorNetwork
+from .candidates import CHI2_1DOF_99, ENUMERATION_CONSTRAINTS, enumerate_candidates, stage_counts
+
+__all__ = ["Method", "StaticAssociation", "StaticAssociator", "associate_static"]
 
 Method = Literal["intensity", "lagrangian", "exact"]
 #: The per-level diagnostics of the intensity search, as ``report["levels"]`` lists them.
 _LEVEL_FIELDS = ("intensity", "candidates", "starts", "chains", "confirmed")
-#: χ²(1 dof) at 99 %: default gate on each normalised squared angle residual (eq. 3).
-CHI2_1DOF_99 = 6.634896601021214
 
 
 @dataclass(frozen=True)
 class StaticAssociation:
-    """Output of :func:`associate_static`.
+    """Output of :meth:`StaticAssociator.associate` and :func:`associate_static`.
+
+    Every input row is in exactly one accepted tuple or in :attr:`clutter`; :attr:`labels`
+    holds that partition as one array (target index, or -1 for clutter).
 
     Attributes
     ----------
@@ -45,7 +49,7 @@ class StaticAssociation:
     costs : ndarray, shape (T,)
         Cost (negative log-likelihood ratio, eq. 2) of each accepted tuple.
     labels : ndarray of int, shape (N,)
-        Target index of every input row, or −1 for a false alarm.
+        Target index of every input row, or −1 for clutter (a false alarm).
     report : dict
         Enumeration counts and the solver's report (gap, bound, iterations, termination, or
         the intensity search's airspace radius, ghosts dropped, chains).
@@ -59,117 +63,27 @@ class StaticAssociation:
     report: dict[str, Any] = field(repr=False)
 
     @property
-    def false_alarms(self) -> NDArray[np.int64]:
-        """Rows assigned to no target."""
+    def clutter(self) -> NDArray[np.int64]:
+        """Rows assigned to no target (false alarms), as :attr:`InitiationResult.clutter`."""
         return np.flatnonzero(self.labels < 0)
 
-
-def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) -> NDArray[np.float64]:
-    arr = as_float_array(name, value)
-    arr = np.broadcast_to(arr, (n,)).copy() if arr.ndim == 0 or arr.shape == (1,) else arr
-    if arr.shape != (n,):
-        raise ValueError(f"{name}: expected a scalar or {n} values (one per sensor), got shape {arr.shape}")
-    bad = ~((arr > low) & (arr < high))
-    if bad.any():
-        raise ValueError(f"{name}: sensor {int(np.flatnonzero(bad)[0])} has {arr[bad][0]}, must be in ({low}, {high})")
-    return arr
+    @property
+    def false_alarms(self) -> NDArray[np.int64]:
+        """Deprecated name of :attr:`clutter`."""
+        warnings.warn("StaticAssociation.false_alarms is now .clutter", DeprecationWarning, stacklevel=2)
+        return self.clutter
 
 
-def default_false_alarm_density(
-    measurements: MeasurementTable, n_sensors: int, p_false: float = 0.05
-) -> NDArray[np.float64]:
-    """False alarms per radian (per rad² in 3-D) when the caller gives none: a fraction
-    ``p_false`` of each sensor's reports, spread over the azimuth (× elevation) sector its
-    reports span. The paper's P_FA = 0.05 is the default fraction."""
-    density = np.empty(n_sensors)
-    for s in range(n_sensors):
-        rows = measurements.sensor == s
-        n = max(int(rows.sum()), 1)
-        width = np.ptp(measurements.azimuth[rows]) if rows.any() else np.pi
-        area = max(width, 1e-3)
-        if measurements.ndim == 3 and rows.any():
-            area *= max(np.ptp(measurements.elevation[rows]), 1e-3)
-        density[s] = max(p_false * n / area, 1e-12)
-    return density
+@dataclass(frozen=True)
+class StaticAssociator:
+    """Static association of one scan of passive reports across sensors (METHODS §2).
 
-
-def enumerate_candidates(
-    measurements: MeasurementTable,
-    sensors: SensorNetwork,
-    *,
-    pd: ArrayLike = 0.95,
-    false_alarm_density: ArrayLike | None = None,
-    gate: float = CHI2_1DOF_99,
-    min_intensity: int = 2,
-    max_candidates: int = 1_000_000,
-    n_threads: int | None = None,
-) -> Candidates:
-    """All gated candidate tuples of one scan with their ML positions and costs (eq. 2–4).
-
-    Parameters are those of :func:`associate_static`. Returns a frozen :class:`Candidates` with
-    the arrays ``tuples`` (K, S; 0 = missed, else 1-based report index within the sensor),
-    ``rows`` (K, S; table row or −1), ``positions``, ``covariances``, ``costs``,
-    ``intensity``, ``chi2``, ``sizes`` and ``stages`` (see :func:`stage_counts`).
-    """
-    table, network = check_pair(measurements, sensors)
-    if network.n_sensors < 2:
-        raise ValueError(f"sensors: static association needs at least 2 sensors, got {network.n_sensors}")
-    n = network.n_sensors
-    density = (
-        default_false_alarm_density(table, n)
-        if false_alarm_density is None
-        else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf)
-    )
-    settings = EnumerationSettings(
-        chi2_gate=as_float_scalar("gate", gate, finite=True),
-        min_intensity=as_int_scalar("min_intensity", min_intensity, minimum=2),
-        max_candidates=as_int_scalar("max_candidates", max_candidates, minimum=1),
-        n_threads=n_threads,
-    )
-    return _core.enumerate_static(table, network, _per_sensor("pd", pd, n, 0.0, 1.0), density, settings)
-
-
-def stage_counts(candidates: Candidates) -> dict[str, int]:
-    """The enumeration's partial tuples tested and pruned per depth k (``tested_k``,
-    ``pruned_k`` for k = 2..S), those skipped by the bearing window, and the ``final`` count."""
-    stages = candidates.stages
-    counts: dict[str, int] = {}
-    for k in range(2, len(stages.tested)):
-        counts[f"tested_{k}"] = int(stages.tested[k])
-        counts[f"pruned_{k}"] = int(stages.pruned[k])
-    counts["windowed_out"] = int(stages.windowed_out)
-    counts["final"] = int(stages.candidates)
-    return counts
-
-
-def associate_static(
-    measurements: MeasurementTable,
-    sensors: SensorNetwork,
-    method: Method = "intensity",
-    *,
-    pd: ArrayLike = 0.95,
-    false_alarm_density: ArrayLike | None = None,
-    gate: float = CHI2_1DOF_99,
-    min_intensity: int = 2,
-    vote_fraction: float = 0.5,
-    valid_airspace: bool = False,
-    max_chains: int | None = None,
-    max_iter: int = 200,
-    gap_tol: float = 1e-3,
-    time_limit: float | None = 10.0,
-    sensor_order: Literal["auto", "given"] = "auto",
-    polish: bool = False,
-    max_candidates: int = 1_000_000,
-    n_threads: int | None = None,
-) -> StaticAssociation:
-    """Associate one scan of passive reports across sensors.
+    Configure once, then call :meth:`associate` on each scan. One scan of bearings (2-D) or
+    az/el (3-D) from S ≥ 2 sensors, with missed detections and false alarms: which reports of
+    different sensors are the same target, and where is it?
 
     Parameters
     ----------
-    measurements : MeasurementTable
-        One scan: every report of every sensor (times are ignored).
-    sensors : SensorNetwork
-        At least 2 sensors (the paper uses 3).
     method : {"intensity", "lagrangian", "exact"}
         The paper's intensity-ordered search with its vote, S-D assignment by Lagrangian
         relaxation, or exact branch-and-bound (small problems; ``time_limit``).
@@ -178,8 +92,9 @@ def associate_static(
     false_alarm_density : float or array_like, optional
         False alarms per radian (2-D) or per rad² (3-D), per sensor; default
         :func:`default_false_alarm_density`.
-    gate : float
-        Largest normalised squared residual of any angle of a candidate (eq. 3).
+    chi2_gate : float
+        Largest normalised squared residual (a χ² value, 1 dof) of any angle of a candidate
+        (eq. 3); default the 99 % point, 6.63.
     min_intensity : int
         Fewest lines of sight a candidate needs (≥ 2).
     vote_fraction : float
@@ -207,65 +122,130 @@ def associate_static(
         Threads for the enumeration and the intensity method's chains (None: all cores);
         results are identical for any value.
 
-    Returns
-    -------
-    StaticAssociation
-        Every input row is in exactly one accepted tuple or in the false-alarm set.
     """
-    if method not in ("intensity", "lagrangian", "exact"):
-        raise ValueError(f"method: must be 'intensity', 'lagrangian' or 'exact', got {method!r}")
-    cands = enumerate_candidates(
-        measurements,
-        sensors,
-        pd=pd,
-        false_alarm_density=false_alarm_density,
-        gate=gate,
-        min_intensity=min_intensity,
-        max_candidates=max_candidates,
-        n_threads=n_threads,
-    )
-    report: dict[str, Any] = {
-        "method": method,
-        "candidates": len(cands.costs),
-        "stage_counts": stage_counts(cands),
+
+    method: Method = "intensity"
+    pd: ArrayLike = 0.95
+    false_alarm_density: ArrayLike | None = None
+    chi2_gate: float = CHI2_1DOF_99
+    min_intensity: int = 2
+    vote_fraction: float = 0.5
+    valid_airspace: bool = False
+    max_chains: int | None = None
+    max_iter: int = 200
+    gap_tol: float = 1e-3
+    time_limit: float | None = 10.0
+    sensor_order: Literal["auto", "given"] = "auto"
+    polish: bool = False
+    max_candidates: int = 1_000_000
+    n_threads: int | None = None
+
+    #: Declared constraints of the scalar parameters (``pd`` and ``false_alarm_density`` are
+    #: per-sensor arrays, checked against the network at :meth:`associate`; the solver
+    #: settings are checked again by :func:`passive_assoc.assign_sd`).
+    _constraints: ClassVar[dict[str, list[Constraint]]] = {
+        "method": [Options("intensity", "lagrangian", "exact")],
+        **ENUMERATION_CONSTRAINTS,
+        "vote_fraction": [Interval(float, 0.0, 1.0, closed="left")],
+        "valid_airspace": [Boolean()],
+        "max_chains": [Interval(int, 1, None), None],
+        "max_iter": [Interval(int, 1, None)],
+        "gap_tol": [Interval(float, 0.0, None)],
+        "time_limit": [Interval(float, 0.0, None, closed="neither"), None],
+        "sensor_order": [Options("auto", "given")],
+        "polish": [Boolean()],
     }
-    if method == "intensity":
-        settings = IntensitySettings(
-            vote_fraction=float(vote_fraction),
-            valid_airspace=bool(valid_airspace),
-            max_chains=None if max_chains is None else as_int_scalar("max_chains", max_chains, minimum=1),
-            n_threads=n_threads,
+
+    def __post_init__(self) -> None:
+        checked = validate({name: getattr(self, name) for name in self._constraints}, self._constraints)
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)  # normalised: NumPy scalars become int/float
+
+    def candidates(self, measurements: MeasurementTable, sensors: SensorNetwork) -> Candidates:
+        """Every gated candidate tuple of the scan (see :func:`enumerate_candidates`)."""
+        return enumerate_candidates(
+            measurements,
+            sensors,
+            pd=self.pd,
+            false_alarm_density=self.false_alarm_density,
+            chi2_gate=self.chi2_gate,
+            min_intensity=self.min_intensity,
+            max_candidates=self.max_candidates,
+            n_threads=self.n_threads,
         )
-        out = _core.intensity_search(cands.tuples, cands.positions, cands.costs, cands.sizes, settings)
-        chosen = out.chosen
-        report.update(
-            airspace_radius=out.airspace_radius,
-            ghosts_dropped=out.ghosts_dropped,
-            chains=out.chains,
-            levels=[{name: getattr(level, name) for name in _LEVEL_FIELDS} for level in out.levels],
-        )
-    else:
-        solved = assign_sd(
-            cands.tuples,
-            cands.costs,
-            cands.sizes,
-            method=method,
-            max_iter=max_iter,
-            gap_tol=gap_tol,
-            time_limit=time_limit,
-            sensor_order=sensor_order,
-            polish=polish,
-        )
-        chosen = solved.chosen
-        report.update(
-            primal_cost=solved.primal_cost,
-            dual_bound=solved.dual_bound,
-            gap=solved.gap,
-            iterations=solved.iterations,
-            termination=solved.termination,
-            optimal=solved.optimal,
-        )
-    return _result(cands, np.asarray(chosen, dtype=np.int64), len(measurements), report)
+
+    def associate(self, measurements: MeasurementTable, sensors: SensorNetwork) -> StaticAssociation:
+        """Associate one scan.
+
+        Parameters
+        ----------
+        measurements : MeasurementTable
+            One scan: every report of every sensor (times are ignored).
+        sensors : SensorNetwork
+            At least 2 sensors (the paper uses 3).
+
+        Returns
+        -------
+        StaticAssociation
+            Every input row is in exactly one accepted tuple or in the clutter set.
+        """
+        cands = self.candidates(measurements, sensors)
+        report: dict[str, Any] = {
+            "method": self.method,
+            "candidates": len(cands.costs),
+            "stage_counts": stage_counts(cands),
+        }
+        if self.method == "intensity":
+            settings = IntensitySettings(self.vote_fraction, self.valid_airspace, self.max_chains, self.n_threads)
+            out = _core.intensity_search(cands.tuples, cands.positions, cands.costs, cands.sizes, settings)
+            chosen = out.chosen
+            levels = [{name: getattr(level, name) for name in _LEVEL_FIELDS} for level in out.levels]
+            report.update(
+                airspace_radius=out.airspace_radius, ghosts_dropped=out.ghosts_dropped, chains=out.chains, levels=levels
+            )
+        else:
+            solved = assign_sd(
+                cands.tuples,
+                cands.costs,
+                cands.sizes,
+                method=self.method,
+                max_iter=self.max_iter,
+                gap_tol=self.gap_tol,
+                time_limit=self.time_limit,
+                sensor_order=self.sensor_order,
+                polish=self.polish,
+            )
+            chosen = solved.chosen
+            report.update(
+                primal_cost=solved.primal_cost,
+                dual_bound=solved.dual_bound,
+                gap=solved.gap,
+                iterations=solved.iterations,
+                termination=solved.termination,
+                optimal=solved.optimal,
+                success=solved.success,
+                message=solved.message,
+            )
+        return _result(cands, np.asarray(chosen, dtype=np.int64), len(measurements), report)
+
+
+def associate_static(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    method: Method = "intensity",
+    **settings: Any,
+) -> StaticAssociation:
+    """Associate one scan: ``StaticAssociator(method, **settings).associate(measurements,
+    sensors)``, for one-off calls. The settings are :class:`StaticAssociator`'s.
+
+    >>> import passive_assoc as pa
+    >>> from passive_assoc.simulation import static_scan
+    >>> scan = static_scan(1, n_targets=5)
+    >>> result = pa.associate_static(scan.measurements, scan.sensors, "lagrangian")
+    >>> len(result.clutter) + int((result.tuples >= 0).sum()) == len(scan.measurements)
+    True
+    """
+    return StaticAssociator(method, **settings).associate(measurements, sensors)
 
 
 def _result(cands: Candidates, chosen: NDArray[np.int64], n_rows: int, report: dict[str, Any]) -> StaticAssociation:

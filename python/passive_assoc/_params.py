@@ -1,0 +1,174 @@
+"""Declared parameter constraints, checked in one place.
+
+Each configurable class (or function) states its scalar parameters once, as a table in the
+spirit of scikit-learn's ``_parameter_constraints``::
+
+    _constraints = {
+        "gate_sigmas": [Interval(float, 0.0, None, closed="neither")],
+        "v_max": [Interval(float, 0.0, None, closed="neither"), None],
+        "descent_scaling": [Options("whitened", "diagonal")],
+        "one_per_scan": [Boolean()],
+    }
+
+and :func:`validate` checks the values against it: a value passes when it satisfies any
+constraint of its list (``None`` in the list allows ``None``). Wrong *kinds* (a string for a
+number, a bool for a count, a float for an int) raise :class:`TypeError`; wrong *values* raise
+:class:`ValueError`. Messages start with the parameter's name. The returned values are
+normalised (``float``/``int``/``bool``), so NumPy scalars pass and reach the core as plain
+Python numbers. Array-valued parameters (per-sensor probabilities, say) are checked where
+their shape is known, not here. Pure Python: must not import the compiled extension.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+__all__ = ["Boolean", "Constraint", "Interval", "Options", "validate"]
+
+Closed = Literal["both", "left", "right", "neither"]
+
+#: Largest integer the compiled core accepts.
+INT64_MAX = 2**63 - 1
+
+
+@dataclass(frozen=True)
+class Interval:
+    """A real (``float``) or integer (``int``) number in ``[low, high]``, ends open or closed
+    as ``closed`` says; ``None`` leaves a side unbounded. Real values must be finite."""
+
+    kind: type[float] | type[int]
+    low: float | None
+    high: float | None
+    closed: Closed = "both"
+
+    def describe(self) -> str:
+        """The range in words, e.g. ``> 0``, ``in [0, 1)``, ``an integer >= 1``."""
+        low_op = ">=" if self.closed in ("both", "left") else ">"
+        high_op = "<=" if self.closed in ("both", "right") else "<"
+        if self.high is None and self.low is None:
+            text = "any value"
+        elif self.high is None:
+            text = f"{low_op} {self.low:g}"
+        elif self.low is None:
+            text = f"{high_op} {self.high:g}"
+        else:
+            left = "[" if self.closed in ("both", "left") else "("
+            right = "]" if self.closed in ("both", "right") else ")"
+            text = f"in {left}{self.low:g}, {self.high:g}{right}"
+        return f"an integer {text}" if self.kind is int else text
+
+    def accepts_kind(self, value: Any) -> bool:
+        if isinstance(value, bool):
+            return False
+        if self.kind is int:
+            return isinstance(value, numbers.Integral)
+        return isinstance(value, numbers.Real)
+
+    def contains(self, value: float) -> bool:
+        if self.kind is float and not math.isfinite(value):
+            return False
+        low_ok = self.low is None or (value >= self.low if self.closed in ("both", "left") else value > self.low)
+        high_ok = self.high is None or (value <= self.high if self.closed in ("both", "right") else value < self.high)
+        return low_ok and high_ok
+
+    def normalise(self, value: Any) -> float | int:
+        return int(value) if self.kind is int else float(value)
+
+
+@dataclass(frozen=True, init=False)
+class Options:
+    """One of a fixed set of strings."""
+
+    choices: tuple[str, ...]
+
+    def __init__(self, *choices: str) -> None:
+        object.__setattr__(self, "choices", choices)
+
+    def describe(self) -> str:
+        quoted = [repr(c) for c in self.choices]
+        return quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
+
+
+@dataclass(frozen=True)
+class Boolean:
+    """``True`` or ``False`` (a Python or NumPy bool; not ``0``/``1``, not a string)."""
+
+    def describe(self) -> str:
+        return "a bool"
+
+
+Constraint = Interval | Options | Boolean | None
+
+
+def _check(name: str, value: Any, constraints: Sequence[Constraint]) -> Any:
+    if value is None:
+        if None in constraints:
+            return None
+        raise TypeError(f"{name}: expected {_describe(constraints)}, got None")
+    kind_matched = False
+    for constraint in constraints:
+        if isinstance(constraint, Interval) and constraint.accepts_kind(value):
+            kind_matched = True
+            if constraint.kind is int and abs(int(value)) > INT64_MAX:
+                # The core takes 64-bit integers: say so rather than let an OverflowError out.
+                raise ValueError(f"{name}: {value} is out of the 64-bit integer range")
+            if constraint.contains(float(value) if constraint.kind is float else int(value)):
+                return constraint.normalise(value)
+        elif isinstance(constraint, Options) and isinstance(value, str):
+            kind_matched = True
+            if value in constraint.choices:
+                return value
+        elif isinstance(constraint, Boolean) and _is_bool(value):
+            return bool(value)
+    got = repr(value) if isinstance(value, str) else str(value)
+    if kind_matched:
+        raise ValueError(f"{name}: must be {_describe(constraints)}, got {got}")
+    raise TypeError(f"{name}: expected {_kinds(constraints)}, got {type(value).__name__} {got}")
+
+
+def _is_bool(value: Any) -> bool:
+    return isinstance(value, (bool, np.bool_))
+
+
+def _kinds(constraints: Sequence[Constraint]) -> str:
+    """What kinds of value the constraints take, for a TypeError."""
+    names = {Boolean: "a bool", Options: "a string"}
+    parts = []
+    for c in constraints:
+        if isinstance(c, Interval):
+            part = "an integer" if c.kind is int else "a real number"
+        else:
+            part = "None" if c is None else names[type(c)]
+        if part not in parts:
+            parts.append(part)
+    return " or ".join(parts)
+
+
+def _describe(constraints: Sequence[Constraint]) -> str:
+    parts = [c.describe() for c in constraints if c is not None]
+    if None in constraints:
+        parts.append("None")
+    return " or ".join(parts)
+
+
+def validate(values: Mapping[str, Any], constraints: Mapping[str, Sequence[Constraint]]) -> dict[str, Any]:
+    """Check every ``values[name]`` against ``constraints[name]``; returns the normalised
+    values. A name in ``values`` without a declared constraint is a programming error.
+
+    >>> validate({"n": 3, "mode": "fast"}, {"n": [Interval(int, 1, None)], "mode": [Options("fast", "slow")]})
+    {'n': 3, 'mode': 'fast'}
+    >>> validate({"tol": 0.0}, {"tol": [Interval(float, 0.0, None, closed="neither")]})
+    Traceback (most recent call last):
+    ...
+    ValueError: tol: must be > 0, got 0.0
+    """
+    missing = set(values) - set(constraints)
+    if missing:
+        raise KeyError(f"no constraint declared for {sorted(missing)}")
+    return {name: _check(name, value, constraints[name]) for name, value in values.items()}

@@ -1,0 +1,107 @@
+"""Candidate tuples of one scan (METHODS §2, eq. 2–4): every gated line-of-sight
+intersection with its ML position, covariance and eq. 2 cost, enumerated in the Rust core
+sensor by sensor with the gate applied to partial tuples (never the full product)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .. import _core
+from .._core import Candidates
+from .._inputs import check_pair
+from .._params import Constraint, Interval, validate
+from .._settings import EnumerationSettings
+from .._validation import as_float_array
+from ..data import MeasurementTable, SensorNetwork
+
+__all__ = ["CHI2_1DOF_99", "Candidates", "default_false_alarm_density", "enumerate_candidates", "stage_counts"]
+
+#: χ²(1 dof) at 99 %: default gate on each normalised squared angle residual (eq. 3).
+CHI2_1DOF_99 = 6.634896601021214
+
+#: Declared constraints of the enumeration's scalar parameters (``pd`` and
+#: ``false_alarm_density`` are per-sensor arrays, checked against the network).
+ENUMERATION_CONSTRAINTS: dict[str, list[Constraint]] = {
+    "chi2_gate": [Interval(float, 0.0, None, closed="neither")],
+    "min_intensity": [Interval(int, 2, None)],
+    "max_candidates": [Interval(int, 1, None)],
+    "n_threads": [Interval(int, 1, None), None],
+}
+
+
+def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) -> NDArray[np.float64]:
+    arr = as_float_array(name, value)
+    arr = np.broadcast_to(arr, (n,)).copy() if arr.ndim == 0 or arr.shape == (1,) else arr
+    if arr.shape != (n,):
+        raise ValueError(f"{name}: expected a scalar or {n} values (one per sensor), got shape {arr.shape}")
+    bad = ~((arr > low) & (arr < high))
+    if bad.any():
+        raise ValueError(f"{name}: sensor {int(np.flatnonzero(bad)[0])} has {arr[bad][0]}, must be in ({low}, {high})")
+    return arr
+
+
+def default_false_alarm_density(
+    measurements: MeasurementTable, n_sensors: int, p_false: float = 0.05
+) -> NDArray[np.float64]:
+    """False alarms per radian (per rad² in 3-D) when the caller gives none: a fraction
+    ``p_false`` of each sensor's reports, spread over the azimuth (× elevation) sector its
+    reports span. The paper's P_FA = 0.05 is the default fraction."""
+    density = np.empty(n_sensors)
+    for s in range(n_sensors):
+        rows = measurements.sensor == s
+        n = max(int(rows.sum()), 1)
+        width = np.ptp(measurements.azimuth[rows]) if rows.any() else np.pi
+        area = max(width, 1e-3)
+        if measurements.ndim == 3 and rows.any():
+            area *= max(np.ptp(measurements.elevation[rows]), 1e-3)
+        density[s] = max(p_false * n / area, 1e-12)
+    return density
+
+
+def enumerate_candidates(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    *,
+    pd: ArrayLike = 0.95,
+    false_alarm_density: ArrayLike | None = None,
+    chi2_gate: float = CHI2_1DOF_99,
+    min_intensity: int = 2,
+    max_candidates: int = 1_000_000,
+    n_threads: int | None = None,
+) -> Candidates:
+    """All gated candidate tuples of one scan with their ML positions and costs (eq. 2–4).
+
+    Parameters are those of :class:`StaticAssociator`. Returns a frozen :class:`Candidates` with
+    the arrays ``tuples`` (K, S; 0 = missed, else 1-based report index within the sensor),
+    ``rows`` (K, S; table row or −1), ``positions``, ``covariances``, ``costs``,
+    ``intensity``, ``chi2``, ``sizes`` and ``stages`` (see :func:`stage_counts`).
+    """
+    table, network = check_pair(measurements, sensors)
+    if network.n_sensors < 2:
+        raise ValueError(f"sensors: static association needs at least 2 sensors, got {network.n_sensors}")
+    n = network.n_sensors
+    density = (
+        default_false_alarm_density(table, n)
+        if false_alarm_density is None
+        else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf)
+    )
+    checked = validate(
+        dict(chi2_gate=chi2_gate, min_intensity=min_intensity, max_candidates=max_candidates, n_threads=n_threads),
+        ENUMERATION_CONSTRAINTS,
+    )
+    settings = EnumerationSettings(**checked)
+    return _core.enumerate_static(table, network, _per_sensor("pd", pd, n, 0.0, 1.0), density, settings)
+
+
+def stage_counts(candidates: Candidates) -> dict[str, int]:
+    """The enumeration's partial tuples tested and pruned per depth k (``tested_k``,
+    ``pruned_k`` for k = 2..S), those skipped by the bearing window, and the ``final`` count."""
+    stages = candidates.stages
+    counts: dict[str, int] = {}
+    for k in range(2, len(stages.tested)):
+        counts[f"tested_{k}"] = int(stages.tested[k])
+        counts[f"pruned_{k}"] = int(stages.pruned[k])
+    counts["windowed_out"] = int(stages.windowed_out)
+    counts["final"] = int(stages.candidates)
+    return counts
