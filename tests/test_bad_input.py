@@ -174,10 +174,10 @@ PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
         ValueError,
         r"measurements: the table is 2-D \(elevation NaN\) but the sensor network is 3-D",
     ),
-    ("crlb string truth", lambda: pa.crlb(SENSORS, [0, 1, 0, 1], [0.0, 1, 2, 3], ["x"] * 6), TypeError, "truth"),
+    ("crlb string truth", lambda: pa.crlb([0, 1, 0, 1], [0.0, 1, 2, 3], SENSORS, ["x"] * 6), TypeError, "truth"),
     (
         "crlb nan times",
-        lambda: pa.crlb(SENSORS, [0, 1, 0, 1], [0.0, np.nan, 2, 3], np.ones(6) * 1e3),
+        lambda: pa.crlb([0, 1, 0, 1], [0.0, np.nan, 2, 3], SENSORS, np.ones(6) * 1e3),
         ValueError,
         "times",
     ),

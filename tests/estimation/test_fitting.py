@@ -53,7 +53,7 @@ def test_paper_targets_with_perfect_association() -> None:
 def _target_crlb(sc: pa.Scenario, k: int) -> np.ndarray:
     rows = sc.true_groups()[k]
     m = sc.measurements
-    return pa.crlb(sc.sensors, m.sensor[rows], m.time[rows], sc.true_states[k])
+    return pa.crlb(m.sensor[rows], m.time[rows], sc.sensors, sc.true_states[k])
 
 
 def test_monte_carlo_rms_is_within_15_percent_of_crlb() -> None:
@@ -93,7 +93,7 @@ def test_fisher_and_crlb_are_inverse() -> None:
     sc = pa.paper_fti_scenario(seed=1)
     rows = sc.true_groups()[2]
     info, bound = pa.fisher_and_crlb(
-        sc.sensors, sc.measurements.sensor[rows], sc.measurements.time[rows], sc.true_states[2]
+        sc.measurements.sensor[rows], sc.measurements.time[rows], sc.sensors, sc.true_states[2]
     )
     np.testing.assert_allclose(info @ bound, np.eye(6), atol=1e-8)
     np.testing.assert_allclose(bound, bound.T, rtol=1e-10)

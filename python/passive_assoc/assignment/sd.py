@@ -12,6 +12,19 @@ from .. import _core
 from .._settings import SdSettings
 from .._validation import as_float_array, as_int_array, as_int_scalar
 
+#: Why an S-D solver stopped (``SdAssignment.termination``).
+SdTermination = Literal["optimal", "gap_reached", "max_iterations", "stalled", "node_limit", "time_limit"]
+
+#: Each termination in words (``SdAssignment.message``).
+SD_MESSAGES: dict[SdTermination, str] = {
+    "optimal": "optimal: the primal cost equals the dual bound",
+    "gap_reached": "the relative duality gap fell to gap_tol",
+    "max_iterations": "max_iter reached before the gap closed",
+    "stalled": "the subgradient step vanished: the dual bound stopped improving",
+    "node_limit": "branch and bound hit max_nodes; the best solution found is not proven optimal",
+    "time_limit": "branch and bound hit time_limit; the best solution found is not proven optimal",
+}
+
 
 @dataclass(frozen=True)
 class SdAssignment:
@@ -29,8 +42,9 @@ class SdAssignment:
         ``max(0, primal − dual) / max(1, |primal|)``.
     iterations : int
         Subgradient iterations (Lagrangian) or search nodes (exact).
-    termination : str
-        ``optimal``, ``gap_reached``, ``max_iterations``, ``stalled`` or ``not_proven_*``.
+    termination : SdTermination
+        Why the solver stopped: ``optimal``, ``gap_reached``, ``max_iterations``,
+        ``stalled``, ``node_limit`` or ``time_limit``; :attr:`message` says it in words.
     optimal : bool
         True when optimality is proven.
     """
@@ -40,8 +54,19 @@ class SdAssignment:
     dual_bound: float
     gap: float
     iterations: int
-    termination: str
+    termination: SdTermination
     optimal: bool
+
+    @property
+    def success(self) -> bool:
+        """True when the solver met its target: optimality proven or the gap within ``gap_tol``
+        (as SciPy's ``OptimizeResult.success``)."""
+        return self.termination in ("optimal", "gap_reached")
+
+    @property
+    def message(self) -> str:
+        """Why the solver stopped, in words."""
+        return SD_MESSAGES[self.termination]
 
 
 def assign_sd(

@@ -17,14 +17,40 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._inputs import check_network, check_pair
+from .._params import Constraint, Interval, Options, validate
 from .._settings import FitSettings
-from .._validation import as_float_array, as_float_scalar, as_int_array
+from .._validation import as_float_array, as_int_array
 from ..data import MeasurementTable, SensorNetwork
 
 Motion = Literal["static", "cv"]
 
+#: Step halvings per Gauss-Newton line search before the fit reports ``stalled``.
+MAX_HALVINGS = 30
+
+#: Declared constraints of :func:`fit_ml`'s (and :func:`crlb`'s) scalar parameters.
+FIT_CONSTRAINTS: dict[str, list[Constraint]] = {
+    "motion": [Options("cv", "static")],
+    "t0": [Interval(float, None, None)],
+    "max_iter": [Interval(int, 1, None)],
+    "xtol": [Interval(float, 0.0, None, closed="neither")],
+    "step_sigmas": [Interval(float, 0.0, None)],
+    "n_threads": [Interval(int, 1, None), None],
+}
+
+#: Why one fit stopped.
+FitTermination = Literal["converged", "max_iterations", "stalled", "singular", "non_finite"]
+
 #: Names of the termination codes in :attr:`FitResult.termination`, by code.
-TERMINATION_NAMES: tuple[str, ...] = ("converged", "max_iterations", "stalled", "singular", "non_finite")
+TERMINATION_NAMES: tuple[FitTermination, ...] = ("converged", "max_iterations", "stalled", "singular", "non_finite")
+
+#: Each termination in words (:attr:`FitResult.message`).
+FIT_MESSAGES: dict[FitTermination, str] = {
+    "converged": "converged: the step fell below xtol or step_sigmas",
+    "max_iterations": "max_iter reached before convergence",
+    "stalled": "no step-halving lowered the cost: at a minimum to rounding",
+    "singular": "the Fisher information is singular: the state is not observable from these measurements",
+    "non_finite": "a prediction or the cost became non-finite (e.g. a target on a sensor's vertical axis)",
+}
 
 
 @dataclass(frozen=True)
@@ -53,11 +79,23 @@ class FitResult:
     termination: NDArray[np.uint8]
 
     @property
-    def converged(self) -> NDArray[np.bool_]:
-        """True where the fit converged (or stalled at a minimum to rounding)."""
-        return (self.termination == 0) | (self.termination == 2)
+    def success(self) -> NDArray[np.bool_]:
+        """True where the fit converged (or stalled at a minimum to rounding), per problem
+        (as SciPy's ``OptimizeResult.success``)."""
+        done: NDArray[np.bool_] = (self.termination == 0) | (self.termination == 2)
+        return done
 
-    def termination_names(self) -> list[str]:
+    @property
+    def converged(self) -> NDArray[np.bool_]:
+        """The same as :attr:`success`: a fit succeeds by converging."""
+        return self.success
+
+    @property
+    def message(self) -> list[str]:
+        """Why each fit stopped, in words."""
+        return [FIT_MESSAGES[name] for name in self.termination_names()]
+
+    def termination_names(self) -> list[FitTermination]:
         """The termination of each problem as a name."""
         return [TERMINATION_NAMES[int(code)] for code in self.termination]
 
@@ -135,26 +173,22 @@ def fit_ml(
     ((4, 6), True)
     """
     table, network = check_pair(measurements, sensors)
-    indices, offsets = _groups_to_csr(groups)
-    dim = sensors.ndim * (2 if motion == "cv" else 1)
-    start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
-    settings = FitSettings(
-        motion=motion,
-        t0=as_float_scalar("t0", t0),
-        max_iter=max_iter,
-        xtol=xtol,
-        step_sigmas=step_sigmas,
-        max_halvings=30,
-        n_threads=n_threads,
+    checked = validate(
+        dict(motion=motion, t0=t0, max_iter=max_iter, xtol=xtol, step_sigmas=step_sigmas, n_threads=n_threads),
+        FIT_CONSTRAINTS,
     )
+    indices, offsets = _groups_to_csr(groups)
+    dim = network.ndim * (2 if checked["motion"] == "cv" else 1)
+    start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
+    settings = FitSettings(**checked, max_halvings=MAX_HALVINGS)
     out = _core.fit_batch(table, network, indices, offsets, start, settings)
     return FitResult(*out)
 
 
 def crlb(
-    sensors: SensorNetwork,
     sensor_index: ArrayLike,
     times: ArrayLike,
+    sensors: SensorNetwork,
     truth: ArrayLike,
     *,
     motion: Motion = "cv",
@@ -162,13 +196,17 @@ def crlb(
 ) -> NDArray[np.float64]:
     """Cramér-Rao lower bound of a true state observed once per (sensor, time) pair.
 
+    The arguments come in :func:`fit_ml`'s order: what is observed (here the schedule, as
+    ``measurements.sensor`` and ``measurements.time`` would give it), the network, then what
+    is estimated (here its true value).
+
     Parameters
     ----------
-    sensors : SensorNetwork
     sensor_index : array_like of int, shape (N,)
         Which sensor takes each measurement.
     times : array_like of float, shape (N,)
         When.
+    sensors : SensorNetwork
     truth : array_like, shape (D,)
         The true state (position, or constant-velocity ``X0`` at ``t0``).
     motion, t0
@@ -180,13 +218,13 @@ def crlb(
         The bound: the inverse Fisher information. ``sqrt(diag)`` is the best achievable
         per-component RMS of an unbiased estimator.
     """
-    return fisher_and_crlb(sensors, sensor_index, times, truth, motion=motion, t0=t0)[1]
+    return fisher_and_crlb(sensor_index, times, sensors, truth, motion=motion, t0=t0)[1]
 
 
 def fisher_and_crlb(
-    sensors: SensorNetwork,
     sensor_index: ArrayLike,
     times: ArrayLike,
+    sensors: SensorNetwork,
     truth: ArrayLike,
     *,
     motion: Motion = "cv",
@@ -194,11 +232,12 @@ def fisher_and_crlb(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The Fisher information and its inverse; see :func:`crlb`."""
     network = check_network(sensors)
+    checked = validate(dict(motion=motion, t0=t0), FIT_CONSTRAINTS)
     return _core.crlb(
         network,
         as_float_array("truth", truth, ndim=1),
         as_int_array("sensor_index", sensor_index, ndim=1),
         as_float_array("times", times, ndim=1),
-        motion,
-        as_float_scalar("t0", t0),
+        checked["motion"],
+        checked["t0"],
     )

@@ -52,7 +52,8 @@ def rms_per_component(estimates: ArrayLike, truth: ArrayLike) -> NDArray[np.floa
     if tru.shape not in ((est.shape[1],), est.shape):
         raise ValueError(f"truth: expected shape ({est.shape[1]},) or {est.shape}, got {tru.shape}")
     require_finite("truth", tru)
-    return np.sqrt(np.mean((est - tru) ** 2, axis=0))
+    rms: NDArray[np.float64] = np.sqrt(np.mean((est - tru) ** 2, axis=0))
+    return rms
 
 
 def efficiency(rms: ArrayLike, covariance: ArrayLike) -> NDArray[np.float64]:

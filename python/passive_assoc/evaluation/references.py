@@ -20,7 +20,7 @@ def target_crlbs(scenario: Scenario) -> NDArray[np.float64]:
     m = scenario.measurements
     return np.stack(
         [
-            crlb(scenario.sensors, m.sensor[rows], m.time[rows], scenario.true_states[k], t0=scenario.t0)
+            crlb(m.sensor[rows], m.time[rows], scenario.sensors, scenario.true_states[k], t0=scenario.t0)
             for k, rows in enumerate(scenario.true_groups())
         ]
     )

@@ -124,7 +124,8 @@ def run_once(
 def rms(errors: NDArray[np.float64]) -> NDArray[np.float64]:
     """RMS over runs, ignoring runs where the target was missed (NaN)."""
     with np.errstate(invalid="ignore"):
-        return np.sqrt(np.nanmean(errors**2, axis=0))
+        value: NDArray[np.float64] = np.sqrt(np.nanmean(errors**2, axis=0))
+    return value
 
 
 def run_experiment(

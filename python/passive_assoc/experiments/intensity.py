@@ -124,7 +124,9 @@ def accuracy_table(
     for ratio in ratios:
         seeds = run_seeds(seed + int(ratio * 1000), runs)
 
-        def work(r: int, ratio: float = ratio, seeds: list = seeds) -> dict[str, dict[str, float]]:
+        def work(
+            r: int, ratio: float = ratio, seeds: list[np.random.SeedSequence] = seeds
+        ) -> dict[str, dict[str, float]]:
             scan = static_scan(np.random.default_rng(seeds[r]), n_targets=n_targets, ratio=ratio)
             cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
             out: dict[str, dict[str, float]] = {m: score(scan, cands, m, solvers) for m in METHODS}

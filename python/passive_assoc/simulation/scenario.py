@@ -70,7 +70,7 @@ class ConstantVelocityTarget:
     @property
     def ndim(self) -> int:
         """Spatial dimension, 2 or 3."""
-        return self.initial_state.shape[0] // 2
+        return int(self.initial_state.shape[0]) // 2
 
     def position(self, t: ArrayLike) -> NDArray[np.float64]:
         """Position at time(s) ``t``: shape ``t.shape + (ndim,)``, metres."""

@@ -74,7 +74,8 @@ class StaticScan:
 
     def observable(self) -> NDArray[np.bool_]:
         """Targets seen by at least two sensors: the ones an association can recover."""
-        return (self.true_tuples >= 0).sum(axis=1) >= 2
+        seen: NDArray[np.bool_] = (self.true_tuples >= 0).sum(axis=1) >= 2
+        return seen
 
 
 def static_scan(
