@@ -1,7 +1,8 @@
 """Type stubs for the compiled core (``rust/py``). Use the typed wrappers in the package.
 
-Every function takes the validated ``SensorNetwork`` / ``MeasurementTable`` objects and a
-settings object from ``passive_assoc._settings``, read by attribute; results are NumPy
+The functions take the validated ``SensorNetwork`` / ``MeasurementTable`` objects (read by
+attribute) and, where they have several settings, one object from ``passive_assoc._settings``;
+``crlb``, ``closeness`` and ``assign_2d`` take their few scalars directly. Results are NumPy
 arrays or the frozen classes below.
 """
 

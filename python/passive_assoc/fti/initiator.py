@@ -141,9 +141,9 @@ class FuzzyTrackInitiator:
         Coordinates of the steepest-ascent search. ``"diagonal"`` scales each component by the
         candidate fit's standard deviation (METHODS §1 wording). ``"whitened"`` (default) uses
         the candidate fit's full covariance factor ``L`` (``x = x_c + L y``), which also removes
-        the strong position–velocity and along-range correlations of a 4-measurement fit:
-        on one paper run's candidates a search takes 25 closeness evaluations instead of 41
-        (``python benches/bench_search.py``), with the same detection results
+        the strong position–velocity and along-range correlations of a 4-measurement fit, so
+        a search needs fewer closeness evaluations (``python benches/bench_search.py``;
+        docs/performance.md) with the same detection results
         (``passive-assoc reproduce fti --descent-scaling diagonal``).
     descent_max_iter : int
         Iteration cap of each steepest-ascent search.

@@ -19,7 +19,7 @@
 //!   along-range x–y), which remain strong with 4 measurements.
 //!
 //! `python benches/bench_search.py` prints the evaluations per search of both scalings on
-//! one paper run's candidates (whitened needs about 40 % fewer).
+//! one paper run's candidates (whitened needs fewer; docs/performance.md has the figures).
 //!
 //! **Step length.** The first trial step is one scaled unit (one standard deviation); later
 //! trials use the Barzilai-Borwein length `sᵀs / −sᵀΔg` (the secant estimate of the inverse

@@ -157,17 +157,6 @@ pub fn predict(space: Space, sensor: &[f64; 3], target: &[f64; 3]) -> [f64; 2] {
     }
 }
 
-/// Gradients of the predicted angles (see [`predict`]) with respect to the target position,
-/// or `None` where they are not differentiable (target on the sensor's vertical axis).
-#[inline(always)]
-pub fn angle_gradients(
-    space: Space,
-    sensor: &[f64; 3],
-    target: &[f64; 3],
-) -> Option<[[f64; 3]; 2]> {
-    line_of_sight(space, sensor, target).map(|los| los.gradient)
-}
-
 /// The sensor-to-target vector, its horizontal range (spatial only) and the angle gradients, computed once
 /// and with one division per angle: divisions, not multiplications, bound the residual
 /// kernel's latency.

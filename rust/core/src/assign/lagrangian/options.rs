@@ -30,10 +30,10 @@ pub struct LagrangianOptions {
 pub enum WarmStart {
     /// Warm for S = 3 problems whose two sensors kept in the 2-D problem (see
     /// [`SensorOrder`]) have at least [`WARM_MIN_SIZE`] reports between them, cold otherwise:
-    /// where it measured faster. On `reproduce intensity` scans
-    /// (`python benches/bench_warm_start.py`) warm / cold was 0.62 at S = 3, M = 100, 0.89 at
-    /// M = 50, 1.11 at M = 18, and 0.99–1.06 at S = 4 (medians of per-scan ratios;
-    /// docs/performance.md). A likely reason, not measured: with S >= 4 several multiplier
+    /// where it measured faster on `reproduce intensity` scans
+    /// (`python benches/bench_warm_start.py`; the figures are in docs/performance.md): a
+    /// gain on large S = 3 scans, a loss on small ones and none at S = 4. A likely reason,
+    /// not measured: with S >= 4 several multiplier
     /// sets move each iteration, so fewer pairs stay tight, and on small problems the square
     /// form's set-up costs more than the searches it saves. (The synthetic criterion group
     /// `sd_lagrangian_warm` shows the small and S = 4 losses too, but no gain on its S = 3
