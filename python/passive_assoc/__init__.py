@@ -25,13 +25,14 @@ from .simulation import (
     paper_fti_scenario,
     simulate,
 )
-from .static_los import StaticAssociation, associate_static, enumerate_candidates
+from .static_los import StaticAssociation, StaticAssociator, associate_static, enumerate_candidates
 
 #: The fuzzy initiator's track under its pre-subpackage name (``passive_assoc.fti.InitiatedTrack``).
 Track = InitiatedTrack
 
 __all__ = [
     "StaticAssociation",
+    "StaticAssociator",
     "associate_static",
     "enumerate_candidates",
     "ClosenessOptima",
