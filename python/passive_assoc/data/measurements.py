@@ -8,7 +8,6 @@ for clutter) that no algorithm may read.
 
 from __future__ import annotations
 
-import csv
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -19,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validation import as_float_array, as_int_array, readonly, require_finite
+from ._io import import_pandas, read_csv, write_csv
 from .sensors import SensorNetwork
 
 __all__ = ["MeasurementTable", "ATTRIBUTE_PREFIX"]
@@ -26,7 +26,6 @@ __all__ = ["MeasurementTable", "ATTRIBUTE_PREFIX"]
 #: Column-name prefix for attributes in CSV files, DataFrames and :meth:`to_arrays`.
 ATTRIBUTE_PREFIX = "attr_"
 _CORE = ("sensor", "time", "azimuth", "elevation")
-_PANDAS_HINT = "pandas is required for this; install it with `pip install passive-assoc[pandas]`"
 
 
 def _first(mask: NDArray[np.bool_]) -> int:
@@ -281,38 +280,12 @@ class MeasurementTable:
         Columns: sensor, time, azimuth, elevation, then truth (only if present), then one
         ``attr_<name>`` column per attribute. :meth:`from_csv` reads it back bit-exactly.
         """
-        cols = self.to_arrays()
-        names = list(cols)
-        # Python's float repr is the shortest string that parses back to the same double.
-        text = [[str(int(v)) if cols[n].dtype.kind == "i" else repr(float(v)) for v in cols[n]] for n in names]
-        with open(path, "w", newline="", encoding="utf-8") as fh:
-            writer = csv.writer(fh)
-            writer.writerow(names)
-            writer.writerows(zip(*text, strict=True))
+        write_csv(path, self.to_arrays())
 
     @classmethod
     def from_csv(cls, path: str | os.PathLike[str]) -> MeasurementTable:
         """Read a table written by :meth:`to_csv` (or any CSV with the same header)."""
-        with open(path, newline="", encoding="utf-8") as fh:
-            rows = list(csv.reader(fh))
-        if not rows:
-            raise ValueError(f"path: {os.fspath(path)!r} is empty (no header row)")
-        header, body = rows[0], rows[1:]
-        columns: dict[str, ArrayLike] = {}
-        for j, name in enumerate(header):
-            integer = name in ("sensor", "truth")
-            values = []
-            for r, row in enumerate(body):
-                if len(row) != len(header):
-                    raise ValueError(f"path: line {r + 2} has {len(row)} fields, header has {len(header)}")
-                try:
-                    values.append(int(row[j]) if integer else float(row[j]))
-                except ValueError:
-                    raise ValueError(
-                        f"{name}: line {r + 2} has {row[j]!r}, not {'an integer' if integer else 'a number'}"
-                    ) from None
-            columns[name] = np.array(values, dtype=np.int64 if integer else np.float64)
-        return cls.from_columns(columns)
+        return cls.from_columns(read_csv(path, integer_columns=("sensor", "truth")))
 
     def to_pandas(self) -> Any:
         """Return a :class:`pandas.DataFrame` with the columns of :meth:`to_arrays`.
@@ -322,20 +295,12 @@ class MeasurementTable:
         ImportError
             If pandas is not installed (it is an optional dependency).
         """
-        try:
-            import pandas as pd
-        except ImportError as exc:
-            raise ImportError(_PANDAS_HINT) from exc
-        return pd.DataFrame(self.to_arrays())
+        return import_pandas().DataFrame(self.to_arrays())
 
     @classmethod
     def from_pandas(cls, df: Any) -> MeasurementTable:
         """Build a table from a DataFrame with the columns of :meth:`to_arrays`."""
-        try:
-            import pandas as pd
-        except ImportError as exc:
-            raise ImportError(_PANDAS_HINT) from exc
-        if not isinstance(df, pd.DataFrame):
+        if not isinstance(df, import_pandas().DataFrame):
             raise TypeError(f"df: expected a pandas.DataFrame, got {type(df).__name__}")
         return cls.from_columns({str(c): df[c].to_numpy() for c in df.columns})
 
