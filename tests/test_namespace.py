@@ -11,7 +11,8 @@ from pathlib import Path
 import passive_assoc as pa
 import pytest
 
-#: ``passive_assoc.__all__`` before the subpackage restructure: the compatibility promise.
+#: ``passive_assoc.__all__`` before the subpackage restructure (the compatibility promise),
+#: then the names added since.
 TOP_LEVEL_NAMES = [
     "StaticAssociation",
     "associate_static",
@@ -39,6 +40,7 @@ TOP_LEVEL_NAMES = [
     "bearing_only_2d_scenario",
     "paper_fti_scenario",
     "simulate",
+    "TrackTable",
 ]
 
 SUBPACKAGES = ["data", "estimation", "assignment", "fti", "static_los", "simulation", "evaluation"]
