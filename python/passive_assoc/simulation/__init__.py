@@ -1,12 +1,24 @@
-"""Simulated scenarios with truth: the generic constant-velocity simulator and one scenario
-module per method (:mod:`.fti` for fuzzy track initiation, :mod:`.static_los` for static
-line-of-sight association)."""
+"""Simulated scenarios with truth: the generic constant-velocity simulator, the radar
+simulator (:mod:`.radar`), and one scenario module per method (:mod:`.fti` for fuzzy track
+initiation, :mod:`.static_los` for static line-of-sight association, :mod:`.topology` for
+track-to-track association by reference topology, :mod:`.radar_esm` for radar/ESM association
+with wavelets)."""
 
 from __future__ import annotations
 
 from .fti import PAPER_FTI_TARGETS, paper_fti_scenario
+from .radar import (
+    Radar,
+    RadarMeasurements,
+    line_abreast_formation,
+    scattered_targets,
+    simulate_radars,
+    true_positions,
+)
+from .radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, RadarEsmScenario, paper_wavelet_scenario
 from .scenario import ConstantVelocityTarget, Scenario, bearing_only_2d_scenario, simulate, wrap_angle
 from .static_los import StaticScan, static_scan
+from .topology import RadarScenario, paper_topology_scenario
 
 __all__ = [
     "PAPER_FTI_TARGETS",
@@ -18,4 +30,16 @@ __all__ = [
     "simulate",
     "static_scan",
     "wrap_angle",
+    "Radar",
+    "RadarMeasurements",
+    "simulate_radars",
+    "true_positions",
+    "scattered_targets",
+    "line_abreast_formation",
+    "RadarScenario",
+    "paper_topology_scenario",
+    "PAPER_WAVELET_TARGETS",
+    "PAPER_WAVELET_PHASES",
+    "RadarEsmScenario",
+    "paper_wavelet_scenario",
 ]
