@@ -123,6 +123,10 @@ def test_cartesian_covariance_along_the_axes() -> None:
     np.testing.assert_allclose(m.cartesian_covariance()[1], np.diag([(2e4 * 0.01) ** 2, 100.0**2]), atol=1e-6)
     np.testing.assert_allclose(m.to_cartesian(), [[1e4 + 5, 5.0], [5.0, 2e4 + 5]], atol=1e-9)
     assert len(m.select([1])) == 1 and m.select(m.truth == 0).range.tolist() == [1e4]
+    with pytest.raises(ValueError, match=r"^indices: boolean mask has shape \(1,\)"):
+        m.select([True])
+    with pytest.raises(ValueError, match=r"^indices: out of range for 2 reports"):
+        m.select([2])
 
 
 def test_coverage_and_detection_probability() -> None:

@@ -134,7 +134,11 @@ class RadarMeasurements:
     def select(self, indices: ArrayLike) -> RadarMeasurements:
         """The given rows (indices or a boolean mask), in the given order."""
         arr = np.asarray(indices)
+        if arr.dtype.kind == "b" and arr.shape != (len(self),):
+            raise ValueError(f"indices: boolean mask has shape {arr.shape}, expected ({len(self)},)")
         rows = arr if arr.dtype.kind == "b" else as_int_array("indices", arr, ndim=1)
+        if rows.dtype.kind == "i" and ((rows < 0) | (rows >= len(self))).any():
+            raise ValueError(f"indices: out of range for {len(self)} reports")
         return RadarMeasurements(
             self.radar[rows], self.time[rows], self.range[rows], self.azimuth[rows], self.truth[rows], self.radars
         )
