@@ -3,7 +3,8 @@
 //! depends on this one; nothing here knows about Python.
 //!
 //! Layers, dependencies pointing down only:
-//! * [`fti`], [`static_los`] — one folder per published method (METHODS §1, §2);
+//! * [`fti`], [`static_los`], [`topology`] — one folder per published method (METHODS §1,
+//!   §2, §4);
 //! * [`assign`] — 2-D and S-D assignment solvers every method ends in;
 //! * [`estimation`] — Gauss-Newton ML fitting and the Fisher information / CRLB;
 //! * [`geometry`] — angles, the measurement model, line-of-sight geometry;
@@ -17,3 +18,4 @@ pub mod fti;
 pub mod geometry;
 pub mod parallel;
 pub mod static_los;
+pub mod topology;

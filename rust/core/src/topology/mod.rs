@@ -1,0 +1,37 @@
+//! Track-to-track association under azimuth bias by reference topology (METHODS §4,
+//! paper 002), and the nearest-neighbour baseline with the same interface.
+//!
+//! Radars with unknown azimuth biases report local tracks whose absolute positions disagree
+//! by kilometres, but the layout of each track's neighbours survives a rotation. Per scan
+//! and per local source:
+//! 1. `vectors` — each track's reference-topology vector (rings × sectors around it,
+//!    occupancy by the same source's other tracks, diffusion);
+//! 2. `closeness` — the fuzzy closeness W of every (local, system) pair (eq. 3);
+//! 3. `history` — W averaged over a sliding window of scans, so a wrong pairing is undone;
+//! 4. `decision` — one-to-one pairs maximising the total closeness above λ (or the paper's
+//!    per-system-track rule), optionally inside a position gate;
+//! 5. `bias` — each radar's rotation (and translation) relative to the system picture, from
+//!    the pooled pairs (beyond the paper).
+//!
+//! `associator::Associator` runs the five for one source; `scan::ScanTracks` is its input.
+
+mod associator;
+mod bias;
+mod closeness;
+mod decision;
+mod history;
+mod options;
+mod scan;
+mod vectors;
+
+#[cfg(test)]
+mod tests;
+
+pub use associator::{Associator, ScanPairs, Scoring, MAX_HISTORY_PAIRS};
+pub use bias::{BiasAccumulator, BiasEstimate};
+pub use closeness::{closeness, closeness_matrix};
+pub use decision::decide;
+pub use history::ScoreHistory;
+pub use options::{Decision, DecisionOptions, Diffusion, Reference, TopologyOptions, MAX_CELLS};
+pub use scan::ScanTracks;
+pub use vectors::topology_vectors;

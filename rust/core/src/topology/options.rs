@@ -1,0 +1,304 @@
+//! The topology associator's settings, built with validated `with_*` setters.
+
+use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+
+/// Where sector 0 of a track's grid starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Reference {
+    /// Sector 0 starts at north (+y) and sectors run clockwise (the paper's grid).
+    #[default]
+    North,
+    /// Sector 0 starts at the track's own heading: a rotation of the whole picture then
+    /// leaves every vector unchanged (METHODS §4 option).
+    Heading,
+}
+
+impl std::str::FromStr for Reference {
+    type Err = UnknownOption;
+
+    /// `"north"` or `"heading"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [("north", Self::North), ("heading", Self::Heading)];
+        parse_option(value, &choices, "'north' or 'heading'")
+    }
+}
+
+/// How an occupied cell spreads into its neighbours (METHODS §4 "Diffusion").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Diffusion {
+    /// Each occupied neighbour adds Δ (ring ± 1) or Δ′ (sector ± 1); the sum is clipped at 1.
+    #[default]
+    Additive,
+    /// A neighbour of an occupied cell gets at least Δ (ring ± 1) or Δ′ (sector ± 1).
+    AtLeast,
+}
+
+impl std::str::FromStr for Diffusion {
+    type Err = UnknownOption;
+
+    /// `"additive"` or `"at_least"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [("additive", Self::Additive), ("at_least", Self::AtLeast)];
+        parse_option(value, &choices, "'additive' or 'at_least'")
+    }
+}
+
+/// How one scan's pairs are chosen from the (window-averaged) scores.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Decision {
+    /// One-to-one pairs maximising the total score, each above the threshold (default).
+    #[default]
+    Assignment,
+    /// The paper's rule: each system track takes its best local track if that beats the
+    /// threshold; a local track claimed twice goes to the higher score.
+    PerSystemTrack,
+}
+
+impl std::str::FromStr for Decision {
+    type Err = UnknownOption;
+
+    /// `"assignment"` or `"per_system_track"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [
+            ("assignment", Self::Assignment),
+            ("per_system_track", Self::PerSystemTrack),
+        ];
+        parse_option(value, &choices, "'assignment' or 'per_system_track'")
+    }
+}
+
+/// The reference-topology grid and its diffusion (METHODS §4).
+///
+/// ```
+/// use passive_assoc_core::topology::TopologyOptions;
+/// let o = TopologyOptions::default().with_rings(4).unwrap().with_sectors(12).unwrap();
+/// assert_eq!(o.cells(), 48);
+/// assert!(TopologyOptions::default().with_delta(1.5).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TopologyOptions {
+    rings: usize,
+    sectors: usize,
+    radius: f64,
+    delta: f64,
+    delta_prime: f64,
+    diffusion: Diffusion,
+    reference: Reference,
+}
+
+impl Default for TopologyOptions {
+    /// 4 rings × 12 sectors (30°, wider than a 10° relative bias) of a 120 km disc,
+    /// Δ = 0.5, Δ′ = 0.7, additive diffusion, north reference.
+    fn default() -> Self {
+        Self {
+            rings: 4,
+            sectors: 12,
+            radius: 120e3,
+            delta: 0.5,
+            delta_prime: 0.7,
+            diffusion: Diffusion::Additive,
+            reference: Reference::North,
+        }
+    }
+}
+
+/// The largest grid accepted: a vector per track is allocated with this many cells.
+pub const MAX_CELLS: usize = 1 << 16;
+
+impl TopologyOptions {
+    /// M, the rings of equal radial width, at least 1.
+    pub fn with_rings(mut self, rings: usize) -> CoreResult<Self> {
+        self.rings = check_count("rings", rings)?;
+        check_cells(self.rings, self.sectors)?;
+        Ok(self)
+    }
+
+    /// N, the sectors of equal angle, at least 1.
+    pub fn with_sectors(mut self, sectors: usize) -> CoreResult<Self> {
+        self.sectors = check_count("sectors", sectors)?;
+        check_cells(self.rings, self.sectors)?;
+        Ok(self)
+    }
+
+    /// R_ref, the disc's radius in metres: finite and > 0.
+    pub fn with_radius(mut self, radius: f64) -> CoreResult<Self> {
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(CoreError::out_of_range(
+                "radius",
+                format!("{radius} must be finite and > 0"),
+            ));
+        }
+        self.radius = radius;
+        Ok(self)
+    }
+
+    /// Δ, the spread to ring ± 1, in [0, 1].
+    pub fn with_delta(mut self, delta: f64) -> CoreResult<Self> {
+        self.delta = check_unit("delta", delta)?;
+        Ok(self)
+    }
+
+    /// Δ′, the spread to sector ± 1, in [0, 1] (the paper wants Δ′ ≥ Δ: sectors absorb the
+    /// bias as well as the noise).
+    pub fn with_delta_prime(mut self, delta_prime: f64) -> CoreResult<Self> {
+        self.delta_prime = check_unit("delta_prime", delta_prime)?;
+        Ok(self)
+    }
+
+    pub fn with_diffusion(mut self, diffusion: Diffusion) -> Self {
+        self.diffusion = diffusion;
+        self
+    }
+
+    pub fn with_reference(mut self, reference: Reference) -> Self {
+        self.reference = reference;
+        self
+    }
+
+    pub fn rings(&self) -> usize {
+        self.rings
+    }
+
+    pub fn sectors(&self) -> usize {
+        self.sectors
+    }
+
+    /// M·N, the length of a topology vector.
+    pub fn cells(&self) -> usize {
+        self.rings * self.sectors
+    }
+
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    pub fn delta(&self) -> f64 {
+        self.delta
+    }
+
+    pub fn delta_prime(&self) -> f64 {
+        self.delta_prime
+    }
+
+    pub fn diffusion(&self) -> Diffusion {
+        self.diffusion
+    }
+
+    pub fn reference(&self) -> Reference {
+        self.reference
+    }
+}
+
+/// How pairs are decided from scores (closeness W, or minus a distance for the
+/// nearest-neighbour baseline).
+///
+/// ```
+/// use passive_assoc_core::topology::DecisionOptions;
+/// let o = DecisionOptions::default().with_window(3).unwrap().with_gate(Some(60e3)).unwrap();
+/// assert_eq!(o.window(), 3);
+/// assert!(DecisionOptions::default().with_window(0).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DecisionOptions {
+    threshold: f64,
+    window: usize,
+    gate: Option<f64>,
+    decision: Decision,
+}
+
+impl Default for DecisionOptions {
+    /// Threshold 0 (every score counts; the topology associator sets λ·M·N), a window of 6
+    /// scans, no position gate, one-to-one assignment.
+    fn default() -> Self {
+        Self {
+            threshold: 0.0,
+            window: 6,
+            gate: None,
+            decision: Decision::Assignment,
+        }
+    }
+}
+
+impl DecisionOptions {
+    /// A pair needs a window-averaged score strictly above this (finite).
+    pub fn with_threshold(mut self, threshold: f64) -> CoreResult<Self> {
+        if !threshold.is_finite() {
+            return Err(CoreError::out_of_range(
+                "threshold",
+                format!("{threshold} must be finite"),
+            ));
+        }
+        self.threshold = threshold;
+        Ok(self)
+    }
+
+    /// Scans averaged, the current one included; at least 1 (1 = no memory).
+    pub fn with_window(mut self, window: usize) -> CoreResult<Self> {
+        self.window = check_count("window", window)?;
+        Ok(self)
+    }
+
+    /// Pairs farther apart than this (metres, > 0) are never made; `None` = no gate.
+    pub fn with_gate(mut self, gate: Option<f64>) -> CoreResult<Self> {
+        if let Some(g) = gate {
+            if !(g.is_finite() && g > 0.0) {
+                return Err(CoreError::out_of_range(
+                    "gate",
+                    format!("{g} must be finite and > 0 (or None)"),
+                ));
+            }
+        }
+        self.gate = gate;
+        Ok(self)
+    }
+
+    pub fn with_decision(mut self, decision: Decision) -> Self {
+        self.decision = decision;
+        self
+    }
+
+    pub fn threshold(&self) -> f64 {
+        self.threshold
+    }
+
+    pub fn window(&self) -> usize {
+        self.window
+    }
+
+    pub fn gate(&self) -> Option<f64> {
+        self.gate
+    }
+
+    pub fn decision(&self) -> Decision {
+        self.decision
+    }
+}
+
+fn check_count(arg: &'static str, value: usize) -> CoreResult<usize> {
+    if value == 0 {
+        return Err(CoreError::out_of_range(arg, "must be at least 1"));
+    }
+    Ok(value)
+}
+
+fn check_cells(rings: usize, sectors: usize) -> CoreResult<()> {
+    match rings.checked_mul(sectors) {
+        Some(cells) if cells <= MAX_CELLS => Ok(()),
+        _ => Err(CoreError::CapExceeded {
+            what: "rings × sectors",
+            count: rings.saturating_mul(sectors),
+            cap: MAX_CELLS,
+            hint: "a grid this fine has no neighbour in most cells; use fewer rings or sectors",
+        }),
+    }
+}
+
+fn check_unit(arg: &'static str, value: f64) -> CoreResult<f64> {
+    if !(0.0..=1.0).contains(&value) {
+        return Err(CoreError::out_of_range(
+            arg,
+            format!("{value} must be in [0, 1]"),
+        ));
+    }
+    Ok(value)
+}
