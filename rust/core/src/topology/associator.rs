@@ -1,12 +1,13 @@
 //! The streaming associator of one local source against the system picture: every scan,
-//! score every (local, system) pair, average the scores over the window, decide the pairs,
-//! and pool the pairs' positions for the bias estimate.
+//! score the candidate (local, system) pairs, average the scores over the window, decide the
+//! pairs, and pool the pairs' positions for the bias estimate.
 
 use super::bias::{BiasAccumulator, BiasEstimate};
-use super::closeness::closeness_matrix;
+use super::candidates::{candidate_pairs, pair_distances, Candidates};
+use super::closeness::pair_closeness;
 use super::decision::decide;
 use super::history::ScoreHistory;
-use super::options::{DecisionOptions, TopologyOptions};
+use super::options::{DecisionOptions, Reference, TopologyOptions};
 use super::scan::ScanTracks;
 use super::vectors::topology_vectors;
 use crate::error::{CoreError, CoreResult};
@@ -28,10 +29,10 @@ pub struct ScanPairs {
     pub scores: Vec<f64>,
 }
 
-/// Pairs remembered at most, per source, with a window longer than one scan: the history is
-/// a few words per pair, so this bounds it near 1 GB; beyond it a position gate (which
-/// forgets distant pairs) or `window = 1` is needed.
-pub const MAX_HISTORY_PAIRS: usize = 4_000_000;
+/// Candidate pairs scored at most in one scan: 8 bytes of pair and 8 of score each, so this
+/// bounds a scan's working memory near 1 GB; beyond it a position gate is needed. With a
+/// window longer than one scan the same number bounds the pairs remembered.
+pub const MAX_PAIRS: usize = 64_000_000;
 
 /// One local source's association with the system picture, scan after scan.
 #[derive(Debug, Clone)]
@@ -58,37 +59,43 @@ impl Associator {
         local: &ScanTracks<'_>,
         system: &ScanTracks<'_>,
     ) -> CoreResult<ScanPairs> {
-        let mut scores = self.scores(local, system)?;
-        self.apply_gate(local, system, &mut scores);
-        if self.decision.window() > 1 {
-            let live = scores.iter().filter(|s| !s.is_nan()).count();
-            if live > MAX_HISTORY_PAIRS {
-                return Err(CoreError::CapExceeded {
-                    what: "pairs in the window's history",
-                    count: live,
-                    cap: MAX_HISTORY_PAIRS,
-                    hint: "give a position gate or window = 1 for pictures this large",
-                });
-            }
+        let all = local.len().saturating_mul(system.len());
+        let cap = if self.decision.window() > 1 {
+            MAX_PAIRS / 8
+        } else {
+            MAX_PAIRS
+        };
+        if self.decision.gate().is_none() && all > cap {
+            return Err(CoreError::CapExceeded {
+                what: "track pairs in one scan",
+                count: all,
+                cap,
+                hint:
+                    "give a position gate (only pairs within it are scored) for pictures this large",
+            });
         }
+        let pairs = candidate_pairs(local, system, self.decision.gate());
+        let mut scores = self.scores(local, system, &pairs)?;
         self.history
-            .average_in_place(local.ids(), system.ids(), &mut scores);
-        let n_system = system.len();
-        let pairs = decide(
+            .average_in_place(local.ids(), system.ids(), &pairs, &mut scores);
+        let decided = decide(
+            &pairs,
             &scores,
-            local.len(),
-            n_system,
+            (local.len(), system.len()),
             self.decision.threshold(),
             self.decision.decision(),
         )?;
-        for &(i, j) in &pairs {
+        for &(i, j) in &decided {
             self.bias.add(local.position(i), system.position(j));
         }
-        let scores = pairs
+        let kept = decided
             .iter()
-            .map(|&(i, j)| scores[i * n_system + j])
+            .map(|&(i, j)| scores[pairs.index_of(i, j)])
             .collect();
-        Ok(ScanPairs { pairs, scores })
+        Ok(ScanPairs {
+            pairs: decided,
+            scores: kept,
+        })
     }
 
     /// The rigid bias estimate from every pair decided so far.
@@ -101,10 +108,15 @@ impl Associator {
         self.bias.about(centre)
     }
 
-    fn scores(&self, local: &ScanTracks<'_>, system: &ScanTracks<'_>) -> CoreResult<Vec<f64>> {
+    fn scores(
+        &self,
+        local: &ScanTracks<'_>,
+        system: &ScanTracks<'_>,
+        pairs: &Candidates,
+    ) -> CoreResult<Vec<f64>> {
         match &self.scoring {
             Scoring::Topology(options) => {
-                if options.reference() == super::options::Reference::Heading
+                if options.reference() == Reference::Heading
                     && !(local.has_velocities() && system.has_velocities())
                 {
                     return Err(CoreError::ill_posed(
@@ -114,34 +126,12 @@ impl Associator {
                 }
                 let a = topology_vectors(local, options);
                 let b = topology_vectors(system, options);
-                Ok(closeness_matrix(&a, &b, options.cells()))
+                Ok(pair_closeness(&a, &b, options.cells(), pairs))
             }
-            Scoring::Distance => Ok(distances(local, system).into_iter().map(|d| -d).collect()),
+            Scoring::Distance => Ok(pair_distances(local, system, pairs)
+                .into_iter()
+                .map(|d| -d)
+                .collect()),
         }
     }
-
-    /// NaN-out the pairs beyond the position gate.
-    fn apply_gate(&self, local: &ScanTracks<'_>, system: &ScanTracks<'_>, scores: &mut [f64]) {
-        let Some(gate) = self.decision.gate() else {
-            return;
-        };
-        for (score, d) in scores.iter_mut().zip(distances(local, system)) {
-            if d > gate {
-                *score = f64::NAN;
-            }
-        }
-    }
-}
-
-/// Euclidean distances, `(n_local, n_system)` row-major.
-fn distances(local: &ScanTracks<'_>, system: &ScanTracks<'_>) -> Vec<f64> {
-    let mut out = Vec::with_capacity(local.len() * system.len());
-    for i in 0..local.len() {
-        let p = local.position(i);
-        out.extend((0..system.len()).map(|j| {
-            let q = system.position(j);
-            (p[0] - q[0]).hypot(p[1] - q[1])
-        }));
-    }
-    out
 }

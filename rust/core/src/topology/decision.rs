@@ -1,25 +1,31 @@
-//! One scan's pairs from a score matrix (METHODS §4 "Decision").
+//! One scan's pairs from the scores of its candidate pairs (METHODS §4 "Decision").
 //!
 //! Scores are "higher is better": the closeness W for topology, minus the distance for the
-//! nearest-neighbour baseline. Entries that are NaN are forbidden (outside the position gate,
-//! or no score). A pair needs a score strictly above the threshold.
+//! nearest-neighbour baseline. A pair needs a score strictly above the threshold; pairs
+//! that are not candidates (outside the position gate) are never made.
 
+use super::candidates::Candidates;
 use super::options::Decision;
 use crate::assign::lap::{solve_sparse, SparseCosts};
 use crate::error::CoreResult;
 
-/// `(local row, system column)` pairs, ascending by row.
+/// `(local row, system row)` pairs, ascending by local row. `pairs` and `scores` are the
+/// candidates and their (window-averaged) scores.
 pub fn decide(
+    pairs: &Candidates,
     scores: &[f64],
-    n_local: usize,
-    n_system: usize,
+    (n_local, n_system): (usize, usize),
     threshold: f64,
     decision: Decision,
 ) -> CoreResult<Vec<(usize, usize)>> {
-    let allowed = |i: usize, j: usize| {
-        let s = scores[i * n_system + j];
-        (s > threshold).then_some(s)
-    };
+    let allowed = scores
+        .iter()
+        .enumerate()
+        .filter(|&(_, &s)| s > threshold)
+        .map(|(k, &s)| {
+            let (i, j) = pairs.pair(k);
+            (i, j, s)
+        });
     match decision {
         Decision::Assignment => max_margin(n_local, n_system, threshold, allowed),
         Decision::PerSystemTrack => Ok(per_system_track(n_local, n_system, allowed)),
@@ -34,16 +40,10 @@ fn max_margin(
     n_local: usize,
     n_system: usize,
     threshold: f64,
-    allowed: impl Fn(usize, usize) -> Option<f64>,
+    allowed: impl Iterator<Item = (usize, usize, f64)>,
 ) -> CoreResult<Vec<(usize, usize)>> {
-    let mut triplets = Vec::new();
-    for i in 0..n_local {
-        for j in 0..n_system {
-            if let Some(s) = allowed(i, j) {
-                triplets.push((i, j, threshold - s));
-            }
-        }
-    }
+    let triplets: Vec<(usize, usize, f64)> =
+        allowed.map(|(i, j, s)| (i, j, threshold - s)).collect();
     let costs = SparseCosts::from_triplets(n_local, n_system, &triplets)?;
     let solved = solve_sparse(&costs, &vec![0.0; n_local], &vec![0.0; n_system])?;
     Ok(solved
@@ -60,17 +60,18 @@ fn max_margin(
 fn per_system_track(
     n_local: usize,
     n_system: usize,
-    allowed: impl Fn(usize, usize) -> Option<f64>,
+    allowed: impl Iterator<Item = (usize, usize, f64)>,
 ) -> Vec<(usize, usize)> {
+    let mut best: Vec<Option<(f64, usize)>> = vec![None; n_system];
+    for (i, j, s) in allowed {
+        match best[j] {
+            Some((held, row)) if held > s || (held == s && row < i) => {}
+            _ => best[j] = Some((s, i)),
+        }
+    }
     let mut claim: Vec<Option<(f64, usize)>> = vec![None; n_local];
-    for j in 0..n_system {
-        let best = (0..n_local)
-            .filter_map(|i| allowed(i, j).map(|s| (s, i)))
-            .fold(None, |acc: Option<(f64, usize)>, (s, i)| match acc {
-                Some((best, _)) if best >= s => acc,
-                _ => Some((s, i)),
-            });
-        if let Some((s, i)) = best {
+    for (j, b) in best.iter().enumerate() {
+        if let Some((s, i)) = *b {
             match claim[i] {
                 Some((held, _)) if held >= s => {}
                 _ => claim[i] = Some((s, j)),

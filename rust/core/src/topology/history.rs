@@ -10,6 +10,8 @@ use std::collections::VecDeque;
 
 use rustc_hash::FxHashMap;
 
+use super::candidates::Candidates;
+
 /// The recent scores of every (local id, system id) pair.
 #[derive(Debug, Clone, Default)]
 pub struct ScoreHistory {
@@ -27,35 +29,32 @@ impl ScoreHistory {
         }
     }
 
-    /// Records this scan's `scores` (`(n_local, n_system)` row-major, NaN = no score) and
-    /// replaces each entry by its window average (NaN stays NaN: a forbidden pair is not
-    /// made however good its past).
-    pub fn average_in_place(&mut self, local_ids: &[i64], system_ids: &[i64], scores: &mut [f64]) {
+    /// Records this scan's `scores` of the candidate `pairs` (rows into `local_ids` and
+    /// `system_ids`) and replaces each score by its window average.
+    pub fn average_in_place(
+        &mut self,
+        local_ids: &[i64],
+        system_ids: &[i64],
+        pairs: &Candidates,
+        scores: &mut [f64],
+    ) {
         self.scan += 1;
         if self.window == 1 {
             return;
         }
         let oldest = self.scan.saturating_sub(self.window as u64 - 1);
-        let n_system = system_ids.len();
-        for (i, &a) in local_ids.iter().enumerate() {
-            for (j, &b) in system_ids.iter().enumerate() {
-                let score = &mut scores[i * n_system + j];
-                if score.is_nan() {
-                    continue;
-                }
-                let ring = self.pairs.entry((a, b)).or_default();
-                while ring.front().is_some_and(|&(scan, _)| scan < oldest) {
-                    ring.pop_front();
-                }
-                ring.push_back((self.scan, *score));
-                *score = ring.iter().map(|&(_, s)| s).sum::<f64>() / ring.len() as f64;
+        for (k, score) in scores.iter_mut().enumerate() {
+            let (i, j) = pairs.pair(k);
+            let key = (local_ids[i], system_ids[j]);
+            let ring = self.pairs.entry(key).or_default();
+            while ring.front().is_some_and(|&(scan, _)| scan < oldest) {
+                ring.pop_front();
             }
+            ring.push_back((self.scan, *score));
+            *score = ring.iter().map(|&(_, s)| s).sum::<f64>() / ring.len() as f64;
         }
-        let scan = self.scan;
-        self.pairs.retain(|_, ring| {
-            ring.back()
-                .is_some_and(|&(last, _)| last >= oldest && last <= scan)
-        });
+        self.pairs
+            .retain(|_, ring| ring.back().is_some_and(|&(last, _)| last >= oldest));
     }
 
     /// Pairs currently remembered (for tests and memory accounting).

@@ -6,10 +6,11 @@
 //! and per local source:
 //! 1. `vectors` — each track's reference-topology vector (rings × sectors around it,
 //!    occupancy by the same source's other tracks, diffusion);
-//! 2. `closeness` — the fuzzy closeness W of every (local, system) pair (eq. 3);
+//! 2. `candidates`, `closeness` — the fuzzy closeness W (eq. 3) of every (local, system)
+//!    pair, or of those within the position gate;
 //! 3. `history` — W averaged over a sliding window of scans, so a wrong pairing is undone;
 //! 4. `decision` — one-to-one pairs maximising the total closeness above λ (or the paper's
-//!    per-system-track rule), optionally inside a position gate;
+//!    per-system-track rule);
 //! 5. `bias` — each radar's rotation (and translation) relative to the system picture, from
 //!    the pooled pairs (beyond the paper).
 //!
@@ -17,6 +18,7 @@
 
 mod associator;
 mod bias;
+mod candidates;
 mod closeness;
 mod decision;
 mod history;
@@ -27,9 +29,10 @@ mod vectors;
 #[cfg(test)]
 mod tests;
 
-pub use associator::{Associator, ScanPairs, Scoring, MAX_HISTORY_PAIRS};
+pub use associator::{Associator, ScanPairs, Scoring, MAX_PAIRS};
 pub use bias::{BiasAccumulator, BiasEstimate};
-pub use closeness::{closeness, closeness_matrix};
+pub use candidates::{candidate_pairs, Candidates};
+pub use closeness::{closeness, pair_closeness};
 pub use decision::decide;
 pub use history::ScoreHistory;
 pub use options::{Decision, DecisionOptions, Diffusion, Reference, TopologyOptions, MAX_CELLS};

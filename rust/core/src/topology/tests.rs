@@ -230,18 +230,29 @@ fn the_window_undoes_a_one_scan_swap() {
 #[test]
 fn per_system_track_rule_and_gate() {
     // 2 local × 2 system; local 1 is both system tracks' best.
+    let all = Candidates::All {
+        n_local: 2,
+        n_system: 2,
+    };
     let scores = [5.0, 1.0, 6.0, 4.0];
     assert_eq!(
-        decide(&scores, 2, 2, 2.0, Decision::PerSystemTrack).unwrap(),
+        decide(&all, &scores, (2, 2), 2.0, Decision::PerSystemTrack).unwrap(),
         vec![(1, 0)]
     );
     assert_eq!(
-        decide(&scores, 2, 2, 2.0, Decision::Assignment).unwrap(),
+        decide(&all, &scores, (2, 2), 2.0, Decision::Assignment).unwrap(),
         vec![(0, 0), (1, 1)]
     );
-    let gated = [5.0, f64::NAN, f64::NAN, 1.0];
+    // Pairs outside the gate are not candidates.
     assert_eq!(
-        decide(&gated, 2, 2, 2.0, Decision::Assignment).unwrap(),
+        decide(
+            &Candidates::Listed(vec![(0, 0), (1, 1)]),
+            &[5.0, 1.0],
+            (2, 2),
+            2.0,
+            Decision::Assignment
+        )
+        .unwrap(),
         vec![(0, 0)]
     );
 }
@@ -302,9 +313,12 @@ fn results_do_not_depend_on_the_thread_count() {
     let run = |threads| {
         with_threads(Some(threads), || {
             let o = TopologyOptions::default();
-            let a = topology_vectors(&ScanTracks::new("l", &id, &turned, None).unwrap(), &o);
-            let b = topology_vectors(&ScanTracks::new("s", &id, &pos, None).unwrap(), &o);
-            closeness_matrix(&a, &b, o.cells())
+            let local = ScanTracks::new("l", &id, &turned, None).unwrap();
+            let system = ScanTracks::new("s", &id, &pos, None).unwrap();
+            let a = topology_vectors(&local, &o);
+            let b = topology_vectors(&system, &o);
+            let pairs = candidate_pairs(&local, &system, Some(50e3));
+            (pair_closeness(&a, &b, o.cells(), &pairs), a)
         })
         .unwrap()
     };

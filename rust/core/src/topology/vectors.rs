@@ -26,6 +26,10 @@ use super::scan::ScanTracks;
 
 type Located = GeomWithData<[f64; 2], usize>;
 
+/// Fewer tracks than this are done on the calling thread: handing a paper-sized scan (20
+/// tracks) to the pool costs more than computing it.
+const PARALLEL_MIN_TRACKS: usize = 256;
+
 /// The topology vector of every track of `tracks`, `(n, M·N)` row-major. The result does
 /// not depend on the thread count.
 pub fn topology_vectors(tracks: &ScanTracks<'_>, options: &TopologyOptions) -> Vec<f32> {
@@ -36,12 +40,15 @@ pub fn topology_vectors(tracks: &ScanTracks<'_>, options: &TopologyOptions) -> V
             .collect(),
     );
     let mut out = vec![0.0f32; tracks.len() * cells];
-    out.par_chunks_mut(cells.max(1))
-        .enumerate()
-        .for_each(|(k, row)| {
-            let occupied = occupancy(tracks, &tree, k, options);
-            diffuse(&occupied, row, options);
-        });
+    let fill = |(k, row): (usize, &mut [f32])| {
+        let occupied = occupancy(tracks, &tree, k, options);
+        diffuse(&occupied, row, options);
+    };
+    if tracks.len() < PARALLEL_MIN_TRACKS {
+        out.chunks_mut(cells.max(1)).enumerate().for_each(fill);
+    } else {
+        out.par_chunks_mut(cells.max(1)).enumerate().for_each(fill);
+    }
     out
 }
 
