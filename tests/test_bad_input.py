@@ -143,6 +143,11 @@ def test_core_crlb_rejects() -> None:
             _core.crlb(sensors, args["truth"], args["sensor_index"], args["times"], "cv", 0.0)
 
 
+KF = pa.KalmanFilter(process_noise=1.0)
+KF_POLAR = pa.KalmanFilter(measurement="polar", process_noise=1.0)
+KF_T = np.array([0.0, 1.0, 2.0])
+KF_Z = np.array([[0.0, 0.0], [10.0, 5.0], [20.0, 10.0]])
+
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
     (
         "fit_ml empty table",
@@ -191,6 +196,59 @@ PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
     ("sensors nan", lambda: pa.SensorNetwork.planar([[0, np.nan], [1, 0]], 1e-3), ValueError, "positions"),
     ("table mismatched", lambda: pa.MeasurementTable.from_arrays([0, 1], [0.0], [0.1, 0.2]), ValueError, "time"),
     ("table nan azimuth", lambda: pa.MeasurementTable.from_arrays([0], [0.0], [np.nan]), ValueError, "azimuth"),
+    ("kalman negative q", lambda: pa.KalmanFilter(process_noise=-1.0), ValueError, "process_noise"),
+    (
+        "kalman unknown model",
+        lambda: pa.KalmanFilter(measurement="bearing", process_noise=1.0),
+        ValueError,
+        "measurement",
+    ),
+    ("kalman string q", lambda: pa.KalmanFilter(process_noise="1"), TypeError, "process_noise"),
+    ("kalman nan time", lambda: KF.filter([0.0, np.nan, 2.0], KF_Z, [np.arange(3)], noise=1.0), ValueError, "times"),
+    ("kalman rows", lambda: KF.filter(KF_T, KF_Z[:2], [np.arange(2)], noise=1.0), ValueError, "measurements: has 2"),
+    (
+        "kalman four axes",
+        lambda: KF.filter(KF_T, np.zeros((3, 4)), [np.arange(3)], noise=1.0),
+        ValueError,
+        "measurements",
+    ),
+    (
+        "kalman string z",
+        lambda: KF.filter(KF_T, [["a", "b"]] * 3, [np.arange(3)], noise=1.0),
+        TypeError,
+        "measurements",
+    ),
+    ("kalman noise shape", lambda: KF.filter(KF_T, KF_Z, [np.arange(3)], noise=np.ones(3)), ValueError, "noise"),
+    ("kalman zero noise", lambda: KF.filter(KF_T, KF_Z, [np.arange(3)], noise=0.0), ValueError, "noise: row 0"),
+    ("kalman no tracks", lambda: KF.filter(KF_T, KF_Z, [], noise=1.0), ValueError, "groups: no tracks"),
+    ("kalman float groups", lambda: KF.filter(KF_T, KF_Z, [np.array([0.5, 1.0])], noise=1.0), ValueError, "groups"),
+    ("kalman row twice", lambda: KF.filter(KF_T, KF_Z, [[0, 1], [1, 2]], noise=1.0), ValueError, "indices: row 1"),
+    ("kalman row range", lambda: KF.filter(KF_T, KF_Z, [[0, 1, 7]], noise=1.0), ValueError, "indices: entry 2 is 7"),
+    ("kalman unsorted", lambda: KF.filter(KF_T, KF_Z, [[0, 2, 1]], noise=1.0), ValueError, "times: track 0 goes back"),
+    (
+        "kalman sensors",
+        lambda: KF.filter(KF_T, KF_Z, [[0, 1, 2]], noise=1.0, sensor_positions=[0, 0]),
+        ValueError,
+        "sensor_positions",
+    ),
+    (
+        "kalman polar no sensors",
+        lambda: KF_POLAR.filter(KF_T, KF_Z + 1, [[0, 1, 2]], noise=1.0),
+        ValueError,
+        "sensor_positions",
+    ),
+    (
+        "kalman polar sensor shape",
+        lambda: KF_POLAR.filter(KF_T, KF_Z + 1, [[0, 1, 2]], noise=1.0, sensor_positions=[0, 0, 0]),
+        ValueError,
+        "sensor_positions",
+    ),
+    (
+        "kalman polar negative range",
+        lambda: KF_POLAR.filter(KF_T, KF_Z - 1, [[0, 1, 2]], noise=1.0, sensor_positions=[0, 0]),
+        ValueError,
+        "measurements: row 0 has a negative range",
+    ),
 ]
 
 

@@ -18,6 +18,7 @@ from passive_assoc._settings import (
     FitSettings,
     InitiationSettings,
     IntensitySettings,
+    KalmanSettings,
     SdSettings,
 )
 
@@ -95,6 +96,14 @@ def _intensity(args: dict[str, Any], kw: dict[str, Any]) -> Any:
 def _assign_sd(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     settings = SdSettings("lagrangian", 200, 1e-3, 10_000_000, 10.0, "auto", "auto", False)
     return _core.assign_sd(args["tuples"], args["costs"], args["sizes"], settings)
+
+
+def _kalman(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    settings = KalmanSettings(**kw, init="differencing", init_velocity_std=500.0, init_acceleration_std=50.0)
+    groups = (args["indices"], args["offsets"])
+    return _core.kalman_filter(
+        args["times"], args["measurements"], groups, args["noise"], args["sensor_positions"], settings
+    )
 
 
 CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
@@ -190,6 +199,18 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
         {},
     ),
     "assign_2d": (lambda args, kw: _core.assign_2d(args["costs"]), {"costs": np.ones((3, 4))}, {}),
+    "kalman_filter": (
+        _kalman,
+        {
+            "times": np.array([0.0, 1.0, 2.0, 0.5, 1.5]),
+            "measurements": np.array([[1e3, 0.1], [1.1e3, 0.1], [1.2e3, 0.1], [5e2, -3.1], [5e2, 3.1]]),
+            "indices": np.array([0, 1, 2, 3, 4], I64),
+            "offsets": np.array([0, 3, 5], I64),
+            "noise": np.array([[10.0, 1e-3]] * 5),
+            "sensor_positions": np.zeros((5, 2)),
+        },
+        dict(motion="cv", measurement="polar", process_noise=1.0, n_threads=None),
+    ),
 }
 
 

@@ -41,6 +41,8 @@ TOP_LEVEL_NAMES = [
     "paper_fti_scenario",
     "simulate",
     "TrackTable",
+    "KalmanFilter",
+    "KalmanResult",
 ]
 
 SUBPACKAGES = ["data", "estimation", "assignment", "fti", "static_los", "simulation", "evaluation"]

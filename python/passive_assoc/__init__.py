@@ -4,7 +4,7 @@ networks, with the numerical hot paths in Rust.
 Angles are radians, positions metres, times seconds (METHODS §0).
 
 Subpackages, each depending only on those before it: :mod:`.data` (measurements, sensors, tracks),
-:mod:`.estimation` (ML fitting, CRLB), :mod:`.assignment` (S-D and 2-D solvers), :mod:`.fti`
+:mod:`.estimation` (ML fitting, CRLB, Kalman filtering), :mod:`.assignment` (S-D and 2-D solvers), :mod:`.fti`
 (fuzzy track initiation) and :mod:`.static_los` (static line-of-sight association),
 :mod:`.simulation` (scenarios with truth), :mod:`.evaluation` (metrics, reference fits),
 :mod:`.experiments` (paper reproductions). This namespace re-exports the main entry points.
@@ -15,7 +15,7 @@ from __future__ import annotations
 from ._core import __version__
 from .assignment import SdAssignment, assign_sd, linear_assignment
 from .data import MeasurementTable, SensorNetwork, TrackTable
-from .estimation import TERMINATION_NAMES, FitResult, crlb, fisher_and_crlb, fit_ml
+from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
 from .fti import ClosenessOptima, FuzzyTrackInitiator, InitiatedTrack, InitiationResult, closeness, maximize_closeness
 from .simulation import (
     PAPER_FTI_TARGETS,
@@ -51,6 +51,8 @@ __all__ = [
     "crlb",
     "fisher_and_crlb",
     "fit_ml",
+    "KalmanFilter",
+    "KalmanResult",
     "MeasurementTable",
     "SensorNetwork",
     "TrackTable",

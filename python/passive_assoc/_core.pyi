@@ -17,6 +17,7 @@ from ._settings import (
     FitSettings,
     InitiationSettings,
     IntensitySettings,
+    KalmanSettings,
     Motion,
     SdSettings,
 )
@@ -214,3 +215,12 @@ def intensity_search(
     sizes: NDArray[np.int64],
     settings: IntensitySettings,
 ) -> IntensityResult: ...
+
+def kalman_filter(
+    times: NDArray[np.float64],
+    measurements: NDArray[np.float64],
+    groups: tuple[NDArray[np.int64], NDArray[np.int64]],
+    noise: NDArray[np.float64],
+    sensor_positions: NDArray[np.float64] | None,
+    settings: KalmanSettings,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...

@@ -81,3 +81,19 @@ class IntensitySettings:
     valid_airspace: bool
     max_chains: int | None
     n_threads: int | None
+
+
+KalmanMotion = Literal["cv", "ca"]
+KalmanMeasurement = Literal["position", "polar", "polar_converted"]
+KalmanInit = Literal["differencing", "single_point"]
+
+
+@dataclass(frozen=True)
+class KalmanSettings:
+    motion: KalmanMotion
+    measurement: KalmanMeasurement
+    process_noise: float
+    init: KalmanInit
+    init_velocity_std: float
+    init_acceleration_std: float
+    n_threads: int | None

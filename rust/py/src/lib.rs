@@ -8,6 +8,7 @@ mod convert;
 mod errors;
 mod fit;
 mod fti;
+mod kalman;
 mod static_los;
 
 use pyo3::prelude::*;
@@ -24,6 +25,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fti::maximize_closeness, m)?)?;
     m.add_function(wrap_pyfunction!(static_los::enumerate_static, m)?)?;
     m.add_function(wrap_pyfunction!(static_los::intensity_search, m)?)?;
+    m.add_function(wrap_pyfunction!(kalman::kalman_filter, m)?)?;
     m.add_class::<assign::SdResult>()?;
     m.add_class::<fti::InitiationOutput>()?;
     m.add_class::<fti::StageCounts>()?;
