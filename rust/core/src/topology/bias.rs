@@ -7,9 +7,12 @@
 //! `q` by the system is seen at `p = R(Δ) q + t`, `Δ = b − b₁`, `t = r − R(Δ) r₁ + R(b)(r₁ − r)`.
 //! So the least-squares rigid fit of local onto system positions (2-D Procrustes) estimates
 //! Δ; a rotation-only fit about a known centre is the option for a system picture without
-//! bias. Pairs from every scan are pooled through running sums (positions relative to the
-//! first pair's, so the sums stay well conditioned); the rotation's standard deviation is
-//! `sqrt(s² / Σ|q − q̄|²)` with `s²` the residual variance per coordinate.
+//! bias. Pairs from every scan are pooled. Wrong pairs (a target the system radar does not
+//! see, paired with a neighbour kilometres away) would drag a plain least-squares fit, so the
+//! fit is trimmed: pairs whose residual exceeds `TRIM_SIGMAS` robust standard deviations
+//! (1.4826 × the median residual) are dropped and the fit repeated, until the kept set stops
+//! changing. The rotation's standard deviation is `sqrt(s² / Σ|q − q̄|²)` over the kept pairs,
+//! `s²` their residual variance per coordinate.
 
 /// The fitted transform `p ≈ R(rotation)·q + translation`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,111 +23,148 @@ pub struct BiasEstimate {
     pub rotation_std: f64,
     /// Metres; zero for a rotation-only fit.
     pub translation: [f64; 2],
+    /// Pairs the final fit kept (after trimming).
     pub pairs: usize,
 }
 
-/// Running sums of matched positions (local `p`, system `q`).
+/// Residuals beyond this many robust standard deviations are trimmed.
+pub const TRIM_SIGMAS: f64 = 3.0;
+
+/// Trimming rounds at most (each drops pairs or ends the loop).
+const MAX_ROUNDS: usize = 10;
+
+/// Matched positions (local `p`, system `q`), pooled over the scans.
 #[derive(Debug, Clone, Default)]
 pub struct BiasAccumulator {
-    origin: Option<([f64; 2], [f64; 2])>,
-    n: f64,
-    sp: [f64; 2],
-    sq: [f64; 2],
-    /// Σ p_x q_x, Σ p_y q_y, Σ p_y q_x, Σ p_x q_y.
-    cross: [f64; 4],
-    pp: f64,
-    qq: f64,
+    pairs: Vec<([f64; 2], [f64; 2])>,
 }
 
 impl BiasAccumulator {
     /// Adds one matched pair.
     pub fn add(&mut self, p: [f64; 2], q: [f64; 2]) {
-        let (po, qo) = *self.origin.get_or_insert((p, q));
-        let (p, q) = ([p[0] - po[0], p[1] - po[1]], [q[0] - qo[0], q[1] - qo[1]]);
-        self.n += 1.0;
-        for k in 0..2 {
-            self.sp[k] += p[k];
-            self.sq[k] += q[k];
-        }
-        self.cross[0] += p[0] * q[0];
-        self.cross[1] += p[1] * q[1];
-        self.cross[2] += p[1] * q[0];
-        self.cross[3] += p[0] * q[1];
-        self.pp += p[0] * p[0] + p[1] * p[1];
-        self.qq += q[0] * q[0] + q[1] * q[1];
+        self.pairs.push((p, q));
     }
 
     pub fn pairs(&self) -> usize {
-        self.n as usize
+        self.pairs.len()
     }
 
-    /// The rigid (rotation + translation) least-squares fit; `None` without pairs.
+    /// The trimmed rigid (rotation + translation) least-squares fit; `None` without pairs.
     pub fn rigid(&self) -> Option<BiasEstimate> {
-        let (po, qo) = self.origin?;
-        let n = self.n;
-        let (mp, mq) = (
-            [self.sp[0] / n, self.sp[1] / n],
-            [self.sq[0] / n, self.sq[1] / n],
-        );
-        // Centred sums: Σ (p − p̄)(q − q̄) etc.
-        let a = self.cross[0] + self.cross[1] - n * (mp[0] * mq[0] + mp[1] * mq[1]);
-        let b = self.cross[2] - self.cross[3] - n * (mp[1] * mq[0] - mp[0] * mq[1]);
-        let spp = self.pp - n * (mp[0] * mp[0] + mp[1] * mp[1]);
-        let sqq = self.qq - n * (mq[0] * mq[0] + mq[1] * mq[1]);
-        let rotation = b.atan2(a);
-        let (c, s) = (rotation.cos(), rotation.sin());
-        // p̄ and q̄ in the caller's frame, then t = p̄ − R q̄.
-        let (pbar, qbar) = (
-            [mp[0] + po[0], mp[1] + po[1]],
-            [mq[0] + qo[0], mq[1] + qo[1]],
-        );
-        let translation = [
-            pbar[0] - (c * qbar[0] - s * qbar[1]),
-            pbar[1] - (s * qbar[0] + c * qbar[1]),
-        ];
-        let residual = (spp + sqq - 2.0 * a.hypot(b)).max(0.0);
-        let dof = 2.0 * n - 3.0;
-        Some(BiasEstimate {
-            rotation,
-            rotation_std: rotation_std(residual, dof, sqq),
-            translation,
-            pairs: self.pairs(),
-        })
+        self.trimmed(None)
     }
 
-    /// The rotation-only fit about `centre` (`p − c ≈ R (q − c)`); `None` without pairs.
+    /// The trimmed rotation-only fit about `centre` (`p − c ≈ R (q − c)`); `None` without
+    /// pairs.
     pub fn about(&self, centre: [f64; 2]) -> Option<BiasEstimate> {
-        let (po, qo) = self.origin?;
-        let n = self.n;
-        // Re-centre the sums on `centre`: p' = p + (po − c), likewise q'.
-        let (dp, dq) = (
-            [po[0] - centre[0], po[1] - centre[1]],
-            [qo[0] - centre[0], qo[1] - centre[1]],
-        );
-        let xx = self.cross[0] + dp[0] * self.sq[0] + dq[0] * self.sp[0] + n * dp[0] * dq[0];
-        let yy = self.cross[1] + dp[1] * self.sq[1] + dq[1] * self.sp[1] + n * dp[1] * dq[1];
-        let yx = self.cross[2] + dp[1] * self.sq[0] + dq[0] * self.sp[1] + n * dp[1] * dq[0];
-        let xy = self.cross[3] + dp[0] * self.sq[1] + dq[1] * self.sp[0] + n * dp[0] * dq[1];
-        let pp = self.pp
-            + 2.0 * (dp[0] * self.sp[0] + dp[1] * self.sp[1])
-            + n * (dp[0] * dp[0] + dp[1] * dp[1]);
-        let qq = self.qq
-            + 2.0 * (dq[0] * self.sq[0] + dq[1] * self.sq[1])
-            + n * (dq[0] * dq[0] + dq[1] * dq[1]);
-        let (a, b) = (xx + yy, yx - xy);
-        let residual = (pp + qq - 2.0 * a.hypot(b)).max(0.0);
-        Some(BiasEstimate {
-            rotation: b.atan2(a),
-            rotation_std: rotation_std(residual, 2.0 * n - 1.0, qq),
-            translation: [0.0, 0.0],
-            pairs: self.pairs(),
-        })
+        self.trimmed(Some(centre))
+    }
+
+    fn trimmed(&self, centre: Option<[f64; 2]>) -> Option<BiasEstimate> {
+        let mut keep = vec![true; self.pairs.len()];
+        let mut fit = fit(&self.pairs, &keep, centre)?;
+        for _ in 0..MAX_ROUNDS {
+            let residuals: Vec<f64> = self
+                .pairs
+                .iter()
+                .map(|&(p, q)| fit.residual(p, q))
+                .collect();
+            let mut sorted: Vec<f64> = residuals
+                .iter()
+                .copied()
+                .zip(&keep)
+                .filter(|(_, &k)| k)
+                .map(|(r, _)| r)
+                .collect();
+            sorted.sort_by(f64::total_cmp);
+            let median = sorted[sorted.len() / 2];
+            let limit = TRIM_SIGMAS * 1.4826 * median;
+            let next: Vec<bool> = residuals.iter().map(|&r| r <= limit).collect();
+            if next == keep || next.iter().filter(|&&k| k).count() < 3 {
+                break;
+            }
+            keep = next;
+            fit = self::fit(&self.pairs, &keep, centre)?;
+        }
+        Some(fit.estimate)
     }
 }
 
-fn rotation_std(residual: f64, dof: f64, spread: f64) -> f64 {
-    if dof <= 0.0 || spread <= 0.0 {
-        return f64::NAN;
+/// One least-squares fit and how to evaluate it.
+struct Fit {
+    estimate: BiasEstimate,
+}
+
+impl Fit {
+    /// Distance between `p` and the transformed `q`.
+    fn residual(&self, p: [f64; 2], q: [f64; 2]) -> f64 {
+        let (c, s) = (self.estimate.rotation.cos(), self.estimate.rotation.sin());
+        let t = self.estimate.translation;
+        let (x, y) = (c * q[0] - s * q[1] + t[0], s * q[0] + c * q[1] + t[1]);
+        (p[0] - x).hypot(p[1] - y)
     }
-    (residual / dof / spread).sqrt()
+}
+
+/// The least-squares fit over the kept pairs: rigid, or rotation-only about `centre`.
+fn fit(pairs: &[([f64; 2], [f64; 2])], keep: &[bool], centre: Option<[f64; 2]>) -> Option<Fit> {
+    let kept: Vec<&([f64; 2], [f64; 2])> = pairs
+        .iter()
+        .zip(keep)
+        .filter(|(_, &k)| k)
+        .map(|(p, _)| p)
+        .collect();
+    if kept.is_empty() {
+        return None;
+    }
+    let n = kept.len() as f64;
+    // Rigid: centre each side on its own mean; rotation-only: on the given centre.
+    let (pc, qc) = match centre {
+        Some(c) => (c, c),
+        None => {
+            let mean = |side: usize| {
+                let sum = kept.iter().fold([0.0, 0.0], |acc, pq| {
+                    let v = if side == 0 { pq.0 } else { pq.1 };
+                    [acc[0] + v[0], acc[1] + v[1]]
+                });
+                [sum[0] / n, sum[1] / n]
+            };
+            (mean(0), mean(1))
+        }
+    };
+    let (mut a, mut b, mut spp, mut sqq) = (0.0, 0.0, 0.0, 0.0);
+    for &&(p, q) in &kept {
+        let (px, py, qx, qy) = (p[0] - pc[0], p[1] - pc[1], q[0] - qc[0], q[1] - qc[1]);
+        a += px * qx + py * qy;
+        b += py * qx - px * qy;
+        spp += px * px + py * py;
+        sqq += qx * qx + qy * qy;
+    }
+    let rotation = b.atan2(a);
+    let (c, s) = (rotation.cos(), rotation.sin());
+    let translation = match centre {
+        Some(_) => [0.0, 0.0],
+        None => [
+            pc[0] - (c * qc[0] - s * qc[1]),
+            pc[1] - (s * qc[0] + c * qc[1]),
+        ],
+    };
+    let residual = (spp + sqq - 2.0 * a.hypot(b)).max(0.0);
+    let dof = if centre.is_some() {
+        2.0 * n - 1.0
+    } else {
+        2.0 * n - 3.0
+    };
+    let rotation_std = if dof > 0.0 && sqq > 0.0 {
+        (residual / dof / sqq).sqrt()
+    } else {
+        f64::NAN
+    };
+    Some(Fit {
+        estimate: BiasEstimate {
+            rotation,
+            rotation_std,
+            translation,
+            pairs: kept.len(),
+        },
+    })
 }

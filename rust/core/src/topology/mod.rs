@@ -30,7 +30,7 @@ mod vectors;
 mod tests;
 
 pub use associator::{Associator, ScanPairs, Scoring, MAX_PAIRS};
-pub use bias::{BiasAccumulator, BiasEstimate};
+pub use bias::{BiasAccumulator, BiasEstimate, TRIM_SIGMAS};
 pub use candidates::{candidate_pairs, Candidates};
 pub use closeness::{closeness, pair_closeness};
 pub use decision::decide;

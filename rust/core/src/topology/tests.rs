@@ -353,3 +353,37 @@ fn bad_input_is_an_error() {
     let empty = ScanTracks::new("system", &[], &[], None).unwrap();
     assert!(topology(6).update(&t, &empty).unwrap().pairs.is_empty());
 }
+
+#[test]
+fn trimming_keeps_wrong_pairs_out_of_the_bias() {
+    let (pos, _) = scene(12, 40);
+    let (angle, radar) = (0.04, [240e3, 30e3]);
+    let turned = rotate(&pos, angle, radar);
+    let mut sums = BiasAccumulator::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    for (p, q) in turned.chunks_exact(2).zip(pos.chunks_exact(2)) {
+        let noise = [
+            rng.random_range(-300.0..300.0),
+            rng.random_range(-300.0..300.0),
+        ];
+        sums.add([p[0] + noise[0], p[1] + noise[1]], [q[0], q[1]]);
+    }
+    // Five wrong pairs, each a target matched with one 40-90 km away.
+    for k in 0..5 {
+        let q = [pos[2 * k], pos[2 * k + 1]];
+        sums.add(
+            [turned[2 * k] + 40e3 + 10e3 * k as f64, turned[2 * k + 1]],
+            q,
+        );
+    }
+    let fit = sums.rigid().unwrap();
+    assert_eq!(
+        fit.pairs,
+        pos.len() / 2,
+        "exactly the wrong pairs are trimmed"
+    );
+    assert!(
+        (fit.rotation - angle).abs() < 3.0 * fit.rotation_std + 1e-4,
+        "{fit:?}"
+    );
+}
