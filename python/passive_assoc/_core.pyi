@@ -20,6 +20,7 @@ from ._settings import (
     KalmanSettings,
     Motion,
     SdSettings,
+    TopologySettings,
 )
 from .data import MeasurementTable, SensorNetwork
 
@@ -215,6 +216,34 @@ def intensity_search(
     sizes: NDArray[np.int64],
     settings: IntensitySettings,
 ) -> IntensityResult: ...
+
+@final
+class ScanPairs:
+    @property
+    def pairs(self) -> NDArray[np.int64]: ...
+    @property
+    def scores(self) -> NDArray[np.float64]: ...
+
+@final
+class Bias:
+    @property
+    def rotation(self) -> float: ...
+    @property
+    def rotation_std(self) -> float: ...
+    @property
+    def translation(self) -> tuple[float, float]: ...
+    @property
+    def pairs(self) -> int: ...
+
+ScanSide = tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64] | None]
+
+class AssociatorState:
+    def __init__(self, settings: TopologySettings) -> None: ...
+    def update(self, local: ScanSide, system: ScanSide) -> ScanPairs: ...
+    def bias(self) -> Bias | None: ...
+    def bias_about(self, centre: tuple[float, float]) -> Bias | None: ...
+
+def topology_vectors(tracks: ScanSide, settings: TopologySettings) -> NDArray[np.float64]: ...
 
 def kalman_filter(
     times: NDArray[np.float64],

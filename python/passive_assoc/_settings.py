@@ -83,6 +83,23 @@ class IntensitySettings:
     n_threads: int | None
 
 
+@dataclass(frozen=True)
+class TopologySettings:
+    scoring: Literal["topology", "distance"]
+    rings: int
+    sectors: int
+    radius: float
+    delta: float
+    delta_prime: float
+    diffusion: Literal["additive", "at_least"]
+    reference: Literal["north", "heading"]
+    threshold: float
+    window: int
+    gate: float | None
+    decision: Literal["assignment", "per_system_track"]
+    n_threads: int | None
+
+
 KalmanMotion = Literal["cv", "ca"]
 KalmanMeasurement = Literal["position", "polar", "polar_converted"]
 KalmanInit = Literal["differencing", "single_point"]

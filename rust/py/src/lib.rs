@@ -10,6 +10,7 @@ mod fit;
 mod fti;
 mod kalman;
 mod static_los;
+mod topology;
 
 use pyo3::prelude::*;
 
@@ -26,6 +27,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(static_los::enumerate_static, m)?)?;
     m.add_function(wrap_pyfunction!(static_los::intensity_search, m)?)?;
     m.add_function(wrap_pyfunction!(kalman::kalman_filter, m)?)?;
+    m.add_function(wrap_pyfunction!(topology::topology_vectors, m)?)?;
+    m.add_class::<topology::AssociatorState>()?;
+    m.add_class::<topology::ScanPairs>()?;
+    m.add_class::<topology::Bias>()?;
     m.add_class::<assign::SdResult>()?;
     m.add_class::<fti::InitiationOutput>()?;
     m.add_class::<fti::StageCounts>()?;
