@@ -45,7 +45,7 @@ TOP_LEVEL_NAMES = [
     "KalmanResult",
 ]
 
-SUBPACKAGES = ["data", "estimation", "assignment", "fti", "static_los", "simulation", "evaluation"]
+SUBPACKAGES = ["data", "estimation", "assignment", "fti", "static_los", "topology", "simulation", "evaluation"]
 
 
 def test_top_level_keeps_every_name() -> None:
@@ -76,7 +76,7 @@ LAYERS = [
     ["_inputs"],
     ["estimation"],
     ["assignment"],
-    ["fti", "static_los"],
+    ["fti", "static_los", "topology"],
     ["simulation"],
     ["evaluation"],
     ["plots"],

@@ -5,7 +5,8 @@ Angles are radians, positions metres, times seconds (METHODS §0).
 
 Subpackages, each depending only on those before it: :mod:`.data` (measurements, sensors, tracks),
 :mod:`.estimation` (ML fitting, CRLB, Kalman filtering), :mod:`.assignment` (S-D and 2-D solvers), :mod:`.fti`
-(fuzzy track initiation) and :mod:`.static_los` (static line-of-sight association),
+(fuzzy track initiation), :mod:`.static_los` (static line-of-sight association) and
+:mod:`.topology` (track-to-track association under azimuth bias),
 :mod:`.simulation` (scenarios with truth), :mod:`.evaluation` (metrics, reference fits),
 :mod:`.experiments` (paper reproductions). This namespace re-exports the main entry points.
 """
@@ -13,7 +14,13 @@ Subpackages, each depending only on those before it: :mod:`.data` (measurements,
 from __future__ import annotations
 
 from ._core import __version__
-from .assignment import SdAssignment, assign_sd, linear_assignment
+from .assignment import (
+    NearestNeighbourAssociator,
+    SdAssignment,
+    TrackAssociation,
+    assign_sd,
+    linear_assignment,
+)
 from .data import MeasurementTable, SensorNetwork, TrackTable
 from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
 from .fti import ClosenessOptima, FuzzyTrackInitiator, InitiatedTrack, InitiationResult, closeness, maximize_closeness
@@ -26,11 +33,15 @@ from .simulation import (
     simulate,
 )
 from .static_los import StaticAssociation, StaticAssociator, associate_static, enumerate_candidates
+from .topology import TopologyAssociator
 
 #: The fuzzy initiator's track under its pre-subpackage name (``passive_assoc.fti.InitiatedTrack``).
 Track = InitiatedTrack
 
 __all__ = [
+    "NearestNeighbourAssociator",
+    "TopologyAssociator",
+    "TrackAssociation",
     "StaticAssociation",
     "StaticAssociator",
     "associate_static",

@@ -14,6 +14,7 @@ from .metrics import (
     same_cluster_pairs,
 )
 from .references import perfect_association_fit, target_crlbs
+from .track_scores import track_association_scores
 
 __all__ = [
     "GospaResult",
@@ -26,4 +27,5 @@ __all__ = [
     "rms_per_component",
     "same_cluster_pairs",
     "target_crlbs",
+    "track_association_scores",
 ]
