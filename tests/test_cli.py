@@ -85,3 +85,21 @@ def test_reproduce_intensity_bayes_bound_smoke(tmp_path: Path, capsys: pytest.Ca
     bound = json.loads(out_json.read_text())["accuracy"]["15"]["bayes_map"]
     assert set(bound) == {"accuracy_pct", "truth_costlier_pct", "proven_runs"}
     assert 0.0 <= bound["accuracy_pct"] <= 100.0
+
+
+def test_reproduce_topology_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json, out_png = tmp_path / "t.json", tmp_path / "t.png"
+    args = ["reproduce", "topology", "--runs", "2", "--bias", "0", "5", "--coverage", "both"]
+    assert cli_main([*args, "--json", str(out_json), "--plot", str(out_png)]) == 0
+    text = capsys.readouterr().out
+    assert "99.9034 / 99.5362 / 99.7195" in text and "±5°" in text
+    record = json.loads(out_json.read_text())
+    assert set(record) == {"full", "partial"}
+    for coverage in record.values():
+        assert [row["bias_deg"] for row in coverage["rows"]] == [0.0, 5.0]
+        for row in coverage["rows"]:
+            for method in ("topology", "nearest"):
+                assert 0.0 <= row[method]["f1"] <= 100.0
+    full = record["full"]["rows"]
+    assert full[1]["topology"]["f1"] > full[1]["nearest"]["f1"], "at ±5° topology beats nearest neighbour"
+    assert out_png.stat().st_size > 10_000

@@ -129,3 +129,95 @@ def plot_static_scan(scan: Any, path: str) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def plot_topology(scenario: Any, record: dict[str, Any], path: str) -> None:
+    """EXPERIMENTS ``topology``: the radars and two biased local pictures against the truth,
+    one track's ring/sector grid with its neighbours, and F1 against bias for both methods."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(17, 5.6))
+    _biased_pictures(axes[0], scenario)
+    _one_grid(axes[1], scenario)
+    for coverage, entry in record.items():
+        rows = entry["rows"]
+        bias = [row["bias_deg"] for row in rows]
+        for method, style in (("topology", "-o"), ("nearest", "--s")):
+            axes[2].plot(bias, [row[method]["f1"] for row in rows], style, label=f"{method}, {coverage}")
+    axes[2].axhline(99.7195, color="0.5", lw=0.8, ls=":", label="paper F1 (topology)")
+    axes[2].set(xlabel="azimuth bias bound B (°)", ylabel="F1 (%)", title="F1 against bias", ylim=(0, 101))
+    axes[2].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _biased_pictures(ax: Any, scenario: Any) -> None:
+    """Truth trajectories, the radars, and one mid-run scan as the system radar and the radar
+    whose bias differs most from it report it: the same targets, turned about each radar."""
+    for track in scenario.true_positions:
+        ax.plot(*track.T / 1e3, color="0.85", lw=0.8, zorder=1)
+    positions = np.array([r.position for r in scenario.radars]) / 1e3
+    ax.plot(*positions.T, "k^", ms=7, label="radars", zorder=3)
+    mid = scenario.scan_times[len(scenario.scan_times) // 2]
+    ax.plot(*scenario.true_positions[:, len(scenario.scan_times) // 2, :].T / 1e3, "kx", ms=6, label="truth at mid-run")
+    m = scenario.measurements
+    xy = m.to_cartesian() / 1e3
+    relative = scenario.true_biases - scenario.true_biases[0]
+    for k, radar in enumerate((0, int(np.argmax(np.abs(relative))))):
+        rows = (m.radar == radar) & (m.time == mid)
+        bias = np.degrees(scenario.true_biases[radar])
+        ax.plot(*xy[rows].T, "o", ms=4, mfc="none", color=f"C{k}", label=f"radar {radar} (bias {bias:+.1f}°)", zorder=2)
+    ax.set(xlabel="x (km)", ylabel="y (km)", aspect="equal", title="one scan in two biased pictures vs truth")
+    ax.legend(fontsize=7, loc="center left", framealpha=0.7)
+
+
+def _one_grid(ax: Any, scenario: Any) -> None:
+    """The reference-topology grid of the first formation's lead target at mid-run, from the
+    truth positions of that scan (the default associator's rings and sectors)."""
+    from .data import TrackTable
+    from .topology import TopologyAssociator, topology_vectors
+
+    associator = TopologyAssociator()
+    c = associator.config
+    mid = scenario.true_positions.shape[1] // 2
+    points = scenario.true_positions[:, mid, :]
+    lead = int(np.flatnonzero(scenario.formation >= 0)[0])
+    n = len(points)
+    table = TrackTable.from_arrays(np.zeros(n, np.int64), np.arange(n), np.zeros(n), points)
+    values = topology_vectors(table, associator)[lead].reshape(c.rings, c.sectors)
+    centre = points[lead] / 1e3
+    radius = c.radius / 1e3
+    # Cells as wedges shaded by their value; sector 0 starts at north, clockwise.
+    from matplotlib.patches import Wedge
+
+    for ring in range(c.rings):
+        for sector in range(c.sectors):
+            theta1 = 90 - (sector + 1) * 360 / c.sectors  # matplotlib: counter-clockwise from +x
+            wedge = Wedge(
+                tuple(centre),
+                (ring + 1) * radius / c.rings,
+                theta1,
+                theta1 + 360 / c.sectors,
+                width=radius / c.rings,
+                facecolor=plt_gray(values[ring, sector]),
+                edgecolor="0.6",
+                lw=0.5,
+            )
+            ax.add_patch(wedge)
+    others = np.delete(points, lead, axis=0) / 1e3
+    ax.plot(*others.T, "k.", ms=5, label="other targets")
+    ax.plot(*centre, "r*", ms=10, label="the track")
+    ax.set(
+        xlim=(centre[0] - 1.1 * radius, centre[0] + 1.1 * radius),
+        ylim=(centre[1] - 1.1 * radius, centre[1] + 1.1 * radius),
+        aspect="equal",
+        xlabel="x (km)",
+        ylabel="y (km)",
+        title=f"{c.rings} rings × {c.sectors} sectors, Δ={c.delta}, Δ′={c.delta_prime} (darker = higher)",
+    )
+    ax.legend(fontsize=7, loc="lower left")
+
+
+def plt_gray(value: float) -> str:
+    """A matplotlib grey for a cell value in [0, 1]: 1 = dark."""
+    return str(round(1.0 - 0.8 * float(value), 3))
