@@ -37,7 +37,7 @@ SYSTEM_RADAR = 0
 GROSS_BIAS_DEG = 1.0
 
 
-def local_tracks(scenario: RadarScenario, rng: np.random.Generator) -> TrackTable:
+def local_tracks(scenario: RadarScenario, rng: np.random.Generator, process_noise: float = PROCESS_NOISE) -> TrackTable:
     """Every radar's tracks: a CV EKF per (radar, target) on its own range/azimuth reports,
     positions in the radar's own biased frame, ids shuffled per radar. (The radar's own
     report-to-track assignment is taken as given: it is not the method under test.)"""
@@ -53,7 +53,7 @@ def local_tracks(scenario: RadarScenario, rng: np.random.Generator) -> TrackTabl
             track_ids.append(int(shuffled[k]))
     radar_at = np.array([r.position for r in scenario.radars])[m.radar]
     noise = np.array([[r.sigma_range, r.sigma_azimuth] for r in scenario.radars])[m.radar]
-    kf = KalmanFilter(motion="cv", measurement="polar", process_noise=PROCESS_NOISE, n_threads=1)
+    kf = KalmanFilter(motion="cv", measurement="polar", process_noise=process_noise, n_threads=1)
     out = kf.filter(m.time, np.column_stack([m.range, m.azimuth]), groups, noise=noise, sensor_positions=radar_at)
     rows = np.concatenate(groups)
     track = np.concatenate([np.full(len(g), tid) for g, tid in zip(groups, track_ids, strict=True)])
@@ -79,15 +79,27 @@ class RunScores:
     bias_error: NDArray[np.float64]
 
 
-def run_once(seed: np.random.SeedSequence, bias_deg: float, coverage: str, window: int) -> RunScores:
+@dataclass(frozen=True)
+class Settings:
+    """What one run needs besides its seed and bias level."""
+
+    coverage: str
+    window: int
+    threshold: float
+    gate: float | None
+    process_noise: float
+
+
+def run_once(seed: np.random.SeedSequence, bias_deg: float, settings: Settings) -> RunScores:
     rng = np.random.default_rng(seed)
-    scenario = paper_topology_scenario(rng, bias_deg=bias_deg, coverage=coverage)  # type: ignore[arg-type]
-    tracks = local_tracks(scenario, rng)
+    scenario = paper_topology_scenario(rng, bias_deg=bias_deg, coverage=settings.coverage)  # type: ignore[arg-type]
+    tracks = local_tracks(scenario, rng, settings.process_noise)
+    window = settings.window
     system = tracks.of(SYSTEM_RADAR)
     local = tracks.select(np.flatnonzero(tracks.source != SYSTEM_RADAR))
     since = float(scenario.scan_times[window - 1])
     methods: dict[str, TrackAssociator] = {
-        "topology": TopologyAssociator(window=window, n_threads=1),
+        "topology": TopologyAssociator(threshold=settings.threshold, window=window, gate=settings.gate, n_threads=1),
         "nearest": NearestNeighbourAssociator(window=window, n_threads=1),
     }
     scores: dict[str, tuple[float, float, float]] = {}
@@ -105,16 +117,16 @@ def run_once(seed: np.random.SeedSequence, bias_deg: float, coverage: str, windo
 
 
 def run_experiment(
-    runs: int, seed: int, workers: int, biases: list[float], coverage: str, window: int
+    runs: int, seed: int, workers: int, biases: list[float], settings: Settings
 ) -> dict[float, list[RunScores]]:
     out = {}
     for bias in biases:
         seeds = run_seeds(seed, runs)  # the same scenes at every bias level (see simulation.topology)
 
         def work(r: int, bias: float = bias, seeds: list[np.random.SeedSequence] = seeds) -> RunScores:
-            return run_once(seeds[r], bias, coverage, window)
+            return run_once(seeds[r], bias, settings)
 
-        out[bias] = map_runs(work, runs, workers, f"topology B={bias:g}°, {coverage}")
+        out[bias] = map_runs(work, runs, workers, f"topology B={bias:g}°, {settings.coverage}")
     return out
 
 
@@ -167,6 +179,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--coverage", choices=["full", "partial", "both"], default="full", help="radar coverage")
     parser.add_argument("--window", type=int, default=6, help="scans averaged (default 6)")
+    parser.add_argument("--threshold", type=float, default=0.7, help="λ as a fraction of M·N (default 0.7)")
+    parser.add_argument("--gate", type=float, default=None, help="position gate of the topology method, metres")
+    parser.add_argument(
+        "--process-noise", type=float, default=PROCESS_NOISE, help=f"local trackers' q, m²/s³ ({PROCESS_NOISE:g})"
+    )
     parser.add_argument("--plot", metavar="FILE", help="save the pictures and F1 against bias (PNG/PDF)")
     parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
 
@@ -174,12 +191,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def main(args: argparse.Namespace) -> int:
     if args.runs < 1:
         raise SystemExit("--runs must be at least 1")
+    if args.window < 1 or not 0.0 <= args.threshold <= 1.0 or args.process_noise < 0:
+        raise SystemExit("--window must be >= 1, --threshold in [0, 1], --process-noise >= 0")
     coverages = ["full", "partial"] if args.coverage == "both" else [args.coverage]
     record: dict[str, Any] = {}
     for coverage in coverages:
-        results = run_experiment(args.runs, args.seed, args.workers, args.bias, coverage, args.window)
+        run_settings = Settings(coverage, args.window, args.threshold, args.gate, args.process_noise)
+        results = run_experiment(args.runs, args.seed, args.workers, args.bias, run_settings)
         summary = summarise(results)
-        settings = {"runs": args.runs, "seed": args.seed, "coverage": coverage, "window": args.window}
+        settings = {
+            "runs": args.runs,
+            "seed": args.seed,
+            "coverage": coverage,
+            "window": args.window,
+            "threshold": args.threshold,
+            "gate": args.gate,
+            "process_noise": args.process_noise,
+        }
         print_report(summary, settings)
         record[coverage] = {"settings": settings, **summary}
     if args.json:
