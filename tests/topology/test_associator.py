@@ -123,3 +123,24 @@ def test_bad_tracks() -> None:
         pa.TopologyAssociator(heading_reference=True).associate(local, system)
     with pytest.raises(ValueError, match="one scan"):
         pa.TopologyAssociator().update(local, system)
+
+
+def test_correcting_the_estimated_bias_rescues_nearest_neighbour() -> None:
+    """The topology pass estimates each radar's bias; turning the local pictures back by it
+    makes plain distance association work again (and correct_bias runs that second pass)."""
+    from passive_assoc.topology import unbias
+
+    local, system, scenario = measured_tracks(2, 5.0)
+    since = float(scenario.scan_times[5])  # type: ignore[attr-defined]
+    first = pa.TopologyAssociator().associate(local, system)
+    corrected = unbias(local, first.bias)
+    near_before = track_association_scores(
+        pa.NearestNeighbourAssociator().associate(local, system), local, system, since=since
+    )
+    near_after = track_association_scores(
+        pa.NearestNeighbourAssociator().associate(corrected, system), corrected, system, since=since
+    )
+    # Measured at this seed: 0.938 before, over 0.99 after.
+    assert near_before.f1 < 0.95 < 0.99 < near_after.f1
+    twice = pa.TopologyAssociator(correct_bias=True).associate(local, system)
+    assert twice.bias == first.bias and len(twice.pairs) > 0.9 * len(local)
