@@ -210,3 +210,27 @@ impl<'a> Measurements<'a> {
         )
     }
 }
+
+/// Checks CSR group offsets over `n_indices` indices: they start at 0, never decrease, and
+/// end at `n_indices`. `unit` names a group in the messages ("problem", "track").
+pub fn check_offsets(offsets: &[i64], n_indices: usize, unit: &str) -> CoreResult<()> {
+    if offsets.first() != Some(&0) {
+        return Err(CoreError::shape(
+            "offsets",
+            format!("must start with 0 and have one entry per {unit} plus one"),
+        ));
+    }
+    if let Some(p) = offsets.windows(2).position(|w| w[1] < w[0]) {
+        return Err(CoreError::out_of_range(
+            "offsets",
+            format!("decreases between entries {p} and {}", p + 1),
+        ));
+    }
+    if offsets.last().copied() != Some(n_indices as i64) {
+        return Err(CoreError::shape(
+            "offsets",
+            format!("last entry must equal len(indices) = {n_indices}"),
+        ));
+    }
+    Ok(())
+}

@@ -9,6 +9,7 @@ use super::convert::{
     SensorsArg,
 };
 use super::errors::{value_error, BindError, BindResult};
+use passive_assoc_core::data::Sensors;
 use passive_assoc_core::error::ensure_finite;
 use passive_assoc_core::fti::closeness::closeness_batch;
 use passive_assoc_core::fti::descent::descend_from;
@@ -114,12 +115,7 @@ pub fn initiate(
     let network = sensors.view()?;
     let columns = measurements.columns(network.space())?;
     let table = columns.view(&network)?;
-    let spreads = Spreads::new(
-        network.space(),
-        network.len(),
-        slice1("spread_azimuth", &spreads.0)?,
-        slice1("spread_elevation", &spreads.1)?,
-    )?;
+    let spreads = spreads_of(&network, &spreads)?;
     let options = settings.options(pair_list(slice2("pairs", &pairs, 2)?)?)?;
     let n_threads = threads(settings.n_threads)?;
     let t0 = settings.t0;
@@ -289,14 +285,19 @@ fn precompute(
     let network = sensors.view()?;
     let columns = measurements.columns(network.space())?;
     let table = columns.view(&network)?;
-    let spreads = Spreads::new(
+    let spreads = spreads_of(&network, spreads)?;
+    let pre = Precomputed::new(&network, &table, &spreads, t0)?;
+    Ok((pre, 2 * network.space().position_dim()))
+}
+
+/// The per-sensor membership spreads, validated against the network.
+fn spreads_of<'a>(network: &Sensors<'_>, spreads: &'a SpreadArrays<'_>) -> BindResult<Spreads<'a>> {
+    Ok(Spreads::new(
         network.space(),
         network.len(),
         slice1("spread_azimuth", &spreads.0)?,
         slice1("spread_elevation", &spreads.1)?,
-    )?;
-    let pre = Precomputed::new(&network, &table, &spreads, t0)?;
-    Ok((pre, 2 * network.space().position_dim()))
+    )?)
 }
 
 /// Row-major (K, 2) sensor indices → pairs; an empty array means "every pair".

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::gauss_newton::{fit_into, FitSlots, FitSummary};
 use super::{FitOptions, Termination};
-use crate::data::{Measurements, Sensors};
+use crate::data::{check_offsets, Measurements, Sensors};
 use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::geometry::los::pseudo_linear_state;
 use crate::geometry::model::{Observation, StateLayout};
@@ -48,25 +48,8 @@ impl Problems<'_> {
     /// Checks the CSR structure, the row indices, that every problem has at least as many
     /// scalar measurements as unknowns, and the initial states' shape and finiteness.
     pub fn validate(&self, n_rows: usize, angles_per_row: usize, dim: usize) -> CoreResult<()> {
-        let (offsets, indices) = (self.offsets, self.indices);
-        if offsets.first() != Some(&0) {
-            return Err(CoreError::shape(
-                "offsets",
-                "must start with 0 and have one entry per problem plus one",
-            ));
-        }
-        if let Some(p) = offsets.windows(2).position(|w| w[1] < w[0]) {
-            return Err(CoreError::out_of_range(
-                "offsets",
-                format!("decreases between entries {p} and {}", p + 1),
-            ));
-        }
-        if offsets.last().copied() != Some(indices.len() as i64) {
-            return Err(CoreError::shape(
-                "offsets",
-                format!("last entry must equal len(indices) = {}", indices.len()),
-            ));
-        }
+        let indices = self.indices;
+        check_offsets(self.offsets, indices.len(), "problem")?;
         if let Some(k) = indices.iter().position(|&m| m < 0 || m as usize >= n_rows) {
             return Err(CoreError::out_of_range(
                 "indices",

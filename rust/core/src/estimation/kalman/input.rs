@@ -6,6 +6,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::measurement::{polar_to_point, MeasurementModel, Point};
+use crate::data::check_offsets;
 use crate::error::{ensure_finite, CoreError, CoreResult};
 
 /// Measurement noise of every row.
@@ -225,24 +226,7 @@ impl Tracks<'_> {
     /// row's position in `indices` ([`UNUSED`] for rows of no track).
     pub fn validate(&self, times: &[f64], distinct: usize) -> CoreResult<Vec<usize>> {
         let (offsets, indices, n) = (self.offsets, self.indices, times.len());
-        if offsets.first() != Some(&0) {
-            return Err(CoreError::shape(
-                "offsets",
-                "must start with 0 and have one entry per track plus one",
-            ));
-        }
-        if let Some(p) = offsets.windows(2).position(|w| w[1] < w[0]) {
-            return Err(CoreError::out_of_range(
-                "offsets",
-                format!("decreases between entries {p} and {}", p + 1),
-            ));
-        }
-        if offsets.last().copied() != Some(indices.len() as i64) {
-            return Err(CoreError::shape(
-                "offsets",
-                format!("last entry must equal len(indices) = {}", indices.len()),
-            ));
-        }
+        check_offsets(offsets, indices.len(), "track")?;
         if let Some(p) = offsets.windows(2).position(|w| w[1] == w[0]) {
             return Err(CoreError::ill_posed(
                 "offsets",
