@@ -13,7 +13,14 @@ import pytest
 CORE = Path(__file__).resolve().parents[1] / "rust" / "core"
 
 #: Lowest first; modules on one layer may not use each other either.
-LAYERS = [["error"], ["parallel", "geometry"], ["data"], ["estimation"], ["assign"], ["fti", "static_los", "topology"]]
+LAYERS = [
+    ["error"],
+    ["parallel", "geometry"],
+    ["data"],
+    ["estimation"],
+    ["assign"],
+    ["fti", "static_los", "topology", "radar_esm"],
+]
 LAYER = {name: k for k, names in enumerate(LAYERS) for name in names}
 
 

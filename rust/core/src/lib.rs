@@ -3,8 +3,8 @@
 //! depends on this one; nothing here knows about Python.
 //!
 //! Layers, dependencies pointing down only:
-//! * [`fti`], [`static_los`], [`topology`] — one folder per published method (METHODS §1,
-//!   §2, §4);
+//! * [`fti`], [`static_los`], [`topology`], [`radar_esm`] — one folder per published method
+//!   (METHODS §1, §2, §4, §5);
 //! * [`assign`] — 2-D and S-D assignment solvers every method ends in;
 //! * [`estimation`] — Gauss-Newton ML fitting and the Fisher information / CRLB;
 //! * [`geometry`] — angles, the measurement model, line-of-sight geometry;
@@ -17,5 +17,6 @@ pub mod estimation;
 pub mod fti;
 pub mod geometry;
 pub mod parallel;
+pub mod radar_esm;
 pub mod static_los;
 pub mod topology;
