@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from passive_assoc import _core
 from passive_assoc._settings import (
+    CoarseGateSettings,
     DescentSettings,
     EnumerationSettings,
     FitSettings,
@@ -104,6 +105,13 @@ def _kalman(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     return _core.kalman_filter(
         args["times"], args["measurements"], groups, args["noise"], args["sensor_positions"], settings
     )
+
+
+def _coarse_gate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    settings = CoarseGateSettings(**kw)
+    radar = (args["radar_coefficients"], args["radar_variances"])
+    esm = (args["esm_coefficients"], args["esm_variances"])
+    return _core.wavelet_coarse_gate(args["operator"], radar, esm, settings)
 
 
 CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
@@ -210,6 +218,17 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
             "sensor_positions": np.zeros((5, 2)),
         },
         dict(motion="cv", measurement="polar", process_noise=1.0, n_threads=None),
+    ),
+    "wavelet_coarse_gate": (
+        _coarse_gate,
+        {
+            "operator": np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5]]),
+            "radar_coefficients": np.array([[[1.0, 2.0]], [[0.0, -1.0]]]),
+            "radar_variances": np.full((2, 1, 3), 0.5),
+            "esm_coefficients": np.array([[[1.0, 2.5]], [[3.0, 0.0]], [[0.0, 0.0]]]),
+            "esm_variances": np.full((3, 1, 3), 2.0),
+        },
+        dict(threshold=9.21, whitened=True, n_threads=None),
     ),
 }
 

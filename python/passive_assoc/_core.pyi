@@ -253,3 +253,13 @@ def kalman_filter(
     sensor_positions: NDArray[np.float64] | None,
     settings: KalmanSettings,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+
+# Radar/ESM association (METHODS §5): the coarse gate.
+from ._settings import CoarseGateSettings
+
+def wavelet_coarse_gate(
+    operator: NDArray[np.float64],
+    radar: tuple[NDArray[np.float64], NDArray[np.float64]],
+    esm: tuple[NDArray[np.float64], NDArray[np.float64]],
+    settings: CoarseGateSettings,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]: ...

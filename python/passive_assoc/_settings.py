@@ -114,3 +114,12 @@ class KalmanSettings:
     init_velocity_std: float
     init_acceleration_std: float
     n_threads: int | None
+
+
+@dataclass(frozen=True)
+class CoarseGateSettings:
+    """The radar/ESM coarse gate (METHODS §5 step 2): the χ² threshold, whitened or scalar."""
+
+    threshold: float
+    whitened: bool
+    n_threads: int | None

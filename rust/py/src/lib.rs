@@ -9,6 +9,7 @@ mod errors;
 mod fit;
 mod fti;
 mod kalman;
+mod radar_esm;
 mod static_los;
 mod topology;
 
@@ -28,6 +29,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(static_los::intensity_search, m)?)?;
     m.add_function(wrap_pyfunction!(kalman::kalman_filter, m)?)?;
     m.add_function(wrap_pyfunction!(topology::topology_vectors, m)?)?;
+    m.add_function(wrap_pyfunction!(radar_esm::wavelet_coarse_gate, m)?)?;
     m.add_class::<topology::AssociatorState>()?;
     m.add_class::<topology::ScanPairs>()?;
     m.add_class::<topology::Bias>()?;
