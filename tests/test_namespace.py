@@ -45,7 +45,17 @@ TOP_LEVEL_NAMES = [
     "KalmanResult",
 ]
 
-SUBPACKAGES = ["data", "estimation", "assignment", "fti", "static_los", "topology", "simulation", "evaluation"]
+SUBPACKAGES = [
+    "data",
+    "estimation",
+    "assignment",
+    "fti",
+    "static_los",
+    "topology",
+    "radar_esm",
+    "simulation",
+    "evaluation",
+]
 
 
 def test_top_level_keeps_every_name() -> None:
@@ -76,7 +86,7 @@ LAYERS = [
     ["_inputs"],
     ["estimation"],
     ["assignment"],
-    ["fti", "static_los", "topology"],
+    ["fti", "static_los", "topology", "radar_esm"],
     ["simulation"],
     ["evaluation"],
     ["plots"],

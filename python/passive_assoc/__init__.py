@@ -6,7 +6,8 @@ Angles are radians, positions metres, times seconds (METHODS §0).
 Subpackages, each depending only on those before it: :mod:`.data` (measurements, sensors, tracks),
 :mod:`.estimation` (ML fitting, CRLB, Kalman filtering), :mod:`.assignment` (S-D and 2-D solvers), :mod:`.fti`
 (fuzzy track initiation), :mod:`.static_los` (static line-of-sight association) and
-:mod:`.topology` (track-to-track association under azimuth bias),
+:mod:`.topology` (track-to-track association under azimuth bias), :mod:`.radar_esm` (radar/ESM
+association with wavelets and fuzzy factors),
 :mod:`.simulation` (scenarios with truth), :mod:`.evaluation` (metrics, reference fits),
 :mod:`.experiments` (paper reproductions). This namespace re-exports the main entry points.
 """
@@ -24,6 +25,7 @@ from .assignment import (
 from .data import MeasurementTable, SensorNetwork, TrackTable
 from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
 from .fti import ClosenessOptima, FuzzyTrackInitiator, InitiatedTrack, InitiationResult, closeness, maximize_closeness
+from .radar_esm import Chi2TrackAssociator, NearestNeighbourTrackAssociator, WaveletFuzzyAssociator
 from .simulation import (
     PAPER_FTI_TARGETS,
     ConstantVelocityTarget,
@@ -41,6 +43,9 @@ Track = InitiatedTrack
 __all__ = [
     "NearestNeighbourAssociator",
     "TopologyAssociator",
+    "WaveletFuzzyAssociator",
+    "NearestNeighbourTrackAssociator",
+    "Chi2TrackAssociator",
     "TrackAssociation",
     "StaticAssociation",
     "StaticAssociator",

@@ -1,0 +1,148 @@
+"""The two baselines the wavelet paper (METHODS §5 step 5) compares with, with the same
+interface as :class:`~passive_assoc.radar_esm.WaveletFuzzyAssociator`: ``associate(radar,
+esm)`` on 1-D, 2-D or 3-D track tables, radar = system picture, ESM = local.
+
+* :class:`NearestNeighbourTrackAssociator` — per scan, the gated optimal assignment on the
+  Euclidean distance between the current positions. The gate is the position χ² test
+  ``Δpᵀ(P_i + P_j)⁻¹Δp ≤ χ²(ndim, gate_probability)`` when the tables carry covariances (no
+  gate without them, or with ``gate_probability=None``).
+  (:class:`~passive_assoc.NearestNeighbourAssociator` of §4 is the same idea for 2-D
+  pictures, with a window-averaged distance and a gate in metres.)
+* :class:`Chi2TrackAssociator` — the traditional weighted statistic test: per scan
+  ``d = x_i − x_j`` over the state blocks both tables have, ``dᵀ(P_i + P_j)⁻¹d`` gated at
+  ``χ²(dim d, gate_probability)``, then pairs one-to-one by increasing statistic (repeated
+  minimum, ties to the closer positions).
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import chi2
+
+from .._params import Constraint, Interval, validate
+from ..data import TrackTable
+from .decision import gated_assignment, repeated_maximum
+from .scans import AlignedTracks, RadarEsmAssociation, align, all_unpaired, association, position_distance
+
+__all__ = ["Chi2TrackAssociator", "NearestNeighbourTrackAssociator", "chi2_statistic"]
+
+PROBABILITY = Interval(float, 0.0, 1.0, closed="neither")
+
+
+def chi2_statistic(radar: AlignedTracks, esm: AlignedTracks, blocks: int) -> NDArray[np.float64]:
+    """``dᵀ(P_i + P_j)⁻¹d`` over the first ``blocks`` state blocks (1 = position), every pair
+    at every scan, ``(K, n_r, n_e)``; NaN where either track is absent, ∞ where the summed
+    covariance is singular."""
+    d = radar.ndim * blocks
+    states_r = _state(radar, blocks)
+    states_e = _state(esm, blocks)
+    assert radar.covariance is not None and esm.covariance is not None
+    diff = np.swapaxes(states_r, 0, 1)[:, :, None, :] - np.swapaxes(states_e, 0, 1)[:, None, :, :]
+    cov_r = np.swapaxes(radar.covariance[:, :, :d, :d], 0, 1)[:, :, None]
+    cov_e = np.swapaxes(esm.covariance[:, :, :d, :d], 0, 1)[:, None, :]
+    total = cov_r + cov_e
+    present = np.isfinite(diff).all(axis=-1)
+    out = np.full(diff.shape[:3], np.nan)
+    if present.any():
+        out[present] = _quadratic_form(diff[present], total[present])
+    return out
+
+
+def _state(tracks: AlignedTracks, blocks: int) -> NDArray[np.float64]:
+    parts = [tracks.position, tracks.velocity, tracks.acceleration][:blocks]
+    return np.concatenate([p for p in parts if p is not None], axis=-1)
+
+
+def _quadratic_form(diff: NDArray[np.float64], cov: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``dᵀ C⁻¹ d`` for stacks (m, d) and (m, d, d); ∞ where C is singular."""
+    out = np.full(len(diff), np.inf)
+    if diff.shape[1] == 1:  # 1-D positions: a division
+        positive = cov[:, 0, 0] > 0
+        out[positive] = diff[positive, 0] ** 2 / cov[positive, 0, 0]
+        return out
+    try:
+        z = np.linalg.solve(cov, diff[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        # Some C is singular: pair by pair, leaving those at ∞.
+        for i in range(len(diff)):
+            try:
+                out[i] = float(diff[i] @ np.linalg.solve(cov[i], diff[i]))
+            except np.linalg.LinAlgError:
+                continue
+        return out
+    out[:] = np.einsum("md,md->m", diff, z)
+    return out
+
+
+def _blocks(radar: TrackTable, esm: TrackTable) -> int:
+    """State blocks both tables have (position; + velocity; + acceleration)."""
+    return min(len(t.blocks) for t in (radar, esm) if len(t)) if len(radar) and len(esm) else 1
+
+
+class NearestNeighbourTrackAssociator:
+    """Per-scan gated optimal assignment on position distance (the paper's nearest
+    neighbour), any dimension.
+
+    Parameters
+    ----------
+    gate_probability : float, optional
+        Probability of the position χ² gate; None: no gate (every pair may be made).
+    """
+
+    _constraints: ClassVar[dict[str, list[Constraint]]] = {"gate_probability": [PROBABILITY, None]}
+
+    def __init__(self, gate_probability: float | None = 0.99) -> None:
+        self.gate_probability: float | None = validate(dict(gate_probability=gate_probability), self._constraints)[
+            "gate_probability"
+        ]
+
+    def __repr__(self) -> str:
+        return f"NearestNeighbourTrackAssociator(gate_probability={self.gate_probability!r})"
+
+    def associate(self, radar: TrackTable, esm: TrackTable) -> RadarEsmAssociation:
+        """Associate every scan (see the module documentation)."""
+        times, r, e = align(radar, esm)
+        if (trivial := all_unpaired(times, r, e)) is not None:
+            return trivial
+        distance = position_distance(r, e)
+        allowed = np.isfinite(distance)
+        if self.gate_probability is not None and r.covariance is not None and e.covariance is not None:
+            statistic = chi2_statistic(r, e, blocks=1)
+            allowed &= statistic <= chi2.ppf(self.gate_probability, r.ndim)
+        pairs = gated_assignment(np.where(allowed, distance, 0.0), allowed)
+        return association(times, r, e, pairs, -distance, candidates=allowed)
+
+
+class Chi2TrackAssociator:
+    """The traditional weighted (χ²) track-to-track test, one-to-one by increasing statistic.
+
+    Parameters
+    ----------
+    gate_probability : float
+        The test's probability: pairs with a statistic above ``χ²(dof, gate_probability)``
+        are never made.
+    """
+
+    _constraints: ClassVar[dict[str, list[Constraint]]] = {"gate_probability": [PROBABILITY]}
+
+    def __init__(self, gate_probability: float = 0.99) -> None:
+        self.gate_probability: float = validate(dict(gate_probability=gate_probability), self._constraints)[
+            "gate_probability"
+        ]
+
+    def __repr__(self) -> str:
+        return f"Chi2TrackAssociator(gate_probability={self.gate_probability!r})"
+
+    def associate(self, radar: TrackTable, esm: TrackTable) -> RadarEsmAssociation:
+        """Associate every scan; the score of a pair is minus its statistic."""
+        blocks = _blocks(radar, esm)
+        times, r, e = align(radar, esm, needs=("covariance",))
+        if (trivial := all_unpaired(times, r, e)) is not None:
+            return trivial
+        statistic = chi2_statistic(r, e, blocks)
+        allowed = statistic <= chi2.ppf(self.gate_probability, r.ndim * blocks)
+        pairs = repeated_maximum(-statistic, allowed, -np.inf, position_distance(r, e))
+        return association(times, r, e, pairs, -statistic, candidates=allowed)
