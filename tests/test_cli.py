@@ -103,3 +103,21 @@ def test_reproduce_topology_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[
     full = record["full"]["rows"]
     assert full[1]["topology"]["f1"] > full[1]["nearest"]["f1"], "at ±5° topology beats nearest neighbour"
     assert out_png.stat().st_size > 10_000
+
+
+def test_reproduce_wavelet_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json, out_png = tmp_path / "w.json", tmp_path / "w.png"
+    args = ["reproduce", "wavelet", "--runs", "5", "--clutter", "0", "2", "--demo-runs", "2"]
+    assert cli_main([*args, "--json", str(out_json), "--plot", str(out_png)]) == 0
+    text = capsys.readouterr().out
+    assert "paper: wavelet-fuzzy 0.88-0.93, nearest neighbour 0.72-0.85" in text and "2-D radar + passive" in text
+    record = json.loads(out_json.read_text())
+    assert set(record) == {"settings", "paper", "levels", "passive_2d"}
+    assert set(record["levels"]) == {"0", "2"}
+    for summary in [*record["levels"].values(), record["passive_2d"]]:
+        for method in ("wavelet", "nearest", "chi2", "wavelet_literal"):
+            cell = summary[method]
+            assert len(cell["per_scan"]) == 30 and cell["per_scan"][:2] == [None, None]  # no track before scan 3
+            values = [*cell["per_scan"][2:], cell["mean_6_30"], cell["min_15_30"], cell["gate_keeps_true_6_30"]]
+            assert all(0.0 <= v <= 1.0 for v in values)
+    assert out_png.stat().st_size > 10_000

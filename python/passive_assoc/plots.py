@@ -221,3 +221,56 @@ def _one_grid(ax: Any, scenario: Any) -> None:
 def plt_gray(value: float) -> str:
     """A matplotlib grey for a cell value in [0, 1]: 1 = dark."""
     return str(round(1.0 - 0.8 * float(value), 3))
+
+
+def plot_wavelet(
+    tracks: tuple[Any, Any], record: dict[str, Any], path: str, passive: tuple[Any, Any, Any] | None = None
+) -> None:
+    """EXPERIMENTS ``wavelet``: one run's radar (solid) and ESM (dashed) tracks of the ten
+    targets, x against time; the correct-association probability against scan for the three
+    methods (no clutter solid, the most clutter dotted; the paper's ranges shaded); and, given
+    ``passive = (radar, passive tracks, ESM sites)``, the 2-D demo's tracks in the plane."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3 if passive is not None else 2, figsize=(17 if passive is not None else 12, 5.4))
+    _wavelet_tracks(axes[0], *tracks)
+    levels = record["levels"]
+    first, last = min(levels, key=int), max(levels, key=int)
+    ax = axes[1]
+    for (lo, hi), colour in ((record["paper"]["wavelet"], "C0"), (record["paper"]["nearest"], "C1")):
+        ax.fill_between([6, 30], lo, hi, color=colour, alpha=0.12, lw=0)  # the paper's range, scans 6-30
+    for k, (method, label) in enumerate(
+        (("wavelet", "wavelet-fuzzy"), ("nearest", "nearest neighbour"), ("chi2", "χ² test"))
+    ):
+        for level, style in ((first, "-"), (last, ":")) if first != last else ((first, "-"),):
+            values = np.asarray(levels[level][method]["per_scan"], dtype=float)
+            ax.plot(np.arange(1, len(values) + 1), values, style, color=f"C{k}", label=f"{label}, {level} false")
+    ax.set(xlabel="scan", ylabel="P(correct association)", ylim=(0, 1.02), title="correct association per scan")
+    ax.legend(fontsize=7, loc="lower right")
+    if passive is not None:
+        _wavelet_plane(axes[2], *passive)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _wavelet_tracks(ax: Any, radar: Any, esm: Any) -> None:
+    for table, style, name in ((radar, "-", "radar"), (esm, "--", "ESM")):
+        for _, _, rows in table.tracks():
+            label = int(table.truth[rows[0]])
+            colour = f"C{label % 10}" if label >= 0 else "0.6"
+            ax.plot(table.time[rows], table.position[rows, 0] / 1e3, style, color=colour, lw=1.2)
+        ax.plot([], [], style, color="k", label=f"{name} tracks")
+    ax.set(xlabel="time (s)", ylabel="x (km)", title="one run: the ten targets' tracks from both sensors")
+    ax.legend(fontsize=8)
+
+
+def _wavelet_plane(ax: Any, radar: Any, passive: Any, sites: Any) -> None:
+    for table, style in ((radar, "-"), (passive, "--")):
+        for _, _, rows in table.tracks():
+            colour = f"C{int(table.truth[rows[0]]) % 10}"
+            ax.plot(*table.position[rows].T / 1e3, style, color=colour, lw=1.2)
+    ax.plot(*np.asarray(sites).T / 1e3, "k^", ms=8, label="ESM sites")
+    ax.plot([], [], "k-", label="radar tracks")
+    ax.plot([], [], "k--", label="passive tracks (bearing fixes)")
+    ax.set(xlabel="x (km)", ylabel="y (km)", aspect="equal", title="2-D demo: radar against passive tracks")
+    ax.legend(fontsize=7)
