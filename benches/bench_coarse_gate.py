@@ -14,7 +14,7 @@ coefficients per track), per-scan variances that differ by track and scan. Timed
 Prints the seconds of each (best of ``--repeat``; the per-pair loop runs once), the ratios and
 the largest relative difference of the statistics.
 
-    python benches/bench_coarse_gate.py [--tracks 500] [--repeat 5]
+    python benches/bench_coarse_gate.py [--tracks 500] [--repeat 20]
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ def best(func: Callable[[], Any], repeat: int) -> tuple[float, Any]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--tracks", type=int, default=500)
-    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--repeat", type=int, default=20)
     args = parser.parse_args()
     n = args.tracks
     inputs = make_inputs(n)
