@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import pywt  # type: ignore[import-untyped]  # PyWavelets ships no stubs or py.typed
+import pywt  # PyWavelets ships no stubs or py.typed
 from numpy.typing import ArrayLike, NDArray
 from scipy.stats import chi2
 
