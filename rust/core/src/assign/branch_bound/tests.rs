@@ -1,0 +1,82 @@
+//! Branch and bound against brute force, its limits and its errors.
+
+use super::*;
+use crate::assign::test_support::{brute_force, dense_problem, random_problem};
+
+/// Root Lagrangian capped at one iteration, so the search itself has to prove optimality.
+fn weak_root() -> BranchBoundOptions {
+    BranchBoundOptions::default().with_root(LagrangianOptions::default().with_max_iter(1).unwrap())
+}
+
+#[test]
+fn matches_exhaustive_enumeration() {
+    for seed in 0..150 {
+        let p = random_problem(1000 + seed, 2 + seed as usize % 3, 4, 3, 9);
+        let opt = brute_force(&p);
+        for opts in [BranchBoundOptions::default(), weak_root()] {
+            let s = solve(&p, &opts);
+            assert_eq!(s.termination, Termination::Optimal, "seed {seed}");
+            assert!(
+                (s.primal_cost - opt).abs() <= 1e-9 * opt.abs().max(1.0),
+                "seed {seed}: {} vs {opt}",
+                s.primal_cost
+            );
+            assert_eq!(p.evaluate(&s.chosen), Ok(s.primal_cost));
+            assert!(
+                s.dual_bound <= s.primal_cost && s.gap <= 1e-9,
+                "seed {seed}"
+            );
+        }
+    }
+}
+
+#[test]
+fn proves_a_few_hundred_tuples_quickly() {
+    // Heavily overlapping all-negative tuples: the hard case for the bound.
+    let cases = [
+        dense_problem(1, 3, 8, 300),
+        dense_problem(2, 4, 8, 150),
+        random_problem(3, 4, 8, 8, 300),
+    ];
+    for (c, p) in cases.iter().enumerate() {
+        let start = Instant::now();
+        let sol = solve(p, &weak_root());
+        assert_eq!(sol.termination, Termination::Optimal, "case {c}");
+        let lagr = lagrangian::solve(p, &LagrangianOptions::default());
+        assert!(sol.primal_cost <= lagr.primal_cost && sol.primal_cost >= lagr.dual_bound - 1e-9);
+        // Generous: this runs unoptimised; release builds are ~20x faster.
+        assert!(
+            start.elapsed() < Duration::from_secs(5),
+            "case {c}: {:?}",
+            start.elapsed()
+        );
+    }
+}
+
+#[test]
+fn node_limit_returns_a_feasible_incumbent() {
+    let p = random_problem(5, 4, 8, 8, 300);
+    let s = solve(&p, &weak_root().with_max_nodes(3).unwrap());
+    assert_eq!(s.termination, Termination::NotProven(Limit::Nodes));
+    assert_eq!(p.evaluate(&s.chosen), Ok(s.primal_cost));
+    assert!(s.dual_bound <= s.primal_cost && s.gap >= 0.0);
+}
+
+#[test]
+fn options_reject_out_of_range_values() {
+    let d = BranchBoundOptions::default();
+    assert!(matches!(
+        d.clone().with_max_nodes(0),
+        Err(CoreError::OutOfRange {
+            arg: "max_nodes",
+            ..
+        })
+    ));
+    assert!(matches!(
+        d.with_time_limit(Duration::ZERO),
+        Err(CoreError::OutOfRange {
+            arg: "time_limit",
+            ..
+        })
+    ));
+}
