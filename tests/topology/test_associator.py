@@ -41,6 +41,33 @@ def test_every_track_of_every_scan_is_paired_or_unpaired() -> None:
     assert sorted(sys_seen) == sorted(expected_sys)
 
 
+@pytest.mark.parametrize("method", [pa.TopologyAssociator, pa.NearestNeighbourAssociator])
+def test_system_tracks_are_kept_where_a_source_has_no_track(
+    method: type[pa.TopologyAssociator] | type[pa.NearestNeighbourAssociator],
+) -> None:
+    """A source with no track at one scan, and a scan only the system table has: every system
+    track there is unpaired for each source (they used to vanish from the result)."""
+    local, system, _ = measured_tracks(7, 1.0)
+    times = system.scan_times()
+    sources = local.sources
+    local = local.select(~((local.source == sources[0]) & (local.time == times[3])) & (local.time != times[-1]))
+    result = method().associate(local, system)
+    sys_seen = list(zip(result.pairs.time, result.pairs.source, result.pairs.system_track, strict=True))
+    v = result.unpaired_system
+    sys_seen += list(zip(v.time, v.source, v.track, strict=True))
+    expected_sys = [(t, s, k) for s in sources for t, k in zip(system.time, system.track, strict=True)]
+    assert sorted(sys_seen) == sorted(expected_sys)
+    at_gap = (v.time == times[3]) & (v.source == sources[0])
+    assert sorted(v.track[at_gap].tolist()) == sorted(system.at(float(times[3])).track.tolist())
+    # Streaming: a source seen before and silent now leaves the system tracks unpaired too.
+    live = method()
+    live.update(local.at(float(times[0])), system.at(float(times[0])))
+    out = live.update(local.select(local.source != sources[0]).at(float(times[1])), system.at(float(times[1])))
+    assert sorted(out.unpaired_system.track[out.unpaired_system.source == sources[0]].tolist()) == sorted(
+        system.at(float(times[1])).track.tolist()
+    )
+
+
 def test_topology_survives_bias_where_nearest_neighbour_does_not() -> None:
     """On the radar whose bias differs most from the system radar's (5.1° here), nearest
     neighbour pairs targets 20-30 km apart wrongly; topology does not (measured at this seed:

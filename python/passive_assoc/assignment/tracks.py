@@ -120,16 +120,32 @@ class TrackAssociator(ABC):
 
     def associate(self, local: TrackTable, system: TrackTable) -> TrackAssociation:
         """Associate every scan of ``local`` with the system tracks of the same time, from a
-        fresh state. A scan the system table lacks leaves every local track unpaired."""
+        fresh state. A scan the system table lacks leaves every local track unpaired; at a
+        scan where a local source has no track (or only the system table has the scan),
+        every system track is unpaired for that source."""
         self.reset()
-        return _merge(self.update(local.at(t), system.at(t)) for t in local.scan_times())
+        sources = local.sources
+        times = np.union1d(local.scan_times(), system.scan_times())
+        return _merge(self._scan(local.at(t), system.at(t), sources) for t in times)
 
     def update(self, local: TrackTable, system: TrackTable) -> TrackAssociation:
-        """Associate one scan: ``local`` and ``system`` hold the tracks of one time."""
+        """Associate one scan: ``local`` and ``system`` hold the tracks of one time. Every
+        source seen so far that has no track in ``local`` leaves the system tracks unpaired."""
+        return self._scan(local, system, np.union1d(local.sources, np.fromiter(self._states, np.int64)))
+
+    def _scan(self, local: TrackTable, system: TrackTable, sources: NDArray[np.int64]) -> TrackAssociation:
+        """One scan, for each of ``sources`` (a source without tracks in ``local`` pairs none:
+        its system tracks are unpaired, and its state is left as it is)."""
         times = np.unique(np.concatenate([local.time, system.time]))
         if len(times) > 1:
             raise ValueError(f"local, system: one scan expected, got {len(times)} distinct times")
-        parts = [self._update_source(int(source), local.of(int(source)), system) for source in local.sources]
+        present = set(local.sources.tolist())
+        parts = [
+            self._update_source(int(source), local.of(int(source)), system)
+            if int(source) in present
+            else _system_unpaired(int(source), system)
+            for source in sources
+        ]
         out = _merge(parts)
         bias = {source: b for source in self._states if (b := self.bias(source)) is not None}
         return TrackAssociation(out.pairs, out.unpaired_local, out.unpaired_system, bias)
@@ -160,6 +176,15 @@ class TrackAssociator(ABC):
                 np.full(len(system_left), time), np.full(len(system_left), source), system.track[system_left]
             ),
         )
+
+
+def _system_unpaired(source: int, system: TrackTable) -> TrackAssociation:
+    """A scan at which ``source`` has no track: every system track is unpaired for it."""
+    n = len(system)
+    time = np.full(n, float(system.time[0]) if n else np.nan)
+    nothing = UnpairedTracks(np.empty(0), np.empty(0, np.int64), np.empty(0, np.int64))
+    pairs = TrackPairs(np.empty(0), np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0))
+    return TrackAssociation(pairs, nothing, UnpairedTracks(time, np.full(n, source, np.int64), system.track.copy()))
 
 
 def _by_position(tracks: TrackTable, name: str) -> NDArray[np.int64]:
