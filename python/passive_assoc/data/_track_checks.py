@@ -85,7 +85,11 @@ def _covariance(value: ArrayLike | None, n: int, d: int, layout: str) -> NDArray
             f"tolerance {SYMMETRY_TOLERANCE})"
         )
     # Stored exactly symmetric, so the upper triangle (all a CSV keeps) is the whole matrix.
-    return 0.5 * (cov + cov.transpose(0, 2, 1))
+    # Halves first where the sum would overflow (entries beyond ~9e307), else stored as inf.
+    transposed = cov.transpose(0, 2, 1)
+    with np.errstate(over="ignore"):
+        symmetric = 0.5 * (cov + transposed)
+    return np.where(np.isfinite(symmetric), symmetric, 0.5 * cov + 0.5 * transposed)
 
 
 def _truth(value: ArrayLike | None, n: int) -> NDArray[np.int64] | None:
