@@ -204,6 +204,16 @@ def test_bad_tracks() -> None:
         pa.TrackTable.from_arrays(esm.source, esm.track, esm.time, esm.position, velocity)
 
 
+@pytest.mark.parametrize("method", METHODS)
+def test_a_table_that_is_not_a_track_table_is_a_type_error(method: str) -> None:
+    """Chi2TrackAssociator read the tables' blocks before checking them (AttributeError)."""
+    radar, esm, _ = sensor_tracks(7)
+    with pytest.raises(TypeError, match="radar: expected a TrackTable"):
+        METHODS[method]().associate(radar.to_arrays(), esm)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="esm: expected a TrackTable"):
+        METHODS[method]().associate(radar, esm.position)  # type: ignore[arg-type]
+
+
 @pytest.mark.parametrize("whitened", [True, False])
 def test_the_associators_gate_is_coarse_gate(whitened: bool) -> None:
     """The associator calls the core with cached operators and thresholds; same answer as the

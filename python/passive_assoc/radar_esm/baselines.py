@@ -138,8 +138,8 @@ class Chi2TrackAssociator:
 
     def associate(self, radar: TrackTable, esm: TrackTable) -> RadarEsmAssociation:
         """Associate every scan; the score of a pair is minus its statistic."""
-        blocks = _blocks(radar, esm)
         times, r, e = align(radar, esm, needs=("covariance",))
+        blocks = _blocks(radar, esm)
         if (trivial := all_unpaired(times, r, e)) is not None:
             return trivial
         statistic = chi2_statistic(r, e, blocks)
