@@ -105,6 +105,26 @@ impl Fit {
     }
 }
 
+/// Offsets beyond this have squares that can overflow, so the fit divides them by a power of
+/// two first (exact: the rotation, and the rotation's standard deviation, are unchanged).
+const LARGE_OFFSET: f64 = 1e150;
+
+/// 1, or for offsets from the centres beyond [`LARGE_OFFSET`] (absurd positions) the power of
+/// two that brings the largest to about 1, so that no sum of squares overflows to NaN.
+fn product_scale(kept: &[&([f64; 2], [f64; 2])], pc: [f64; 2], qc: [f64; 2]) -> f64 {
+    let largest = kept.iter().fold(0.0_f64, |m, &&(p, q)| {
+        m.max((p[0] - pc[0]).abs())
+            .max((p[1] - pc[1]).abs())
+            .max((q[0] - qc[0]).abs())
+            .max((q[1] - qc[1]).abs())
+    });
+    if largest.is_finite() && largest > LARGE_OFFSET {
+        2.0_f64.powi((largest.log2().ceil() as i32).min(1023))
+    } else {
+        1.0
+    }
+}
+
 /// The least-squares fit over the kept pairs: rigid, or rotation-only about `centre`.
 fn fit(pairs: &[([f64; 2], [f64; 2])], keep: &[bool], centre: Option<[f64; 2]>) -> Option<Fit> {
     let kept: Vec<&([f64; 2], [f64; 2])> = pairs
@@ -126,14 +146,24 @@ fn fit(pairs: &[([f64; 2], [f64; 2])], keep: &[bool], centre: Option<[f64; 2]>) 
                     let v = if side == 0 { pq.0 } else { pq.1 };
                     [acc[0] + v[0], acc[1] + v[1]]
                 });
-                [sum[0] / n, sum[1] / n]
+                if sum.iter().all(|v| v.is_finite()) {
+                    [sum[0] / n, sum[1] / n]
+                } else {
+                    // Positions near the float64 limit: average the fractions instead.
+                    kept.iter().fold([0.0, 0.0], |acc, pq| {
+                        let v = if side == 0 { pq.0 } else { pq.1 };
+                        [acc[0] + v[0] / n, acc[1] + v[1] / n]
+                    })
+                }
             };
             (mean(0), mean(1))
         }
     };
+    let scale = product_scale(&kept, pc, qc);
     let (mut a, mut b, mut spp, mut sqq) = (0.0, 0.0, 0.0, 0.0);
     for &&(p, q) in &kept {
-        let (px, py, qx, qy) = (p[0] - pc[0], p[1] - pc[1], q[0] - qc[0], q[1] - qc[1]);
+        let (px, py) = ((p[0] - pc[0]) / scale, (p[1] - pc[1]) / scale);
+        let (qx, qy) = ((q[0] - qc[0]) / scale, (q[1] - qc[1]) / scale);
         a += px * qx + py * qy;
         b += py * qx - px * qy;
         spp += px * px + py * py;

@@ -387,3 +387,24 @@ fn trimming_keeps_wrong_pairs_out_of_the_bias() {
         "{fit:?}"
     );
 }
+
+#[test]
+fn bias_of_absurdly_large_positions_is_finite() {
+    // Squares of 1e200 overflowed: the fit was NaN, with a standard deviation of 0.
+    let (angle, mut sums) = (0.03_f64, BiasAccumulator::default());
+    for q in [
+        [-2e299, 5e299],
+        [-1e299, 3e299],
+        [0.0, 1e299],
+        [1e299, -1e299],
+        [2e299, -3e299],
+    ] {
+        sums.add(rotate(&q, angle, [0.0, 0.0]).try_into().unwrap(), q);
+    }
+    for fit in [sums.rigid().unwrap(), sums.about([0.0, 0.0]).unwrap()] {
+        assert!(
+            (fit.rotation - angle).abs() < 1e-9 && fit.rotation_std.is_finite(),
+            "{fit:?}"
+        );
+    }
+}
