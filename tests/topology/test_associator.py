@@ -8,6 +8,7 @@ import passive_assoc as pa
 import pytest
 from passive_assoc.evaluation import track_association_scores
 from passive_assoc.simulation.topology import paper_topology_scenario
+from passive_assoc.topology import topology_vectors
 
 
 def measured_tracks(seed: int, bias_deg: float) -> tuple[pa.TrackTable, pa.TrackTable, object]:
@@ -171,3 +172,14 @@ def test_correcting_the_estimated_bias_rescues_nearest_neighbour() -> None:
     assert near_before.f1 < 0.95 < 0.99 < near_after.f1
     twice = pa.TopologyAssociator(correct_bias=True).associate(local, system)
     assert twice.bias == first.bias and len(twice.pairs) > 0.9 * len(local)
+
+
+def test_topology_vectors_refuse_what_they_cannot_use() -> None:
+    """A heading-referenced grid without velocities silently fell back to north; a non-table
+    raised AttributeError."""
+    tracks = pa.TrackTable.from_arrays([0, 0], [0, 1], [0.0, 0.0], [[0.0, 0.0], [1e3, 1e3]])
+    with pytest.raises(ValueError, match="tracks: the heading-referenced grid needs velocities"):
+        topology_vectors(tracks, pa.TopologyAssociator(heading_reference=True))
+    with pytest.raises(TypeError, match="tracks: expected a TrackTable"):
+        topology_vectors(tracks.position)  # type: ignore[arg-type]
+    assert topology_vectors(tracks).shape == (2, 48)

@@ -197,7 +197,12 @@ def unbias(local: TrackTable, bias: dict[int, BiasEstimate]) -> TrackTable:
 def topology_vectors(tracks: TrackTable, associator: TopologyAssociator | None = None) -> NDArray[np.float64]:
     """The topology vector of every track of one scan of one source, ``(n, rings·sectors)``
     row-major (rings are rows), with ``associator``'s grid (default settings if None)."""
-    settings = (associator or TopologyAssociator())._settings()
+    if not isinstance(tracks, TrackTable):
+        raise TypeError(f"tracks: expected a TrackTable, got {type(tracks).__name__}")
+    associator = associator or TopologyAssociator()
+    if associator.config.heading_reference and tracks.velocity is None:
+        raise ValueError("tracks: the heading-referenced grid needs velocities, and the table has none")
+    settings = associator._settings()
     ids = np.ascontiguousarray(tracks.track, dtype=np.int64)
     positions = np.ascontiguousarray(tracks.position[:, :2], dtype=np.float64)
     velocity = None if tracks.velocity is None else np.ascontiguousarray(tracks.velocity[:, :2], dtype=np.float64)
