@@ -15,7 +15,8 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use passive_assoc_core::topology::{
-    Associator, DecisionOptions, ScanTracks, Scoring, TopologyOptions,
+    candidate_pairs, decide, pair_closeness, topology_vectors, Associator, Decision,
+    DecisionOptions, ScanTracks, Scoring, TopologyOptions,
 };
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -83,5 +84,54 @@ fn bench_scan(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_scan);
+/// The stages of one ungated 2 000 × 2 000 scan apart, to show where its time goes: the
+/// vectors of both sources, the closeness of all 4 million pairs, and the decision at three
+/// thresholds (the share of pairs above λ decides the assignment's size).
+fn bench_stages(c: &mut Criterion) {
+    let mut group = c.benchmark_group("topology/stage_2000");
+    group.sample_size(10);
+    let (system, local) = pictures(2000, 2000e3, 7);
+    let ids: Vec<i64> = (0..2000).collect();
+    let sys = ScanTracks::new("system", &ids, &system, None).expect("valid");
+    let loc = ScanTracks::new("local", &ids, &local, None).expect("valid");
+    let grid = TopologyOptions::default();
+    group.bench_function("vectors", |b| {
+        b.iter(|| {
+            (
+                topology_vectors(&loc, &grid).len(),
+                topology_vectors(&sys, &grid).len(),
+            )
+        })
+    });
+    let (a, v) = (topology_vectors(&loc, &grid), topology_vectors(&sys, &grid));
+    let pairs = candidate_pairs(&loc, &sys, None);
+    group.bench_function("closeness", |b| {
+        b.iter(|| pair_closeness(&a, &v, grid.cells(), &pairs).len())
+    });
+    let scores = pair_closeness(&a, &v, grid.cells(), &pairs);
+    for fraction in [0.6, 0.7, 0.75, 0.85] {
+        let threshold = fraction * grid.cells() as f64;
+        let allowed = scores.iter().filter(|&&s| s > threshold).count();
+        eprintln!(
+            "λ = {fraction}: {allowed} of {} pairs above it",
+            scores.len()
+        );
+        group.bench_function(format!("decide_lambda_{fraction}"), |b| {
+            b.iter(|| {
+                decide(
+                    &pairs,
+                    &scores,
+                    (2000, 2000),
+                    threshold,
+                    Decision::Assignment,
+                )
+                .expect("decides")
+                .len()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_scan, bench_stages);
 criterion_main!(benches);
