@@ -2,10 +2,22 @@
 simulator (:mod:`.radar`), and one scenario module per method (:mod:`.fti` for fuzzy track
 initiation, :mod:`.static_los` for static line-of-sight association, :mod:`.topology` for
 track-to-track association by reference topology, :mod:`.radar_esm` for radar/ESM association
-with wavelets)."""
+with wavelets, :mod:`.formation` for passive location of formation targets with emitter
+attributes)."""
 
 from __future__ import annotations
 
+from .formation import (
+    PAPER_ATTRIBUTE_NAMES,
+    PAPER_ATTRIBUTE_STD,
+    PAPER_FORMATION_ATTRIBUTES,
+    PAPER_FORMATION_SENSORS,
+    PAPER_FORMATION_TARGETS,
+    PAPER_SIGMAS_DEG,
+    FormationScene,
+    formation_scene,
+    paper_formation_scene,
+)
 from .fti import PAPER_FTI_TARGETS, paper_fti_scenario
 from .radar import (
     Radar,
@@ -42,4 +54,13 @@ __all__ = [
     "PAPER_WAVELET_PHASES",
     "RadarEsmScenario",
     "paper_wavelet_scenario",
+    "PAPER_FORMATION_SENSORS",
+    "PAPER_FORMATION_TARGETS",
+    "PAPER_FORMATION_ATTRIBUTES",
+    "PAPER_ATTRIBUTE_NAMES",
+    "PAPER_ATTRIBUTE_STD",
+    "PAPER_SIGMAS_DEG",
+    "FormationScene",
+    "paper_formation_scene",
+    "formation_scene",
 ]
