@@ -81,7 +81,8 @@ def test_subpackage_all_resolves(name: str) -> None:
 #: (parts on one layer do not import each other). plots sits below experiments because the
 #: experiments draw their figures with it (a deferred import, matplotlib being optional).
 LAYERS = [
-    ["_core", "_validation", "_settings", "_params", "__version__"],  # cli's `from . import __version__` is _core's
+    # cli's `from . import __version__` is _core's; evidence (Dempster-Shafer) is pure Python.
+    ["_core", "_validation", "_settings", "_params", "__version__", "evidence"],
     ["data"],
     ["_inputs"],
     ["estimation"],
