@@ -16,10 +16,10 @@ CORE = Path(__file__).resolve().parents[1] / "rust" / "core"
 LAYERS = [
     ["error"],
     ["parallel", "geometry"],
-    ["data"],
+    ["data", "evidence"],
     ["estimation"],
     ["assign"],
-    ["fti", "static_los", "topology", "radar_esm"],
+    ["fti", "static_los", "formation", "topology", "radar_esm"],
 ]
 LAYER = {name: k for k, names in enumerate(LAYERS) for name in names}
 

@@ -3,9 +3,11 @@ networks, with the numerical hot paths in Rust.
 
 Angles are radians, positions metres, times seconds (METHODS §0).
 
-Subpackages, each depending only on those before it: :mod:`.data` (measurements, sensors, tracks),
+Subpackages, each depending only on those before it: :mod:`.evidence` (Dempster-Shafer
+combination), :mod:`.data` (measurements, sensors, tracks),
 :mod:`.estimation` (ML fitting, CRLB, Kalman filtering), :mod:`.assignment` (S-D and 2-D solvers), :mod:`.fti`
-(fuzzy track initiation), :mod:`.static_los` (static line-of-sight association) and
+(fuzzy track initiation), :mod:`.static_los` (static line-of-sight association), :mod:`.formation` (formation targets
+with emitter attributes) and
 :mod:`.topology` (track-to-track association under azimuth bias), :mod:`.radar_esm` (radar/ESM
 association with wavelets and fuzzy factors),
 :mod:`.simulation` (scenarios with truth), :mod:`.evaluation` (metrics, reference fits),
@@ -23,7 +25,9 @@ from .assignment import (
     linear_assignment,
 )
 from .data import MeasurementTable, SensorNetwork, TrackTable
+from . import evidence
 from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
+from .formation import FormationLocator, FormationResult, locate_formation
 from .fti import ClosenessOptima, FuzzyTrackInitiator, InitiatedTrack, InitiationResult, closeness, maximize_closeness
 from .radar_esm import Chi2TrackAssociator, NearestNeighbourTrackAssociator, WaveletFuzzyAssociator
 from .simulation import (
@@ -41,6 +45,10 @@ from .topology import TopologyAssociator
 Track = InitiatedTrack
 
 __all__ = [
+    "FormationLocator",
+    "FormationResult",
+    "locate_formation",
+    "evidence",
     "NearestNeighbourAssociator",
     "TopologyAssociator",
     "WaveletFuzzyAssociator",

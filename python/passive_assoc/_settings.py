@@ -11,11 +11,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
+import numpy as np
+from numpy.typing import NDArray
+
 Motion = Literal["static", "cv"]
 Scaling = Literal["whitened", "diagonal"]
 SdMethod = Literal["lagrangian", "exact"]
 WarmStart = Literal["auto", "always", "never"]
 SensorOrder = Literal["auto", "given"]
+Combination = Literal["simple", "two_outcome"]
+ClusterRadius = Literal["2d", "1d"]
 
 
 @dataclass(frozen=True)
@@ -122,4 +127,26 @@ class CoarseGateSettings:
 
     threshold: float
     whitened: bool
+    n_threads: int | None
+
+
+@dataclass(frozen=True)
+class AttributeEvidence:
+    """Per-row emitter attributes and the Dempster-Shafer gate on them (METHODS §3)."""
+
+    values: NDArray[np.float64]  # (N, K), C-contiguous
+    stds: NDArray[np.float64]  # (N, K), C-contiguous
+    eta: float
+    combination: Combination
+
+
+@dataclass(frozen=True)
+class FormationSettings:
+    baseline_sensor: int
+    reference: int | None
+    cluster_radius: ClusterRadius
+    one_to_one: bool
+    r_max: float
+    region: tuple[float, float, float, float] | None
+    in_front: bool
     n_threads: int | None

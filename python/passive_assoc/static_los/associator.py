@@ -11,6 +11,7 @@ Lagrangian relaxation, or exact branch-and-bound.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
@@ -23,6 +24,7 @@ from .._params import Boolean, Constraint, Interval, Options, validate
 from .._settings import IntensitySettings
 from ..assignment import assign_sd
 from ..data import MeasurementTable, SensorNetwork
+from ..data.attributes import ATTRIBUTE_CONSTRAINTS, AttributeStd
 from .candidates import CHI2_1DOF_99, ENUMERATION_CONSTRAINTS, enumerate_candidates, stage_counts
 
 __all__ = ["Method", "StaticAssociation", "StaticAssociator", "associate_static"]
@@ -118,6 +120,13 @@ class StaticAssociator:
         Solver settings, as in :func:`passive_assoc.assign_sd`.
     max_candidates : int
         Refuse with a ValueError rather than enumerate more candidates than this.
+    attributes : sequence of str, optional
+        Emitter attribute columns for the attribute gate (METHODS §3 used by §2): a candidate
+        holding two reports whose Dempster ``m(assoc)`` is below ``eta`` is never formed.
+        Default ``()``: bearings only; None: every attribute column of the table.
+    attribute_std, eta, combination
+        The gate's attribute stds, threshold and Dempster reading, as in
+        :class:`passive_assoc.FormationLocator`.
     n_threads : int, optional
         Threads for the enumeration and the intensity method's chains (None: all cores);
         results are identical for any value.
@@ -139,6 +148,10 @@ class StaticAssociator:
     polish: bool = False
     max_candidates: int = 1_000_000
     n_threads: int | None = None
+    attributes: Sequence[str] | None = ()
+    attribute_std: AttributeStd | None = None
+    eta: float = 0.6
+    combination: Literal["simple", "two_outcome"] = "simple"
 
     #: Declared constraints of the scalar parameters (``pd`` and ``false_alarm_density`` are
     #: per-sensor arrays, checked against the network at :meth:`associate`; the solver
@@ -154,6 +167,7 @@ class StaticAssociator:
         "time_limit": [Interval(float, 0.0, None, closed="neither"), None],
         "sensor_order": [Options("auto", "given")],
         "polish": [Boolean()],
+        **ATTRIBUTE_CONSTRAINTS,
     }
 
     def __post_init__(self) -> None:
@@ -172,6 +186,10 @@ class StaticAssociator:
             min_intensity=self.min_intensity,
             max_candidates=self.max_candidates,
             n_threads=self.n_threads,
+            attributes=self.attributes,
+            attribute_std=self.attribute_std,
+            eta=self.eta,
+            combination=self.combination,
         )
 
     def associate(self, measurements: MeasurementTable, sensors: SensorNetwork) -> StaticAssociation:

@@ -4,6 +4,8 @@ sensor by sensor with the gate applied to partial tuples (never the full product
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -14,6 +16,7 @@ from .._params import Constraint, Interval, validate
 from .._settings import EnumerationSettings
 from .._validation import as_float_array
 from ..data import MeasurementTable, SensorNetwork
+from ..data.attributes import AttributeStd, attribute_evidence
 
 __all__ = ["CHI2_1DOF_99", "Candidates", "default_false_alarm_density", "enumerate_candidates", "stage_counts"]
 
@@ -69,6 +72,10 @@ def enumerate_candidates(
     min_intensity: int = 2,
     max_candidates: int = 1_000_000,
     n_threads: int | None = None,
+    attributes: Sequence[str] | None = (),
+    attribute_std: AttributeStd | None = None,
+    eta: float = 0.6,
+    combination: str = "simple",
 ) -> Candidates:
     """All gated candidate tuples of one scan with their ML positions and costs (eq. 2–4).
 
@@ -91,17 +98,20 @@ def enumerate_candidates(
         ENUMERATION_CONSTRAINTS,
     )
     settings = EnumerationSettings(**checked)
-    return _core.enumerate_static(table, network, _per_sensor("pd", pd, n, 0.0, 1.0), density, settings)
+    evidence = attribute_evidence(table, network, attributes, attribute_std, eta, combination)
+    return _core.enumerate_static(table, network, _per_sensor("pd", pd, n, 0.0, 1.0), density, settings, evidence)
 
 
 def stage_counts(candidates: Candidates) -> dict[str, int]:
     """The enumeration's partial tuples tested and pruned per depth k (``tested_k``,
-    ``pruned_k`` for k = 2..S), those skipped by the bearing window, and the ``final`` count."""
+    ``pruned_k`` for k = 2..S), those skipped by the bearing window or cut by the attribute
+    gate, and the ``final`` count."""
     stages = candidates.stages
     counts: dict[str, int] = {}
     for k in range(2, len(stages.tested)):
         counts[f"tested_{k}"] = int(stages.tested[k])
         counts[f"pruned_{k}"] = int(stages.pruned[k])
     counts["windowed_out"] = int(stages.windowed_out)
+    counts["attribute_pruned"] = int(stages.attribute_pruned)
     counts["final"] = int(stages.candidates)
     return counts

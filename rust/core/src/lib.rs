@@ -3,17 +3,21 @@
 //! depends on this one; nothing here knows about Python.
 //!
 //! Layers, dependencies pointing down only:
-//! * [`fti`], [`static_los`], [`topology`], [`radar_esm`] — one folder per published method
-//!   (METHODS §1, §2, §4, §5);
+//! * [`fti`], [`static_los`], [`formation`], [`topology`], [`radar_esm`] — one folder per
+//!   published method (METHODS §1–§5);
 //! * [`assign`] — 2-D and S-D assignment solvers every method ends in;
 //! * [`estimation`] — Gauss-Newton ML fitting and the Fisher information / CRLB;
 //! * [`geometry`] — angles, the measurement model, line-of-sight geometry;
-//! * [`data`], [`error`], [`parallel`] — validated borrowed views, the error type, thread pools.
+//! * [`data`], [`evidence`] — validated borrowed views of the measurements, emitter-attribute
+//!   evidence;
+//! * [`error`], [`parallel`] — the error type, thread pools.
 
 pub mod assign;
 pub mod data;
 pub mod error;
 pub mod estimation;
+pub mod evidence;
+pub mod formation;
 pub mod fti;
 pub mod geometry;
 pub mod parallel;

@@ -7,6 +7,7 @@ mod assign;
 mod convert;
 mod errors;
 mod fit;
+mod formation;
 mod fti;
 mod kalman;
 mod radar_esm;
@@ -27,6 +28,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fti::maximize_closeness, m)?)?;
     m.add_function(wrap_pyfunction!(static_los::enumerate_static, m)?)?;
     m.add_function(wrap_pyfunction!(static_los::intensity_search, m)?)?;
+    m.add_function(wrap_pyfunction!(formation::locate_formation, m)?)?;
     m.add_function(wrap_pyfunction!(kalman::kalman_filter, m)?)?;
     m.add_function(wrap_pyfunction!(topology::topology_vectors, m)?)?;
     m.add_function(wrap_pyfunction!(radar_esm::wavelet_coarse_gate, m)?)?;
@@ -41,5 +43,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<static_los::EnumerationStages>()?;
     m.add_class::<static_los::IntensityResult>()?;
     m.add_class::<static_los::IntensityLevel>()?;
+    m.add_class::<formation::FormationOutputPy>()?;
+    m.add_class::<formation::FormationCounts>()?;
     Ok(())
 }

@@ -9,11 +9,13 @@ use super::convert::{
     count, owned, slice1, threads, to_numpy, to_usize, MeasurementsArg, SensorsArg,
 };
 use super::errors::{value_error, BindResult};
+use super::formation::AttributesArg;
 use passive_assoc_core::assign::CandidateSet;
 use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::static_los::{
-    enumerate, intensity_search as core_intensity_search, Candidates as CoreCandidates,
-    DetectionModel, EnumerateOptions, IntensityInput, IntensityOptions,
+    enumerate_with_attributes, intensity_search as core_intensity_search,
+    Candidates as CoreCandidates, DetectionModel, EnumerateOptions, IntensityInput,
+    IntensityOptions,
 };
 
 /// `passive_assoc._settings.EnumerationSettings`, read by attribute.
@@ -32,6 +34,8 @@ pub struct EnumerationStages {
     tested: Vec<u64>,
     pruned: Vec<u64>,
     windowed_out: u64,
+    /// Extensions cut by the attribute gate (0 without attributes).
+    attribute_pruned: u64,
     candidates: u64,
 }
 
@@ -55,7 +59,7 @@ pub struct Candidates {
 /// Enumerates the gated candidate tuples of one scan with ML positions, covariances and eq. 2
 /// costs. Times play no part (one scan); the elevation column is ignored in 2-D.
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, pd, false_alarm_density, settings))]
+#[pyo3(signature = (measurements, sensors, pd, false_alarm_density, settings, attributes=None))]
 pub fn enumerate_static(
     py: Python<'_>,
     measurements: MeasurementsArg<'_>,
@@ -63,6 +67,7 @@ pub fn enumerate_static(
     pd: PyReadonlyArray1<'_, f64>,
     false_alarm_density: PyReadonlyArray1<'_, f64>,
     settings: EnumerationSettings,
+    attributes: Option<AttributesArg<'_>>,
 ) -> BindResult<Candidates> {
     let options = EnumerateOptions::default()
         .with_gate(settings.chi2_gate)?
@@ -79,9 +84,13 @@ pub fn enumerate_static(
         slice1("pd", &pd)?,
         slice1("false_alarm_density", &false_alarm_density)?,
     )?;
+    let gate = match &attributes {
+        Some(a) => Some(a.gate(table.len())?),
+        None => None,
+    };
     let found = py.detach(|| {
         with_threads(n_threads, || {
-            enumerate(&network, &table, &detection, &options)
+            enumerate_with_attributes(&network, &table, &detection, &options, gate)
         })
     })??;
     candidates_output(py, found)
@@ -94,6 +103,7 @@ fn candidates_output(py: Python<'_>, c: CoreCandidates) -> BindResult<Candidates
         tested: c.stages.tested.clone(),
         pruned: c.stages.pruned.clone(),
         windowed_out: c.stages.windowed_out,
+        attribute_pruned: c.stages.attribute_pruned,
         candidates: c.stages.candidates,
     };
     Ok(Candidates {

@@ -19,6 +19,7 @@ use super::window::{select, Window};
 use super::{Candidates, EnumerateOptions, StageCounts};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
+use crate::evidence::AttributeGate;
 use crate::geometry::model::Observation;
 
 /// A partial tuple during the search.
@@ -71,6 +72,16 @@ impl Prepared<'_> {
             return Some(*node);
         };
         let ray = &self.rays[s][i];
+        if let Some(gate) = &self.attributes {
+            let chosen = &ctx.rows[..s];
+            if chosen
+                .iter()
+                .any(|&r| r >= 0 && !gate.admits(r as usize, ray.row))
+            {
+                ctx.out.stages.attribute_pruned += 1;
+                return None;
+            }
+        }
         ctx.tuple[s] = (i + 1) as u32;
         ctx.rows[s] = ray.row as i64;
         let child = match node.rays {
@@ -241,7 +252,20 @@ pub fn enumerate(
     detection: &DetectionModel,
     options: &EnumerateOptions,
 ) -> CoreResult<Candidates> {
-    let prepared = Prepared::new(sensors, measurements, detection, options)?;
+    enumerate_with_attributes(sensors, measurements, detection, options, None)
+}
+
+/// [`enumerate`] with an attribute gate: a tuple holding two reports whose `m(assoc)` is
+/// below η is never formed (the prefix is cut as soon as the second report joins it).
+pub fn enumerate_with_attributes(
+    sensors: &Sensors<'_>,
+    measurements: &Measurements<'_>,
+    detection: &DetectionModel,
+    options: &EnumerateOptions,
+    attributes: Option<AttributeGate<'_>>,
+) -> CoreResult<Candidates> {
+    let prepared = Prepared::new(sensors, measurements, detection, options)?
+        .with_attributes(attributes, measurements.len())?;
     enumerate_prepared(&prepared)
 }
 

@@ -66,7 +66,7 @@ mod window;
 mod tests;
 
 pub use cost::DetectionModel;
-pub use enumerate::enumerate;
+pub use enumerate::{enumerate, enumerate_with_attributes};
 pub use intensity::{intensity_search, IntensityInput, IntensityOutcome};
 pub use options::{
     enumeration_fit_options, EnumerateOptions, IntensityOptions, DEFAULT_GATE,
@@ -85,6 +85,8 @@ pub struct StageCounts {
     pub pruned: Vec<u64>,
     /// (prefix, report) extensions skipped by the exact bearing window, without a fit.
     pub windowed_out: u64,
+    /// (prefix, report) extensions cut by the attribute gate, without a fit.
+    pub attribute_pruned: u64,
     /// Candidates returned.
     pub candidates: u64,
 }
@@ -95,6 +97,7 @@ impl StageCounts {
             tested: vec![0; n_sensors + 1],
             pruned: vec![0; n_sensors + 1],
             windowed_out: 0,
+            attribute_pruned: 0,
             candidates: 0,
         }
     }
@@ -107,6 +110,7 @@ impl StageCounts {
             *a += b;
         }
         self.windowed_out += other.windowed_out;
+        self.attribute_pruned += other.attribute_pruned;
         self.candidates += other.candidates;
     }
 
@@ -118,6 +122,7 @@ impl StageCounts {
             out.push((format!("pruned_{k}"), self.pruned[k]));
         }
         out.push(("windowed_out".to_string(), self.windowed_out));
+        out.push(("attribute_pruned".to_string(), self.attribute_pruned));
         out.push(("final".to_string(), self.candidates));
         out
     }

@@ -11,6 +11,7 @@ use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
 use crate::estimation::fit::gauss_newton::{fit_into, FitSlots};
 use crate::estimation::fit::Termination;
+use crate::evidence::AttributeGate;
 use crate::geometry::angles::wrap;
 use crate::geometry::los::{closest_points, direction, intersect_bearings};
 use crate::geometry::model::{residual_rows, Motion, Observation, Space, StateLayout};
@@ -47,6 +48,9 @@ pub(crate) struct Prepared<'a> {
     pub apex: Vec<[f64; 2]>,
     pub detection: &'a DetectionModel,
     pub options: EnumerateOptions,
+    /// The attribute gate (METHODS §3 used by §2): pairs of reports below η never share a
+    /// tuple. `None`: bearings only.
+    pub attributes: Option<AttributeGate<'a>>,
 }
 
 impl<'a> Prepared<'a> {
@@ -124,7 +128,26 @@ impl<'a> Prepared<'a> {
             apex,
             detection,
             options: *options,
+            attributes: None,
         })
+    }
+
+    /// Adds the attribute gate; its table must have one row per measurement.
+    pub fn with_attributes(
+        mut self,
+        gate: Option<AttributeGate<'a>>,
+        rows: usize,
+    ) -> CoreResult<Self> {
+        if let Some(g) = &gate {
+            if g.table.n_rows() != rows {
+                return Err(CoreError::shape(
+                    "attributes",
+                    format!("has {} rows, the measurements {rows}", g.table.n_rows()),
+                ));
+            }
+        }
+        self.attributes = gate;
+        Ok(self)
     }
 
     pub fn dim(&self) -> usize {

@@ -1,0 +1,140 @@
+"""Emitter attributes as the methods consume them: a table's attribute columns, chosen by name,
+with one standard deviation per value (METHODS §3).
+
+Stds come per attribute, per attribute and sensor, or per report: a report-level std is an
+attribute column named ``<name>_std`` next to ``<name>`` (so files carry it), used when
+``attribute_std`` is not given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._params import Constraint, Interval, Options, validate
+from .._settings import AttributeEvidence
+from .measurements import MeasurementTable
+from .sensors import SensorNetwork
+
+__all__ = ["ATTRIBUTE_CONSTRAINTS", "AttributeStd", "STD_SUFFIX", "attribute_arrays", "attribute_evidence"]
+
+#: Suffix of an attribute column holding the per-report std of the attribute it names.
+STD_SUFFIX = "_std"
+
+#: Stds: one per attribute (a sequence in name order, or a mapping name -> std), where a
+#: mapping's value may also be one std per sensor.
+AttributeStd = Sequence[float] | Mapping[str, float | Sequence[float]] | NDArray[np.float64]
+
+
+#: Declared constraints of the attribute gate's scalar parameters (shared with §2's gate).
+ATTRIBUTE_CONSTRAINTS: dict[str, list[Constraint]] = {
+    "eta": [Interval(float, 0.0, 1.0, closed="neither")],
+    "combination": [Options("simple", "two_outcome")],
+}
+
+
+def attribute_evidence(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    attributes: Sequence[str] | None,
+    attribute_std: AttributeStd | None,
+    eta: float,
+    combination: str,
+) -> AttributeEvidence | None:
+    """The attribute gate's input for the core, or None when no attribute is used."""
+    checked = validate({"eta": eta, "combination": combination}, ATTRIBUTE_CONSTRAINTS)
+    names, values, stds = attribute_arrays(measurements, sensors, attributes, attribute_std)
+    if not names:
+        return None
+    return AttributeEvidence(values, stds, checked["eta"], checked["combination"])
+
+
+def attribute_arrays(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    attributes: Sequence[str] | None,
+    attribute_std: AttributeStd | None,
+) -> tuple[list[str], NDArray[np.float64], NDArray[np.float64]]:
+    """The chosen attribute columns as an ``(N, K)`` array and their stds as another.
+
+    Parameters
+    ----------
+    attributes : sequence of str, optional
+        Column names; None takes every attribute column of the table except ``*_std`` ones.
+        An empty sequence (or a table without attributes) gives ``K = 0``.
+    attribute_std : sequence, mapping or array, optional
+        ``K`` stds in name order, or a mapping name -> std or name -> one std per sensor;
+        None reads per-report stds from ``<name>_std`` columns.
+    """
+    names = _names(measurements, attributes)
+    n = len(measurements)
+    values = np.empty((n, len(names)))
+    for k, name in enumerate(names):
+        values[:, k] = measurements.attributes[name]
+    stds = np.empty_like(values)
+    for k, name in enumerate(names):
+        stds[:, k] = _std_column(measurements, sensors, (name, k, len(names)), attribute_std)
+    bad = ~(np.isfinite(stds) & (stds > 0))
+    if bad.any():
+        row, k = np.argwhere(bad)[0]
+        raise ValueError(f"attribute_std: {names[k]!r} has std {stds[row, k]} at row {row}, must be finite and > 0")
+    return names, np.ascontiguousarray(values), np.ascontiguousarray(stds)
+
+
+def _names(measurements: MeasurementTable, attributes: Sequence[str] | None) -> list[str]:
+    table = list(measurements.attributes)
+    if attributes is None:
+        return [a for a in table if not (a.endswith(STD_SUFFIX) and a.removesuffix(STD_SUFFIX) in table)]
+    if isinstance(attributes, str):
+        raise TypeError(f"attributes: expected a sequence of column names, got the string {attributes!r}")
+    names = list(attributes)
+    for name in names:
+        if name not in measurements.attributes:
+            raise ValueError(f"attributes: the table has no attribute {name!r}; it has {table}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"attributes: names repeat in {names}")
+    return names
+
+
+def _std_column(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    which: tuple[str, int, int],
+    attribute_std: AttributeStd | None,
+) -> NDArray[np.float64]:
+    """The std column of attribute ``which = (name, index, count)``."""
+    name, k, count = which
+    n = len(measurements)
+    if attribute_std is None:
+        column = measurements.attributes.get(name + STD_SUFFIX)
+        if column is None:
+            raise ValueError(
+                f"attribute_std: required for {name!r} (give one std per attribute, or a "
+                f"'{name}{STD_SUFFIX}' column of per-report stds)"
+            )
+        return np.asarray(column, dtype=np.float64)
+    if isinstance(attribute_std, Mapping):
+        if name not in attribute_std:
+            raise ValueError(f"attribute_std: no std for {name!r}; the mapping has {list(attribute_std)}")
+        per = _as_float_array(attribute_std[name], name)
+        if per.ndim == 0:
+            return np.full(n, float(per))
+        if per.shape != (sensors.n_sensors,):
+            expected = f"one std or one per sensor ({sensors.n_sensors})"
+            raise ValueError(f"attribute_std: {name!r} must be {expected}, got shape {per.shape}")
+        return per[measurements.sensor]
+    flat = _as_float_array(attribute_std, "all")
+    if flat.shape != (count,):
+        raise ValueError(
+            f"attribute_std: expected {count} stds (one per attribute, in name order), got shape {flat.shape}"
+        )
+    return np.full(n, float(flat[k]))
+
+
+def _as_float_array(value: ArrayLike | float, name: str) -> NDArray[np.float64]:
+    try:
+        return np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as err:
+        raise TypeError(f"attribute_std: std of {name!r} is not numeric: {value!r}") from err

@@ -1,0 +1,8 @@
+"""Passive location of formation targets with emitter attributes (METHODS §3, paper 004):
+the modified baseline least-distance method with a Dempster-Shafer attribute gate."""
+
+from __future__ import annotations
+
+from .locator import FormationLocator, FormationResult, locate_formation
+
+__all__ = ["FormationLocator", "FormationResult", "locate_formation"]

@@ -1,0 +1,217 @@
+//! Emitter-attribute evidence between two reports (METHODS §3 "Support" and "Evidence
+//! combination"): the per-attribute support of eq. 3 and its Dempster combination into the
+//! mass on "the two reports are the same emitter". Used by the formation method's baseline
+//! intersections and by the static association's attribute gate, so it sits below both.
+
+use crate::error::{ensure_finite, parse_option, CoreError, CoreResult, UnknownOption};
+
+/// How the K per-attribute supports combine into `m(assoc)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Combination {
+    /// Each attribute is a simple support function (`s_k` on {assoc}, `1 − s_k` on Θ), so
+    /// Dempster's rule gives `1 − Π(1 − s_k)`. The reading that reproduces the paper's
+    /// Table 3 (METHODS §3); the default.
+    SimpleSupport,
+    /// Each attribute splits its mass between {assoc} (`s_k`) and {not} (`1 − s_k`), so
+    /// `m = Π s_k / (Π s_k + Π(1 − s_k))`. Stricter: it prunes pairs the paper keeps.
+    TwoOutcome,
+}
+
+impl std::str::FromStr for Combination {
+    type Err = UnknownOption;
+
+    /// `"simple"` or `"two_outcome"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [
+            ("simple", Self::SimpleSupport),
+            ("two_outcome", Self::TwoOutcome),
+        ];
+        parse_option(value, &choices, "'simple' or 'two_outcome'")
+    }
+}
+
+/// Eq. 3: the support one attribute gives two reports, `exp(−Δ² / (2(σ_a² + σ_b²)))`.
+#[inline]
+pub fn support(value_a: f64, std_a: f64, value_b: f64, std_b: f64) -> f64 {
+    let diff = value_a - value_b;
+    (-diff * diff / (2.0 * (std_a * std_a + std_b * std_b))).exp()
+}
+
+/// The attribute columns of a measurement table, row-major `N × K`, with one std per value
+/// (per-sensor stds are expanded to rows by the caller). Borrowed, validated once.
+#[derive(Clone, Copy, Debug)]
+pub struct AttributeTable<'a> {
+    values: &'a [f64],
+    stds: &'a [f64],
+    n_rows: usize,
+    n_attributes: usize,
+}
+
+impl<'a> AttributeTable<'a> {
+    /// Checks `values` and `stds` are `n_rows × n_attributes`, values finite, stds finite and
+    /// `> 0` (a zero std would make eq. 3 a 0/0 for two equal values).
+    ///
+    /// ```
+    /// use passive_assoc_core::evidence::AttributeTable;
+    /// let t = AttributeTable::new(&[1.0, 2.0], &[0.5, 0.5], 2, 1).unwrap();
+    /// assert_eq!(t.n_attributes(), 1);
+    /// assert!(AttributeTable::new(&[1.0, 2.0], &[0.5, 0.0], 2, 1).is_err());
+    /// ```
+    pub fn new(
+        values: &'a [f64],
+        stds: &'a [f64],
+        n_rows: usize,
+        n_attributes: usize,
+    ) -> CoreResult<Self> {
+        let expected = n_rows.checked_mul(n_attributes);
+        for (arg, got) in [("attributes", values.len()), ("attribute_std", stds.len())] {
+            if expected != Some(got) {
+                return Err(CoreError::shape(
+                    arg,
+                    format!("expected {n_rows} rows × {n_attributes} attributes, got {got} values"),
+                ));
+            }
+        }
+        ensure_finite("attributes", values)?;
+        if let Some(index) = stds.iter().position(|s| !(s.is_finite() && *s > 0.0)) {
+            return Err(CoreError::out_of_range(
+                "attribute_std",
+                format!(
+                    "row {} attribute {} has std {}, must be finite and > 0",
+                    index / n_attributes.max(1),
+                    index % n_attributes.max(1),
+                    stds[index]
+                ),
+            ));
+        }
+        Ok(Self {
+            values,
+            stds,
+            n_rows,
+            n_attributes,
+        })
+    }
+
+    /// Rows of the table, which must be those of the measurement table it describes.
+    pub fn n_rows(&self) -> usize {
+        self.n_rows
+    }
+
+    pub fn n_attributes(&self) -> usize {
+        self.n_attributes
+    }
+
+    /// `m(assoc)` of rows `a` and `b` under `combination` (callers guarantee both rows exist).
+    /// With no attributes there is no evidence either way: 1, so no gate ever drops a pair.
+    pub fn association_mass(&self, a: usize, b: usize, combination: Combination) -> f64 {
+        let k = self.n_attributes;
+        if k == 0 {
+            return 1.0; // both empty products would otherwise give 0 (simple) or ½ (two-outcome)
+        }
+        let (ra, rb) = (a * k, b * k);
+        let supports = (0..k).map(|i| {
+            support(
+                self.values[ra + i],
+                self.stds[ra + i],
+                self.values[rb + i],
+                self.stds[rb + i],
+            )
+        });
+        match combination {
+            Combination::SimpleSupport => 1.0 - supports.map(|s| 1.0 - s).product::<f64>(),
+            Combination::TwoOutcome => two_outcome(supports),
+        }
+    }
+}
+
+/// `Π s / (Π s + Π(1 − s))`. When both products vanish (one attribute says certainly the
+/// same emitter, another certainly not) the sources are in total conflict and Dempster's rule
+/// is undefined; the gate reads that as no support (0), so the pair is dropped.
+fn two_outcome(supports: impl Iterator<Item = f64>) -> f64 {
+    let (agree, disagree) = supports.fold((1.0, 1.0), |(a, d), s| (a * s, d * (1.0 - s)));
+    let total = agree + disagree;
+    if total > 0.0 {
+        agree / total
+    } else {
+        0.0
+    }
+}
+
+/// The attribute test of a gate: rows whose `m(assoc)` is below `eta` are not the same emitter.
+#[derive(Clone, Copy, Debug)]
+pub struct AttributeGate<'a> {
+    pub table: AttributeTable<'a>,
+    pub combination: Combination,
+    eta: f64,
+}
+
+impl<'a> AttributeGate<'a> {
+    /// `eta` must lie in (0, 1): 0 would keep everything, 1 would need certainty.
+    pub fn new(table: AttributeTable<'a>, combination: Combination, eta: f64) -> CoreResult<Self> {
+        if !(eta > 0.0 && eta < 1.0) {
+            return Err(CoreError::out_of_range(
+                "eta",
+                format!("{eta} must lie in (0, 1)"),
+            ));
+        }
+        Ok(Self {
+            table,
+            combination,
+            eta,
+        })
+    }
+
+    pub fn eta(&self) -> f64 {
+        self.eta
+    }
+
+    /// `m(assoc)` of rows `a` and `b`.
+    #[inline]
+    pub fn mass(&self, a: usize, b: usize) -> f64 {
+        self.table.association_mass(a, b, self.combination)
+    }
+
+    /// Whether rows `a` and `b` may be the same emitter.
+    #[inline]
+    pub fn admits(&self, a: usize, b: usize) -> bool {
+        self.mass(a, b) >= self.eta
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn simple_support_matches_the_closed_form_and_the_paper_pair() {
+        // Targets 1 and 4 of the paper (RF, PRF, PW, ASP) with σ = (10, 5, 0.2, 0.2).
+        let values = [4008.0, 1005.0, 4.9, 2.2, 3987.0, 994.0, 5.1, 1.8];
+        let stds = [10.0, 5.0, 0.2, 0.2, 10.0, 5.0, 0.2, 0.2];
+        let table = AttributeTable::new(&values, &stds, 2, 4).expect("valid");
+        let s: Vec<f64> = (0..4)
+            .map(|k| support(values[k], stds[k], values[4 + k], stds[4 + k]))
+            .collect();
+        let simple = 1.0 - s.iter().map(|v| 1.0 - v).product::<f64>();
+        let mass = table.association_mass(0, 1, Combination::SimpleSupport);
+        assert!((mass - simple).abs() < 1e-15);
+        assert!(mass > 0.6, "the paper keeps T1–T4: {mass}");
+        let strict = table.association_mass(0, 1, Combination::TwoOutcome);
+        assert!(strict < 0.6, "the two-outcome reading prunes it: {strict}");
+        assert_eq!(
+            table.association_mass(0, 0, Combination::SimpleSupport),
+            1.0
+        );
+    }
+
+    #[test]
+    fn total_conflict_is_no_support_and_eta_is_checked() {
+        assert_eq!(two_outcome([1.0, 0.0].into_iter()), 0.0);
+        assert!((two_outcome([0.5, 0.5].into_iter()) - 0.5).abs() < 1e-15);
+        let table = AttributeTable::new(&[], &[], 3, 0).expect("no attributes");
+        assert_eq!(table.association_mass(0, 2, Combination::TwoOutcome), 1.0);
+        for eta in [0.0, 1.0, f64::NAN, -0.1] {
+            assert!(AttributeGate::new(table, Combination::SimpleSupport, eta).is_err());
+        }
+        assert!("dempster".parse::<Combination>().is_err());
+    }
+}

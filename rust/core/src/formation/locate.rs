@@ -1,0 +1,294 @@
+//! The driver: every baseline report decided in parallel (step 5), the one-to-one variant's
+//! greedy resolution, and the ML triangulation of each chosen line set.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use rayon::prelude::*;
+
+use super::choice::Choice;
+use super::options::{FormationOptions, Reference};
+use super::subsets::{Meeting, PruneCounts, Scene};
+use crate::data::{Measurements, Sensors};
+use crate::error::{CoreError, CoreResult};
+use crate::estimation::fit::gauss_newton::fit;
+use crate::evidence::AttributeGate;
+use crate::geometry::model::{Motion, Observation, Space, StateLayout};
+
+/// The result, one entry per report of the baseline sensor in table order (`B` of them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FormationOutput {
+    pub n_sensors: usize,
+    /// `B`: the table row of each baseline report.
+    pub baseline_rows: Vec<i64>,
+    /// `B × S`: the chosen table row per sensor (the baseline's own row in its column), all
+    /// −1 but the baseline column where the report has no association.
+    pub rows: Vec<i64>,
+    /// `B × S`: `m(assoc)` of the baseline report with each chosen report (NaN at the
+    /// baseline and where nothing was chosen; 1 without attributes).
+    pub support: Vec<f64>,
+    /// `B`: eq. 6 cluster radius of the chosen set (NaN when none).
+    pub radius: Vec<f64>,
+    /// `B × 2`: ML position of the chosen set (NaN when none or when the fit failed).
+    pub positions: Vec<f64>,
+    /// `B × 4`: its covariance, row-major 2 × 2.
+    pub covariances: Vec<f64>,
+    /// `B`: χ² of the bearings at the ML position.
+    pub chi2: Vec<f64>,
+    pub counts: PruneCounts,
+}
+
+/// Locates the formation from one snapshot of 2-D bearings (METHODS §3). `gate` carries the
+/// attributes (`None`: azimuth only). Runs on the current rayon pool; the result does not
+/// depend on its size.
+///
+/// Errors: a 3-D network, fewer than 3 sensors, a baseline or reference sensor that does not
+/// exist (or a reference equal to the baseline), an attribute table of the wrong length.
+pub fn locate(
+    sensors: &Sensors<'_>,
+    measurements: &Measurements<'_>,
+    gate: Option<AttributeGate<'_>>,
+    options: &FormationOptions,
+) -> CoreResult<FormationOutput> {
+    check(sensors, measurements, gate.as_ref(), options)?;
+    let scene = Scene::new(sensors, measurements, gate, *options);
+    let bases = scene.baseline_lines();
+    let decided: Vec<(Vec<Vec<Meeting>>, Option<Choice>, PruneCounts)> = (0..bases.len())
+        .into_par_iter()
+        .map(|b| {
+            let mut counts = PruneCounts::default();
+            let subsets = scene.subsets(&bases[b], &mut counts);
+            let choice = scene.choose(b, &subsets, None, &mut counts);
+            (subsets, choice, counts)
+        })
+        .collect();
+    let mut counts = PruneCounts::default();
+    decided.iter().for_each(|d| counts.add(&d.2));
+    let choices = match options.one_to_one() {
+        false => decided.into_iter().map(|d| d.1).collect(),
+        true => one_to_one(&scene, decided, measurements.len(), &mut counts),
+    };
+    Ok(assemble(&scene, &choices, counts))
+}
+
+fn check(
+    sensors: &Sensors<'_>,
+    measurements: &Measurements<'_>,
+    gate: Option<&AttributeGate<'_>>,
+    options: &FormationOptions,
+) -> CoreResult<()> {
+    let s = sensors.len();
+    if sensors.space() != Space::Planar {
+        return Err(CoreError::ill_posed(
+            "sensors",
+            "the formation method takes 2-D bearing sensors",
+        ));
+    }
+    if s < 3 {
+        return Err(CoreError::ill_posed(
+            "sensors",
+            format!("the baseline least-distance method needs at least 3 sensors, got {s}"),
+        ));
+    }
+    if options.baseline() >= s {
+        return Err(CoreError::out_of_range(
+            "baseline_sensor",
+            format!(
+                "{} is not a sensor of the {s}-sensor network",
+                options.baseline()
+            ),
+        ));
+    }
+    if let Reference::Sensor(r) = options.reference() {
+        if r >= s || r == options.baseline() {
+            return Err(CoreError::out_of_range(
+                "reference",
+                format!("sensor {r} must exist (< {s}) and differ from the baseline sensor"),
+            ));
+        }
+    }
+    match gate {
+        Some(g) if g.table.n_rows() != measurements.len() => Err(CoreError::shape(
+            "attributes",
+            format!(
+                "has {} rows, the measurements {}",
+                g.table.n_rows(),
+                measurements.len()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Greedy one-to-one: accept the baseline report whose best set clusters tightest, mark its
+/// lines used, and re-decide the others without them. A report's best radius can only grow
+/// as lines are used, so a report popped with an up-to-date radius is the global minimum
+/// (lazy evaluation: only reports whose set lost a line are re-decided). Ties go to the
+/// lower baseline index.
+fn one_to_one(
+    scene: &Scene<'_>,
+    decided: Vec<(Vec<Vec<Meeting>>, Option<Choice>, PruneCounts)>,
+    n_rows: usize,
+    counts: &mut PruneCounts,
+) -> Vec<Option<Choice>> {
+    let mut used = vec![false; n_rows];
+    let mut subsets = Vec::with_capacity(decided.len());
+    let mut pending = Vec::with_capacity(decided.len());
+    let mut heap = BinaryHeap::new();
+    for (b, (subset, choice, _)) in decided.into_iter().enumerate() {
+        if let Some(c) = &choice {
+            heap.push(Reverse((OrderedRadius(c.radius), b)));
+        }
+        subsets.push(subset);
+        pending.push(choice);
+    }
+    let mut accepted: Vec<Option<Choice>> = vec![None; pending.len()];
+    while let Some(Reverse((_, b))) = heap.pop() {
+        let Some(choice) = pending[b].take() else {
+            continue;
+        };
+        if scene.rows_of(&choice).iter().all(|&row| !used[row]) {
+            scene
+                .rows_of(&choice)
+                .iter()
+                .for_each(|&row| used[row] = true);
+            accepted[b] = Some(choice);
+            continue;
+        }
+        if let Some(again) = scene.choose(b, &subsets[b], Some(&used), counts) {
+            heap.push(Reverse((OrderedRadius(again.radius), b)));
+            pending[b] = Some(again);
+        }
+    }
+    accepted
+}
+
+/// A radius ordered totally (NaN last), for the heap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct OrderedRadius(f64);
+
+impl Eq for OrderedRadius {}
+
+impl PartialOrd for OrderedRadius {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for OrderedRadius {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+impl Scene<'_> {
+    /// Table rows of a choice's lines, one per sensor.
+    fn rows_of(&self, choice: &Choice) -> Vec<usize> {
+        choice
+            .lines
+            .iter()
+            .enumerate()
+            .map(|(k, &l)| self.lines[k][l as usize].row)
+            .collect()
+    }
+}
+
+fn assemble(scene: &Scene<'_>, choices: &[Option<Choice>], counts: PruneCounts) -> FormationOutput {
+    let s = scene.lines.len();
+    let bases = scene.baseline_lines();
+    let fitted: Vec<Option<Fitted>> = choices
+        .par_iter()
+        .map(|c| c.as_ref().map(|c| triangulate(scene, c)))
+        .collect();
+    let mut out = FormationOutput {
+        n_sensors: s,
+        baseline_rows: bases.iter().map(|l| l.row as i64).collect(),
+        rows: Vec::with_capacity(bases.len() * s),
+        support: Vec::with_capacity(bases.len() * s),
+        radius: Vec::with_capacity(bases.len()),
+        positions: Vec::with_capacity(bases.len() * 2),
+        covariances: Vec::with_capacity(bases.len() * 4),
+        chi2: Vec::with_capacity(bases.len()),
+        counts,
+    };
+    let baseline = scene.options.baseline();
+    for (b, (choice, fit)) in choices.iter().zip(&fitted).enumerate() {
+        match (choice, fit) {
+            (Some(c), Some(f)) => {
+                out.rows.extend(scene.rows_of(c).iter().map(|&r| r as i64));
+                out.support.extend_from_slice(&c.support);
+                out.radius.push(c.radius);
+                out.positions.extend_from_slice(&f.position);
+                out.covariances.extend_from_slice(&f.covariance);
+                out.chi2.push(f.chi2);
+            }
+            _ => {
+                out.rows.extend((0..s).map(|k| {
+                    if k == baseline {
+                        bases[b].row as i64
+                    } else {
+                        -1
+                    }
+                }));
+                out.support.extend(std::iter::repeat_n(f64::NAN, s));
+                out.radius.push(f64::NAN);
+                out.positions.extend([f64::NAN; 2]);
+                out.covariances.extend([f64::NAN; 4]);
+                out.chi2.push(f64::NAN);
+            }
+        }
+    }
+    out
+}
+
+struct Fitted {
+    position: [f64; 2],
+    covariance: [f64; 4],
+    chi2: f64,
+}
+
+/// ML position of the chosen lines (the project's addition to the paper), started from the
+/// mean of their pairwise intersections; NaN where the fit fails (parallel lines).
+fn triangulate(scene: &Scene<'_>, choice: &Choice) -> Fitted {
+    let observations: Vec<Observation> = choice
+        .lines
+        .iter()
+        .enumerate()
+        .map(|(k, &l)| scene.lines[k][l as usize].observation)
+        .collect();
+    let start = scene.start_point(choice);
+    let layout = StateLayout::new(Space::Planar, Motion::Static);
+    let outcome = fit(&layout, &observations, &start, scene.options.fit());
+    Fitted {
+        position: [outcome.estimate[0], outcome.estimate[1]],
+        covariance: [
+            outcome.covariance[0],
+            outcome.covariance[1],
+            outcome.covariance[2],
+            outcome.covariance[3],
+        ],
+        chi2: outcome.chi2,
+    }
+}
+
+impl Scene<'_> {
+    fn start_point(&self, choice: &Choice) -> [f64; 2] {
+        let lines: Vec<_> = choice
+            .lines
+            .iter()
+            .enumerate()
+            .map(|(k, &l)| &self.lines[k][l as usize])
+            .collect();
+        let mut sum = [0.0; 2];
+        let mut n = 0.0;
+        for (a, la) in lines.iter().enumerate() {
+            for lb in &lines[a + 1..] {
+                if let Some((p, _, _)) = super::subsets::intersect(la, lb) {
+                    sum = [sum[0] + p[0], sum[1] + p[1]];
+                    n += 1.0;
+                }
+            }
+        }
+        [sum[0] / n, sum[1] / n]
+    }
+}

@@ -1,0 +1,170 @@
+//! Bindings for formation location with emitter attributes (METHODS §3) and the attribute
+//! evidence the static association's gate shares. Extract, `py.detach`, delegate, return a
+//! frozen result.
+
+use numpy::{PyArrayDyn, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use super::convert::{count, owned, parse, threads, to_numpy, MeasurementsArg, SensorsArg};
+use super::errors::{value_error, BindResult};
+use passive_assoc_core::evidence::{AttributeGate, AttributeTable};
+use passive_assoc_core::formation::{locate, FormationOptions, FormationOutput, Reference};
+use passive_assoc_core::parallel::with_threads;
+
+/// `passive_assoc._settings.AttributeEvidence`, read by attribute: per-row attribute values
+/// and stds, both `(N, K)` float64, and the gate.
+#[derive(FromPyObject)]
+pub struct AttributesArg<'py> {
+    values: PyReadonlyArray2<'py, f64>,
+    stds: PyReadonlyArray2<'py, f64>,
+    eta: f64,
+    combination: String,
+}
+
+impl AttributesArg<'_> {
+    /// The gate over the table's rows (`n_rows` must match the measurements).
+    pub fn gate(&self, n_rows: usize) -> BindResult<AttributeGate<'_>> {
+        let (rows, k) = (self.values.shape()[0], self.values.shape()[1]);
+        if rows != n_rows || self.stds.shape() != self.values.shape() {
+            return Err(value_error(
+                "attributes",
+                format!(
+                    "values {:?} and stds {:?} must both be ({n_rows}, K)",
+                    self.values.shape(),
+                    self.stds.shape()
+                ),
+            ));
+        }
+        let contiguous = |name: &str| value_error(name, "array must be C-contiguous");
+        let values = self
+            .values
+            .as_slice()
+            .map_err(|_| contiguous("attributes"))?;
+        let stds = self
+            .stds
+            .as_slice()
+            .map_err(|_| contiguous("attribute_std"))?;
+        let table = AttributeTable::new(values, stds, rows, k)?;
+        Ok(AttributeGate::new(
+            table,
+            parse("combination", &self.combination)?,
+            self.eta,
+        )?)
+    }
+}
+
+/// `passive_assoc._settings.FormationSettings`, read by attribute.
+#[derive(FromPyObject)]
+pub struct FormationSettings {
+    baseline_sensor: i64,
+    reference: Option<i64>,
+    cluster_radius: String,
+    one_to_one: bool,
+    r_max: f64,
+    region: Option<[f64; 4]>,
+    in_front: bool,
+    n_threads: Option<i64>,
+}
+
+impl FormationSettings {
+    fn options(&self) -> BindResult<FormationOptions> {
+        let reference = match self.reference {
+            None => Reference::Smallest,
+            Some(r) => Reference::Sensor(count("reference", r, 0)?),
+        };
+        let mut options = FormationOptions::default()
+            .with_baseline(count("baseline_sensor", self.baseline_sensor, 0)?)
+            .with_reference(reference)
+            .with_radius(parse("cluster_radius", &self.cluster_radius)?)
+            .with_one_to_one(self.one_to_one)
+            .with_r_max(self.r_max)?
+            .with_in_front(self.in_front);
+        if let Some(region) = self.region {
+            options = options.with_region(region)?;
+        }
+        Ok(options)
+    }
+}
+
+/// Why baseline meetings were dropped, summed over the baseline reports.
+#[pyclass(frozen, get_all, module = "passive_assoc._core")]
+pub struct FormationCounts {
+    pairs: u64,
+    parallel: u64,
+    low_support: u64,
+    out_of_range: u64,
+    outside_region: u64,
+    behind: u64,
+    candidates: u64,
+}
+
+/// One entry per report of the baseline sensor, in table order (`B` of them).
+#[pyclass(
+    frozen,
+    get_all,
+    name = "FormationOutput",
+    module = "passive_assoc._core"
+)]
+pub struct FormationOutputPy {
+    baseline_rows: Py<PyArrayDyn<i64>>,
+    /// `(B, S)`: chosen table row per sensor, −1 where none.
+    rows: Py<PyArrayDyn<i64>>,
+    /// `(B, S)`: `m(assoc)` with the baseline report (NaN at the baseline and where none).
+    support: Py<PyArrayDyn<f64>>,
+    radius: Py<PyArrayDyn<f64>>,
+    positions: Py<PyArrayDyn<f64>>,
+    covariances: Py<PyArrayDyn<f64>>,
+    chi2: Py<PyArrayDyn<f64>>,
+    counts: Py<FormationCounts>,
+}
+
+/// The modified baseline least-distance method on one snapshot of 2-D bearings, with the
+/// attribute gate when `attributes` is given. Identical results for any thread count.
+#[pyfunction]
+#[pyo3(signature = (measurements, sensors, attributes, settings))]
+pub fn locate_formation(
+    py: Python<'_>,
+    measurements: MeasurementsArg<'_>,
+    sensors: SensorsArg<'_>,
+    attributes: Option<AttributesArg<'_>>,
+    settings: FormationSettings,
+) -> BindResult<FormationOutputPy> {
+    let options = settings.options()?;
+    let n_threads = threads(settings.n_threads)?;
+    let network = sensors.view()?;
+    let columns = measurements.columns(network.space())?;
+    // One snapshot: the table's times play no part, so a zero column stands in for them.
+    let time = vec![0.0; columns.len()];
+    let table = columns.view_with_time(&network, &time)?;
+    let gate = match &attributes {
+        Some(a) => Some(a.gate(table.len())?),
+        None => None,
+    };
+    let out =
+        py.detach(|| with_threads(n_threads, || locate(&network, &table, gate, &options)))??;
+    output(py, out)
+}
+
+fn output(py: Python<'_>, out: FormationOutput) -> BindResult<FormationOutputPy> {
+    let (b, s) = (out.baseline_rows.len(), out.n_sensors);
+    let c = out.counts;
+    let counts = FormationCounts {
+        pairs: c.pairs,
+        parallel: c.parallel,
+        low_support: c.low_support,
+        out_of_range: c.out_of_range,
+        outside_region: c.outside_region,
+        behind: c.behind,
+        candidates: c.candidates,
+    };
+    Ok(FormationOutputPy {
+        baseline_rows: owned(py, out.baseline_rows)?,
+        rows: to_numpy(py, out.rows, &[b, s])?.unbind(),
+        support: to_numpy(py, out.support, &[b, s])?.unbind(),
+        radius: owned(py, out.radius)?,
+        positions: to_numpy(py, out.positions, &[b, 2])?.unbind(),
+        covariances: to_numpy(py, out.covariances, &[b, 2, 2])?.unbind(),
+        chi2: owned(py, out.chi2)?,
+        counts: Py::new(py, counts)?,
+    })
+}
