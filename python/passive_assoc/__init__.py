@@ -16,6 +16,7 @@ association with wavelets and fuzzy factors),
 
 from __future__ import annotations
 
+from . import evidence
 from ._core import __version__
 from .assignment import (
     NearestNeighbourAssociator,
@@ -25,7 +26,6 @@ from .assignment import (
     linear_assignment,
 )
 from .data import MeasurementTable, SensorNetwork, TrackTable
-from . import evidence
 from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
 from .formation import FormationLocator, FormationResult, locate_formation
 from .fti import ClosenessOptima, FuzzyTrackInitiator, InitiatedTrack, InitiationResult, closeness, maximize_closeness
