@@ -12,7 +12,7 @@ non-parallel pairs), each baseline report decided on its own.
 
 Tests import :func:`locate_formation_numpy` by path; ``python benches/formation_numpy.py``
 times it on the paper scene and on a 5-sensor, 200-emitter scene, and the library beside it
-if ``passive_assoc.locate_formation`` exists.
+(``passive_assoc.locate_formation``, same inputs, same run) with the ratio.
 
     python benches/formation_numpy.py [--repeat 5] [--seed 1]
 """
@@ -183,16 +183,11 @@ def best_of(repeat: int, run: Callable[[], Any]) -> float:
     return min(times)
 
 
-def _library_call(scene: FormationScene, gated: bool) -> Callable[[], Any] | None:
-    """``passive_assoc.locate_formation`` on the same inputs, if the library has it yet."""
-    locate = getattr(pa, "locate_formation", None)  # getattr: the binding is not written yet
-    if locate is None:
-        return None
-    std = dict(scene.attribute_std) if gated else None
-    table = scene.measurements
-    if not gated:  # azimuth only: the same table without its attribute columns
-        table = pa.MeasurementTable.from_arrays(table.sensor, table.time, table.azimuth, truth=table.truth)
-    return lambda: locate(table, scene.sensors, attribute_std=std)
+def _library_call(scene: FormationScene, gated: bool) -> Callable[[], Any]:
+    """``passive_assoc.locate_formation`` on the same inputs (``attributes=[]``: azimuth only)."""
+    std = dict(scene.attribute_std)
+    names = None if gated else []
+    return lambda: pa.locate_formation(scene.measurements, scene.sensors, attributes=names, attribute_std=std)
 
 
 def time_scene(label: str, scene: FormationScene, repeat: int) -> None:
@@ -201,15 +196,8 @@ def time_scene(label: str, scene: FormationScene, repeat: int) -> None:
         inputs = attrs if gated else None
         numpy_s = best_of(repeat, partial(locate_formation_numpy, az, pos, inputs, std))
         line = f"{label:<38} {'joint' if gated else 'azimuth only':<13} numpy {numpy_s * 1e3:9.2f} ms"
-        call = _library_call(scene, gated)
-        if call is not None:
-            try:
-                lib_s = best_of(repeat, call)
-            except TypeError as err:  # written before the binding existed: say so, do not guess
-                line += f"   passive_assoc: call failed ({err}); update _library_call"
-            else:
-                line += f"   passive_assoc {lib_s * 1e3:9.3f} ms   ratio {numpy_s / lib_s:7.1f}x"
-        print(line)
+        lib_s = best_of(repeat, _library_call(scene, gated))
+        print(f"{line}   passive_assoc {lib_s * 1e3:9.3f} ms   ratio {numpy_s / lib_s:7.1f}x")
 
 
 def main() -> None:
