@@ -61,7 +61,7 @@ def test_too_few_sensors_and_3d_networks_are_refused() -> None:
     keep = m.sensor < 2
     two = pa.SensorNetwork(SCENE.sensors.positions[:2], SCENE.sensors.sigma_azimuth[:2])
     table = m.select(np.flatnonzero(keep))
-    with pytest.raises(ValueError, match="sensors.*at least 3"):
+    with pytest.raises(ValueError, match=r"sensors.*at least 3"):
         pa.locate_formation(table, two, attribute_std=STD)
     spatial = pa.SensorNetwork(
         np.column_stack([SCENE.sensors.positions[:, :2], np.zeros(3)]),
