@@ -22,6 +22,7 @@ from passive_assoc._settings import (
     KalmanSettings,
     SdSettings,
 )
+from passive_assoc._settings import AttributeEvidence, FormationSettings
 
 F64 = np.float64
 I64 = np.int64
@@ -114,7 +115,55 @@ def _coarse_gate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     return _core.wavelet_coarse_gate(args["operator"], radar, esm, settings)
 
 
+def _locate_formation(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    kw = dict(kw)
+    table, network, rest = _objects({**args, "time": np.zeros(len(args["sensor"]))}, 2)
+    evidence = AttributeEvidence(rest["attributes"], rest["attribute_std"], kw.pop("eta"), kw.pop("combination"))
+    return _core.locate_formation(table, network, evidence, FormationSettings(**kw))
+
+
+def _enumerate_gated(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    table, network, rest = _objects({**args, "time": np.zeros(len(args["sensor"]))}, 2)
+    evidence = AttributeEvidence(rest["attributes"], rest["attribute_std"], kw["eta"], kw["combination"])
+    settings = EnumerationSettings(6.6, 2, 1_000_000, None)
+    return _core.enumerate_static(table, network, rest["pd"], rest["false_alarm_density"], settings, evidence)
+
+
+def _formation_args() -> dict[str, Any]:
+    return {
+        "sensor": np.array([0, 0, 1, 1, 2, 2], I64),
+        "azimuth": np.array([1.2, 1.4, 1.5, 1.6, 1.9, 2.0]),
+        "elevation": np.full(6, np.nan),
+        "sensor_positions": np.array([[-1e4, 0, 0], [0, -5e3, 0], [1e4, 0, 0.0]]),
+        "sigma_azimuth": np.full(3, 1e-3),
+        "sigma_elevation": np.full(3, 1e-3),
+        "attributes": np.array([[1.0, 5.0], [2.0, 6.0], [1.1, 5.0], [2.1, 6.0], [1.0, 5.1], [2.0, 6.1]]),
+        "attribute_std": np.full((6, 2), 0.1),
+    }
+
+
 CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
+    "locate_formation": (
+        _locate_formation,
+        _formation_args(),
+        dict(
+            eta=0.6,
+            combination="simple",
+            baseline_sensor=0,
+            reference=None,
+            cluster_radius="2d",
+            one_to_one=True,
+            r_max=2e5,
+            region=(-1e5, 1e5, -1e5, 1e5),
+            in_front=False,
+            n_threads=None,
+        ),
+    ),
+    "enumerate_static_gated": (
+        _enumerate_gated,
+        {**_formation_args(), "pd": np.full(3, 0.9), "false_alarm_density": np.full(3, 1.0)},
+        dict(eta=0.6, combination="two_outcome"),
+    ),
     "fit_batch": (
         _fit,
         {**_measurement_args(), "indices": np.arange(4, dtype=I64), "offsets": np.array([0, 4], I64)},
