@@ -1,5 +1,6 @@
 """Smoke runs of the command line: `reproduce fti` and `reproduce intensity` end to end,
-through their JSON records and plots."""
+through their JSON records and plots (`reproduce formation`'s run is in
+tests/experiments/test_formation_experiment.py; here only its help)."""
 
 from __future__ import annotations
 
@@ -121,3 +122,14 @@ def test_reproduce_wavelet_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[s
             values = [*cell["per_scan"][2:], cell["mean_6_30"], cell["min_15_30"], cell["gate_keeps_true_6_30"]]
             assert all(0.0 <= v <= 1.0 for v in values)
     assert out_png.stat().st_size > 10_000
+
+
+def test_reproduce_formation_is_listed_and_its_help_says_what_is_printed(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        cli_main(["reproduce", "--help"])
+    assert "formation" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        cli_main(["reproduce", "formation", "--help"])
+    text = capsys.readouterr().out
+    assert "Table 2 (azimuth only) and Table 3" in text and "'ours / paper'" in text
+    assert all(option in text for option in ("--runs", "--seed", "--workers", "--noise", "--plot", "--json"))

@@ -15,7 +15,7 @@ import numpy as np
 
 from . import __version__
 from .evaluation import perfect_association_fit, target_crlbs
-from .experiments import fti, intensity, topology, wavelet
+from .experiments import formation, fti, intensity, topology, wavelet
 from .simulation import paper_fti_scenario
 
 #: (name, module with add_arguments/main, one-line summary) of every `reproduce` experiment.
@@ -24,6 +24,7 @@ _EXPERIMENTS = [
     ("intensity", intensity, "paper 001: static LOS association, Tables 1-2 (time and accuracy of every method)"),
     ("topology", topology, "paper 002: track-to-track association under azimuth bias (P, R, F1 vs nearest neighbour)"),
     ("wavelet", wavelet, "paper 003: radar/ESM association of maneuvering targets (P(correct) per scan, 3 methods)"),
+    ("formation", formation, "paper 004: formation targets with emitter attributes, Tables 2-3 and the §2 methods"),
 ]
 
 _COMPONENTS = ("x0 m", "y0 m", "z0 m", "vx m/s", "vy m/s", "vz m/s")
