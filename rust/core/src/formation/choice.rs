@@ -44,6 +44,13 @@ impl Scene<'_> {
             Reference::Sensor(r) => r,
             Reference::Smallest => others().min_by_key(|&k| (subsets[k].len(), k))?,
         };
+        // The reference subset is scanned, never searched: only the others are sorted.
+        let by_along: Vec<ByAlong> = (0..subsets.len())
+            .map(|k| match k == reference || k == baseline {
+                true => ByAlong(Vec::new()),
+                false => ByAlong::new(&subsets[k]),
+            })
+            .collect();
         let mut best: Option<(f64, Vec<usize>)> = None;
         let mut picks = vec![0usize; self.lines.len()];
         for (r, point) in subsets[reference].iter().enumerate() {
@@ -51,7 +58,7 @@ impl Scene<'_> {
                 picks[k] = if k == reference {
                     r
                 } else {
-                    nearest(&subsets[k], &point.point)
+                    by_along[k].nearest(point.along)
                 };
             }
             counts.candidates += 1;
@@ -117,16 +124,41 @@ impl Scene<'_> {
     }
 }
 
-/// Index of the meeting nearest to `point` (first of equals). `subset` is non-empty.
-fn nearest(subset: &[Meeting], point: &[f64; 2]) -> usize {
-    let mut best = (f64::INFINITY, 0);
-    for (i, m) in subset.iter().enumerate() {
-        let d2 = (m.point[0] - point[0]).powi(2) + (m.point[1] - point[1]).powi(2);
-        if d2 < best.0 {
-            best = (d2, i);
-        }
+/// One subset's meetings sorted by their position along the baseline line. Every meeting
+/// lies on that line, so the nearest point (step 3, Euclidean) is the nearest along it: a
+/// binary search instead of a scan of the subset for every reference point.
+struct ByAlong(Vec<(f64, u32)>);
+
+impl ByAlong {
+    fn new(subset: &[Meeting]) -> Self {
+        let mut sorted: Vec<(f64, u32)> = subset
+            .iter()
+            .enumerate()
+            .map(|(i, m)| (m.along, i as u32))
+            .collect();
+        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        Self(sorted)
     }
-    best.1
+
+    /// Index (in subset order) of the meeting nearest to `along`; of equals, the first in
+    /// subset order. The subset is non-empty.
+    fn nearest(&self, along: f64) -> usize {
+        let sorted = &self.0;
+        let first_of_run = |value: f64| sorted.partition_point(|e| e.0 < value);
+        let pos = first_of_run(along);
+        let right = sorted.get(pos).map(|e| (e.0 - along, e.1));
+        let left = pos
+            .checked_sub(1)
+            .map(|p| sorted[first_of_run(sorted[p].0)])
+            .map(|e| (along - e.0, e.1));
+        let best = match (left, right) {
+            (Some(l), Some(r)) if l.0 < r.0 || (l.0 == r.0 && l.1 < r.1) => l,
+            (_, Some(r)) => r,
+            (Some(l), None) => l,
+            (None, None) => (0.0, 0),
+        };
+        best.1 as usize
+    }
 }
 
 /// `sqrt(Σ|P − P̄|² / n)` over the points (infinite when there are none: never the best).

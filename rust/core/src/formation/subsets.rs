@@ -17,11 +17,11 @@ pub(crate) struct Line {
     pub observation: Observation,
 }
 
-/// A point where the baseline line meets line `line` (index within its sensor).
+/// Where the baseline line meets line `line` (index within its sensor): the point itself is
+/// `along` the baseline from its sensor, which is all the later steps need.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Meeting {
     pub line: u32,
-    pub point: [f64; 2],
     /// Signed distance from the baseline sensor along the baseline bearing.
     pub along: f64,
     /// `m(assoc)` of the two reports (1 without attributes).
@@ -121,13 +121,14 @@ impl<'a> Scene<'a> {
         counts: &mut PruneCounts,
     ) -> Option<Meeting> {
         counts.pairs += 1;
-        let support = self.gate.map_or(1.0, |g| g.mass(base.row, other.row));
-        if let Some(gate) = self.gate {
-            if support < gate.eta() {
+        let support = match self.gate.map(|g| g.admitted_mass(base.row, other.row)) {
+            None => 1.0,
+            Some(Some(mass)) => mass,
+            Some(None) => {
                 counts.low_support += 1;
                 return None;
             }
-        }
+        };
         let Some((point, along, range_other)) = intersect(base, other) else {
             counts.parallel += 1;
             return None;
@@ -147,7 +148,6 @@ impl<'a> Scene<'a> {
         }
         Some(Meeting {
             line: l as u32,
-            point,
             along,
             support,
         })
