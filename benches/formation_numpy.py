@@ -184,10 +184,10 @@ def best_of(repeat: int, run: Callable[[], Any]) -> float:
 
 
 def _library_call(scene: FormationScene, gated: bool) -> Callable[[], Any]:
-    """``passive_assoc.locate_formation`` on the same inputs (``attributes=[]``: azimuth only)."""
-    std = dict(scene.attribute_std)
-    names = None if gated else []
-    return lambda: pa.locate_formation(scene.measurements, scene.sensors, attributes=names, attribute_std=std)
+    """``passive_assoc`` on the same inputs: a :class:`~passive_assoc.FormationLocator`
+    configured once, as a user locating many snapshots would (``attributes=[]``: azimuth only)."""
+    locator = pa.FormationLocator(attributes=None if gated else [], attribute_std=dict(scene.attribute_std))
+    return lambda: locator.locate(scene.measurements, scene.sensors)
 
 
 def time_scene(label: str, scene: FormationScene, repeat: int) -> None:

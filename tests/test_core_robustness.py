@@ -13,16 +13,17 @@ import numpy as np
 import pytest
 from passive_assoc import _core
 from passive_assoc._settings import (
+    AttributeEvidence,
     CoarseGateSettings,
     DescentSettings,
     EnumerationSettings,
     FitSettings,
+    FormationSettings,
     InitiationSettings,
     IntensitySettings,
     KalmanSettings,
     SdSettings,
 )
-from passive_assoc._settings import AttributeEvidence, FormationSettings
 
 F64 = np.float64
 I64 = np.int64

@@ -13,8 +13,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._params import Constraint, Interval, Options, validate
-from .._settings import AttributeEvidence
+from .._params import Constraint, Interval, Options
+from .._settings import AttributeEvidence, Combination
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
 
@@ -41,14 +41,14 @@ def attribute_evidence(
     attributes: Sequence[str] | None,
     attribute_std: AttributeStd | None,
     eta: float,
-    combination: str,
+    combination: Combination,
 ) -> AttributeEvidence | None:
-    """The attribute gate's input for the core, or None when no attribute is used."""
-    checked = validate({"eta": eta, "combination": combination}, ATTRIBUTE_CONSTRAINTS)
+    """The attribute gate's input for the core, or None when no attribute is used. ``eta`` and
+    ``combination`` must have passed :data:`ATTRIBUTE_CONSTRAINTS` (callers validate once)."""
     names, values, stds = attribute_arrays(measurements, sensors, attributes, attribute_std)
     if not names:
         return None
-    return AttributeEvidence(values, stds, checked["eta"], checked["combination"])
+    return AttributeEvidence(values, stds, eta, combination)
 
 
 def attribute_arrays(
@@ -70,17 +70,17 @@ def attribute_arrays(
     """
     names = _names(measurements, attributes)
     n = len(measurements)
+    if not names:
+        return names, np.empty((n, 0)), np.empty((n, 0))
     values = np.empty((n, len(names)))
-    for k, name in enumerate(names):
+    stds = np.empty((n, len(names)))
+    for k, name in enumerate(names):  # column assignment: cheaper than stacking for small N
         values[:, k] = measurements.attributes[name]
-    stds = np.empty_like(values)
-    for k, name in enumerate(names):
         stds[:, k] = _std_column(measurements, sensors, (name, k, len(names)), attribute_std)
-    bad = ~(np.isfinite(stds) & (stds > 0))
-    if bad.any():
-        row, k = np.argwhere(bad)[0]
+    if not (np.isfinite(stds).all() and (stds > 0).all()):
+        row, k = np.argwhere(~(np.isfinite(stds) & (stds > 0)))[0]
         raise ValueError(f"attribute_std: {names[k]!r} has std {stds[row, k]} at row {row}, must be finite and > 0")
-    return names, np.ascontiguousarray(values), np.ascontiguousarray(stds)
+    return names, values, stds
 
 
 def _names(measurements: MeasurementTable, attributes: Sequence[str] | None) -> list[str]:
@@ -103,10 +103,9 @@ def _std_column(
     sensors: SensorNetwork,
     which: tuple[str, int, int],
     attribute_std: AttributeStd | None,
-) -> NDArray[np.float64]:
-    """The std column of attribute ``which = (name, index, count)``."""
+) -> float | NDArray[np.float64]:
+    """The std column of attribute ``which = (name, index, count)``, or its one value."""
     name, k, count = which
-    n = len(measurements)
     if attribute_std is None:
         column = measurements.attributes.get(name + STD_SUFFIX)
         if column is None:
@@ -120,7 +119,7 @@ def _std_column(
             raise ValueError(f"attribute_std: no std for {name!r}; the mapping has {list(attribute_std)}")
         per = _as_float_array(attribute_std[name], name)
         if per.ndim == 0:
-            return np.full(n, float(per))
+            return float(per)
         if per.shape != (sensors.n_sensors,):
             expected = f"one std or one per sensor ({sensors.n_sensors})"
             raise ValueError(f"attribute_std: {name!r} must be {expected}, got shape {per.shape}")
@@ -130,7 +129,7 @@ def _std_column(
         raise ValueError(
             f"attribute_std: expected {count} stds (one per attribute, in name order), got shape {flat.shape}"
         )
-    return np.full(n, float(flat[k]))
+    return float(flat[k])
 
 
 def _as_float_array(value: ArrayLike | float, name: str) -> NDArray[np.float64]:

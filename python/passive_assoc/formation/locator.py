@@ -168,7 +168,7 @@ class FormationLocator:
             self.n_threads,
         )
         out = _core.locate_formation(table, network, evidence, settings)
-        return _result(out, len(table), evidence is not None)
+        return _result(out, evidence is not None)
 
 
 def locate_formation(measurements: MeasurementTable, sensors: SensorNetwork, **settings: Any) -> FormationResult:
@@ -184,18 +184,7 @@ def locate_formation(measurements: MeasurementTable, sensors: SensorNetwork, **s
     return FormationLocator(**settings).locate(measurements, sensors)
 
 
-def _result(out: _core.FormationOutput, n_rows: int, with_attributes: bool) -> FormationResult:
-    rows = out.rows
-    associated = ~np.isnan(out.radius)
-    # Owner of each row: the tightest group that chose it (stable sort keeps lower index first).
-    order = np.argsort(np.where(associated, out.radius, np.inf), kind="stable")
-    labels = np.full(n_rows, -1, dtype=np.int64)
-    times = np.zeros(n_rows, dtype=np.int64)
-    for b in order[associated[order]]:
-        chosen = rows[b][rows[b] >= 0]
-        times[chosen] += 1
-        free = chosen[labels[chosen] < 0]
-        labels[free] = b
+def _result(out: _core.FormationOutput, with_attributes: bool) -> FormationResult:
     c = out.counts
     report = {
         "attributes": with_attributes,
@@ -209,14 +198,14 @@ def _result(out: _core.FormationOutput, n_rows: int, with_attributes: bool) -> F
     }
     return FormationResult(
         out.baseline_rows,
-        rows,
-        associated,
+        out.rows,
+        ~np.isnan(out.radius),
         out.positions,
         out.covariances,
         out.radius,
         out.support,
         out.chi2,
-        labels,
-        times,
+        out.labels,
+        out.times_chosen,
         report,
     )

@@ -16,7 +16,7 @@ from .._params import Constraint, Interval, validate
 from .._settings import EnumerationSettings
 from .._validation import as_float_array
 from ..data import MeasurementTable, SensorNetwork
-from ..data.attributes import AttributeStd, attribute_evidence
+from ..data.attributes import ATTRIBUTE_CONSTRAINTS, AttributeStd, attribute_evidence
 
 __all__ = ["CHI2_1DOF_99", "Candidates", "default_false_alarm_density", "enumerate_candidates", "stage_counts"]
 
@@ -98,7 +98,8 @@ def enumerate_candidates(
         ENUMERATION_CONSTRAINTS,
     )
     settings = EnumerationSettings(**checked)
-    evidence = attribute_evidence(table, network, attributes, attribute_std, eta, combination)
+    gate = validate({"eta": eta, "combination": combination}, ATTRIBUTE_CONSTRAINTS)
+    evidence = attribute_evidence(table, network, attributes, attribute_std, gate["eta"], gate["combination"])
     return _core.enumerate_static(table, network, _per_sensor("pd", pd, n, 0.0, 1.0), density, settings, evidence)
 
 

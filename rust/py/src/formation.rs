@@ -115,6 +115,10 @@ pub struct FormationOutputPy {
     positions: Py<PyArrayDyn<f64>>,
     covariances: Py<PyArrayDyn<f64>>,
     chi2: Py<PyArrayDyn<f64>>,
+    /// `(N,)`: the group each input row ends in, −1 for none.
+    labels: Py<PyArrayDyn<i64>>,
+    /// `(N,)`: how many chosen sets hold each row.
+    times_chosen: Py<PyArrayDyn<i64>>,
     counts: Py<FormationCounts>,
 }
 
@@ -165,6 +169,8 @@ fn output(py: Python<'_>, out: FormationOutput) -> BindResult<FormationOutputPy>
         positions: to_numpy(py, out.positions, &[b, 2])?.unbind(),
         covariances: to_numpy(py, out.covariances, &[b, 2, 2])?.unbind(),
         chi2: owned(py, out.chi2)?,
+        labels: owned(py, out.labels)?,
+        times_chosen: owned(py, out.times_chosen)?,
         counts: Py::new(py, counts)?,
     })
 }

@@ -7,6 +7,7 @@ use std::collections::BinaryHeap;
 use rayon::prelude::*;
 
 use super::choice::Choice;
+use super::labels::partition;
 use super::options::{FormationOptions, Reference};
 use super::subsets::{Meeting, PruneCounts, Scene};
 use crate::data::{Measurements, Sensors};
@@ -35,6 +36,10 @@ pub struct FormationOutput {
     pub covariances: Vec<f64>,
     /// `B`: χ² of the bearings at the ML position.
     pub chi2: Vec<f64>,
+    /// `N`: the group (baseline index) each input row ends in, −1 for none (see `labels.rs`).
+    pub labels: Vec<i64>,
+    /// `N`: how many chosen sets hold each row (≤ 1 with one-to-one).
+    pub times_chosen: Vec<i64>,
     pub counts: PruneCounts,
 }
 
@@ -80,7 +85,9 @@ pub fn locate(
         false => decided.into_iter().map(|d| d.1).collect(),
         true => one_to_one(&scene, decided, measurements.len(), &mut counts),
     };
-    Ok(assemble(&scene, &choices, counts))
+    let mut out = assemble(&scene, &choices, counts);
+    (out.labels, out.times_chosen) = partition(&out.rows, &out.radius, measurements.len());
+    Ok(out)
 }
 
 fn check(
@@ -222,6 +229,8 @@ fn assemble(scene: &Scene<'_>, choices: &[Option<Choice>], counts: PruneCounts) 
         positions: Vec::with_capacity(bases.len() * 2),
         covariances: Vec::with_capacity(bases.len() * 4),
         chi2: Vec::with_capacity(bases.len()),
+        labels: Vec::new(),
+        times_chosen: Vec::new(),
         counts,
     };
     let baseline = scene.options.baseline();

@@ -12,6 +12,7 @@
 //! (a line may serve two, as in the paper) or, as an option, one-to-one.
 
 mod choice;
+mod labels;
 mod locate;
 mod options;
 mod subsets;
