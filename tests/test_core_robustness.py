@@ -323,3 +323,18 @@ def test_core_function_survives_bad_keywords(name: str) -> None:
             if type(bad) is type(value) and bad == value:
                 continue
             _call(func, args, {**kwargs, key: bad})
+
+
+def test_fortran_ordered_arrays_are_refused_not_read_transposed() -> None:
+    """rust-numpy's as_slice accepts Fortran order; the bindings must not read it as row-major."""
+    costs = np.array([[1.0, 11.0, 5.0], [-3.0, 2.0, 7.0]])
+    with pytest.raises(ValueError, match="costs.*C-contiguous"):
+        _core.assign_2d(np.asfortranarray(costs))
+    rows, cols, total = _core.assign_2d(costs)
+    assert total == 2.0 and list(cols) == [2, 0]  # 5 + (−3), the optimum by enumeration
+
+
+def test_a_huge_time_limit_is_a_value_error_not_a_panic() -> None:
+    settings = SdSettings("exact", 200, 1e-3, 10_000_000, 1e20, "auto", "auto", False)
+    with pytest.raises(ValueError, match="time_limit"):
+        _core.assign_sd(np.array([[1, 1, 1]], I64), np.array([-5.0]), np.array([1, 1, 1], I64), settings)

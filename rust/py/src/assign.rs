@@ -6,8 +6,8 @@ use std::time::Duration;
 use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::convert::{count, owned, parse, slice1, to_numpy, to_usize, I64Array};
-use super::errors::{value_error, BindResult};
+use super::convert::{count, owned, parse, row_major, slice1, to_numpy, to_usize, I64Array};
+use super::errors::{value_error, BindError, BindResult};
 use passive_assoc_core::assign::lagrangian::LagrangianOptions;
 use passive_assoc_core::assign::{branch_bound, lagrangian, lap, SdMethod, SdProblem};
 
@@ -55,9 +55,7 @@ pub fn assign_sd(
         .with_sensor_order(parse("sensor_order", &settings.sensor_order)?)
         .with_polish(settings.polish);
     let n_sensors = tuples.shape()[1];
-    let tuple_values = tuples
-        .as_slice()
-        .map_err(|_| value_error("tuples", "array must be C-contiguous"))?;
+    let tuple_values = row_major("tuples", &tuples)?;
     let problem = SdProblem::new(
         to_usize("tuples", tuple_values)?,
         n_sensors,
@@ -71,15 +69,12 @@ pub fn assign_sd(
                 .with_max_nodes(count("max_nodes", settings.max_nodes, 1)?)?
                 .with_root(root);
             let options = match settings.time_limit {
-                Some(seconds) if seconds.is_finite() && seconds > 0.0 => {
-                    options.with_time_limit(Duration::from_secs_f64(seconds))?
-                }
-                Some(seconds) => {
-                    return Err(value_error(
-                        "time_limit",
-                        format!("must be > 0 seconds or None, got {seconds}"),
-                    ))
-                }
+                // try_from: a huge value (≳ 1.8e19 s) has no Duration and must not panic.
+                Some(seconds) if seconds > 0.0 => match Duration::try_from_secs_f64(seconds) {
+                    Ok(limit) => options.with_time_limit(limit)?,
+                    Err(_) => return Err(time_limit_error(seconds)),
+                },
+                Some(seconds) => return Err(time_limit_error(seconds)),
                 None => options.without_time_limit(),
             };
             py.detach(|| branch_bound::solve(&problem, &options))
@@ -105,9 +100,7 @@ pub fn assign_2d<'py>(
     costs: PyReadonlyArray2<'py, f64>,
 ) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
     let (n_rows, n_cols) = (costs.shape()[0], costs.shape()[1]);
-    let values = costs
-        .as_slice()
-        .map_err(|_| value_error("costs", "array must be C-contiguous"))?;
+    let values = row_major("costs", &costs)?;
     let solved = py.detach(|| lap::solve_dense(n_rows, n_cols, values))?;
     let (rows, cols): (Vec<i64>, Vec<i64>) = solved
         .row_to_col
@@ -121,4 +114,11 @@ pub fn assign_2d<'py>(
         to_numpy(py, cols, &[n])?,
         solved.cost,
     ))
+}
+
+fn time_limit_error(seconds: f64) -> BindError {
+    value_error(
+        "time_limit",
+        format!("must be a finite number of seconds > 0 (at most ~1.8e19), or None; got {seconds}"),
+    )
 }

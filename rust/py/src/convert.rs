@@ -5,7 +5,8 @@
 
 use numpy::ndarray::{Array, Dimension, IxDyn};
 use numpy::{
-    Element, IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+    Element, IntoPyArray, PyArrayDyn, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 
@@ -17,14 +18,30 @@ use passive_assoc_core::geometry::model::{MotionKind, Space, StateLayout};
 pub type F64Array<'py> = Bound<'py, PyArrayDyn<f64>>;
 pub type I64Array<'py> = Bound<'py, PyArrayDyn<i64>>;
 
+/// The row-major (C-order) memory of any array, or a `ValueError` naming the argument.
+/// rust-numpy's `as_slice` also accepts a Fortran-ordered array, whose memory read as
+/// row-major would be the transpose: every binding reads arrays through this check.
+pub fn row_major<'a, T: Element, D: Dimension>(
+    name: &str,
+    array: &'a PyReadonlyArray<'_, T, D>,
+) -> BindResult<&'a [T]> {
+    if array.len() > 1 && !array.is_c_contiguous() {
+        return Err(value_error(
+            name,
+            "array must be C-contiguous (row-major); pass np.ascontiguousarray(...)",
+        ));
+    }
+    array
+        .as_slice()
+        .map_err(|_| value_error(name, "array must be C-contiguous and aligned"))
+}
+
 /// A contiguous view of a 1-D array, or a `ValueError` naming the argument.
 pub fn slice1<'a, T: Element>(
     name: &str,
     array: &'a PyReadonlyArray1<'_, T>,
 ) -> BindResult<&'a [T]> {
-    array
-        .as_slice()
-        .map_err(|_| value_error(name, "array must be C-contiguous"))
+    row_major(name, array)
 }
 
 /// A contiguous row-major view of a 2-D array with `cols` columns.
@@ -43,9 +60,7 @@ pub fn slice2<'a, T: Element>(
             ),
         ));
     }
-    array
-        .as_slice()
-        .map_err(|_| value_error(name, "array must be C-contiguous"))
+    row_major(name, array)
 }
 
 /// `ndim` (2 or 3) → the measurement space.

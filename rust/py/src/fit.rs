@@ -5,9 +5,9 @@ use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use super::convert::{
-    count, layout, slice1, threads, to_numpy, F64Array, MeasurementsArg, SensorsArg,
+    count, layout, row_major, slice1, threads, to_numpy, F64Array, MeasurementsArg, SensorsArg,
 };
-use super::errors::{value_error, BindResult};
+use super::errors::BindResult;
 use passive_assoc_core::estimation::fisher;
 use passive_assoc_core::estimation::fit::batch::{fit_batch as core_fit_batch, Problems};
 use passive_assoc_core::estimation::fit::FitOptions;
@@ -62,10 +62,7 @@ pub fn fit_batch<'py>(
     let columns = measurements.columns(layout.space)?;
     let table = columns.view(&network)?;
     let initial = match &initial {
-        Some(a) => Some(
-            a.as_slice()
-                .map_err(|_| value_error("initial", "array must be C-contiguous"))?,
-        ),
+        Some(a) => Some(row_major("initial", a)?),
         None => None,
     };
     let problems = Problems {

@@ -5,7 +5,9 @@
 use numpy::{PyArrayDyn, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::convert::{count, owned, parse, threads, to_numpy, MeasurementsArg, SensorsArg};
+use super::convert::{
+    count, owned, parse, row_major, threads, to_numpy, MeasurementsArg, SensorsArg,
+};
 use super::errors::{value_error, BindResult};
 use passive_assoc_core::evidence::{AttributeGate, AttributeTable};
 use passive_assoc_core::formation::{locate, FormationOptions, FormationOutput, Reference};
@@ -35,15 +37,8 @@ impl AttributesArg<'_> {
                 ),
             ));
         }
-        let contiguous = |name: &str| value_error(name, "array must be C-contiguous");
-        let values = self
-            .values
-            .as_slice()
-            .map_err(|_| contiguous("attributes"))?;
-        let stds = self
-            .stds
-            .as_slice()
-            .map_err(|_| contiguous("attribute_std"))?;
+        let values = row_major("attributes", &self.values)?;
+        let stds = row_major("attribute_std", &self.stds)?;
         let table = AttributeTable::new(values, stds, rows, k)?;
         Ok(AttributeGate::new(
             table,

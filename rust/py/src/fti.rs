@@ -5,8 +5,8 @@ use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
 use super::convert::{
-    count, owned, parse, slice1, slice2, threads, to_numpy, F64Array, I64Array, MeasurementsArg,
-    SensorsArg,
+    count, owned, parse, row_major, slice1, slice2, threads, to_numpy, F64Array, I64Array,
+    MeasurementsArg, SensorsArg,
 };
 use super::errors::{value_error, BindError, BindResult};
 use passive_assoc_core::data::Sensors;
@@ -244,9 +244,7 @@ pub fn maximize_closeness<'py>(
 ) -> BindResult<Optima<'py>> {
     let (pre, d) = precompute(&measurements, &sensors, &spreads, settings.t0)?;
     let starts = slice2("starts", &starts, d)?;
-    let covariances = covariances
-        .as_slice()
-        .map_err(|_| value_error("covariances", "array must be C-contiguous"))?;
+    let covariances = row_major("covariances", &covariances)?;
     let options = DescentOptions::default()
         .with_max_iter(count("max_iter", settings.max_iter, 0)?)
         .with_scaling(parse("scaling", &settings.scaling)?);

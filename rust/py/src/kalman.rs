@@ -4,7 +4,7 @@
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::convert::{parse, slice1, slice2, threads, to_numpy, F64Array};
+use super::convert::{parse, row_major, slice1, slice2, threads, to_numpy, F64Array};
 use super::errors::{value_error, BindResult};
 use passive_assoc_core::estimation::kalman::{
     kalman_filter as core_kalman_filter, Init, KalmanInput, KalmanOptions, MeasurementModel,
@@ -65,9 +65,7 @@ pub fn kalman_filter<'py>(
         ));
     }
     let values = slice2("measurements", &measurements, columns)?;
-    let noise_values = noise
-        .as_slice()
-        .map_err(|_| value_error("noise", "array must be C-contiguous"))?;
+    let noise_values = row_major("noise", &noise)?;
     let noise = match noise.shape() {
         [r, c] if (*r, *c) == (rows, columns) => Noise::Std(noise_values),
         [r, c, k] if (*r, *c, *k) == (rows, columns, columns) => Noise::Covariance(noise_values),

@@ -5,7 +5,7 @@
 use numpy::{PyArrayDyn, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::convert::{slice2, threads, to_numpy, F64Array};
+use super::convert::{row_major, slice2, threads, to_numpy, F64Array};
 use super::errors::{value_error, BindResult};
 use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::radar_esm::{coarse_gate, CoarseOptions, CoarseTracks, Operator, Side};
@@ -39,9 +39,7 @@ const ESM: Names = Names {
 
 /// A contiguous row-major view of a 3-D array.
 fn slice3<'a>(name: &str, array: &'a PyReadonlyArray3<'_, f64>) -> BindResult<&'a [f64]> {
-    array
-        .as_slice()
-        .map_err(|_| value_error(name, "array must be C-contiguous"))
+    row_major(name, array)
 }
 
 /// Checks one side's shapes against W (c × T) and returns its validated core view.

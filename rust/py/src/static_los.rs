@@ -6,7 +6,7 @@ use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethod
 use pyo3::prelude::*;
 
 use super::convert::{
-    count, owned, slice1, threads, to_numpy, to_usize, MeasurementsArg, SensorsArg,
+    count, owned, row_major, slice1, threads, to_numpy, to_usize, MeasurementsArg, SensorsArg,
 };
 use super::errors::{value_error, BindResult};
 use super::formation::AttributesArg;
@@ -172,9 +172,8 @@ pub fn intensity_search(
             format!("has {} rows, tuples has {k}", positions.shape()[0]),
         ));
     }
-    let contiguous = |name: &str| value_error(name, "array must be C-contiguous");
-    let tuple_slice = tuples.as_slice().map_err(|_| contiguous("tuples"))?;
-    let position_slice = positions.as_slice().map_err(|_| contiguous("positions"))?;
+    let tuple_slice = row_major("tuples", &tuples)?;
+    let position_slice = row_major("positions", &positions)?;
     let set = CandidateSet::new(
         to_usize("tuples", tuple_slice)?,
         n_sensors,
