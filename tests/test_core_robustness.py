@@ -328,9 +328,9 @@ def test_core_function_survives_bad_keywords(name: str) -> None:
 def test_fortran_ordered_arrays_are_refused_not_read_transposed() -> None:
     """rust-numpy's as_slice accepts Fortran order; the bindings must not read it as row-major."""
     costs = np.array([[1.0, 11.0, 5.0], [-3.0, 2.0, 7.0]])
-    with pytest.raises(ValueError, match="costs.*C-contiguous"):
+    with pytest.raises(ValueError, match=r"costs.*C-contiguous"):
         _core.assign_2d(np.asfortranarray(costs))
-    rows, cols, total = _core.assign_2d(costs)
+    _rows, cols, total = _core.assign_2d(costs)
     assert total == 2.0 and list(cols) == [2, 0]  # 5 + (−3), the optimum by enumeration
 
 
