@@ -150,6 +150,36 @@ KF_Z = np.array([[0.0, 0.0], [10.0, 5.0], [20.0, 10.0]])
 
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
     (
+        "assign_sd all-zero tuple",
+        lambda: pa.assign_sd([[0, 0, 0], [1, 1, 1]], [-3.0, -5.0], [1, 1, 1]),
+        ValueError,
+        "tuples: row 0 has no report",
+    ),
+    (
+        "assign_sd max_nodes beyond int64",
+        lambda: pa.assign_sd([[1, 1, 1]], [-5.0], [1, 1, 1], method="exact", max_nodes=2**63),
+        ValueError,
+        "max_nodes: 9223372036854775808 is out of the 64-bit integer range",
+    ),
+    (
+        "assign_sd time_limit beyond Duration",
+        lambda: pa.assign_sd([[1, 1, 1]], [-5.0], [1, 1, 1], method="exact", time_limit=1e20),
+        ValueError,
+        "time_limit",
+    ),
+    (
+        "static_scan n_targets=0",
+        lambda: pa.simulation.static_scan(1, n_targets=0),
+        ValueError,
+        "n_targets",
+    ),
+    (
+        "static_scan pd=2",
+        lambda: pa.simulation.static_scan(1, n_targets=3, pd=2),
+        ValueError,
+        "pd",
+    ),
+    (
         "fit_ml empty table",
         lambda: pa.fit_ml(TABLE.select(np.array([], dtype=np.int64)), SENSORS, [np.arange(0)]),
         ValueError,

@@ -184,6 +184,8 @@ def as_int_scalar(name: str, value: Any, *, minimum: int | None = None) -> int:
         raise TypeError(f"{name}: expected an int, got {value!r}")
     if minimum is not None and value < minimum:
         raise ValueError(f"{name}: must be >= {minimum}, got {value}")
+    if not -(2**63) <= value < 2**63:  # the core takes int64; beyond it PyO3 raises OverflowError
+        raise ValueError(f"{name}: {value} is out of the 64-bit integer range")
     return int(value)
 
 

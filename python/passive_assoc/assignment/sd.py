@@ -143,6 +143,9 @@ def assign_sd(
         raise ValueError(f"tuples: S-D assignment needs at least 2 sensors (columns), got {t.shape[1]}")
     c = as_float_array("costs", costs, shape=(t.shape[0],))
     n = as_int_array("sizes", sizes, shape=(t.shape[1],))
+    empty = np.flatnonzero((t == 0).all(axis=1))
+    if len(empty):  # uses no report, so no constraint binds it: its cost would count silently
+        raise ValueError(f"tuples: row {empty[0]} has no report (all zeros); every tuple must use at least one")
     if method not in ("lagrangian", "exact"):
         raise ValueError(f"method: must be 'lagrangian' or 'exact', got {method!r}")
     if warm_start not in ("auto", "always", "never"):

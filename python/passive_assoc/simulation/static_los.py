@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from .._params import Interval, validate
 from ..data import MeasurementTable, SensorNetwork
 
 SQUARE_X = (-10e3, 10e3)
@@ -78,6 +79,23 @@ class StaticScan:
         return seen
 
 
+def _check_scan_arguments(
+    n_targets: int, n_sensors: int, ratio: float, pd: float, p_false: float, sigma: float | None
+) -> None:
+    """ValueError/TypeError naming the argument, before any arithmetic divides by it."""
+    validate(
+        dict(n_targets=n_targets, n_sensors=n_sensors, ratio=ratio, pd=pd, p_false=p_false, sigma=sigma),
+        {
+            "n_targets": [Interval(int, 1, None)],
+            "n_sensors": [Interval(int, 2, None)],
+            "ratio": [Interval(float, 0.0, None, closed="neither")],
+            "pd": [Interval(float, 0.0, 1.0, closed="right")],
+            "p_false": [Interval(float, 0.0, 1.0, closed="left")],
+            "sigma": [Interval(float, 0.0, None, closed="neither"), None],
+        },
+    )
+
+
 def static_scan(
     seed: int | np.random.Generator,
     *,
@@ -89,6 +107,7 @@ def static_scan(
     sigma: float | None = None,
 ) -> StaticScan:
     """Simulate one scan; ``sigma`` overrides the σθ implied by ``ratio``."""
+    _check_scan_arguments(n_targets, n_sensors, ratio, pd, p_false, sigma)
     rng = np.random.default_rng(seed)
     positions = sensor_positions(n_sensors)
     sig = sigma_for_ratio(ratio, n_targets) if sigma is None else float(sigma)
