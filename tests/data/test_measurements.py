@@ -179,3 +179,17 @@ def test_validate_against() -> None:
     MeasurementTable.from_arrays([], [], []).validate_against(net3)  # empty is fine
     with pytest.raises(TypeError, match=r"^sensors: expected a SensorNetwork"):
         t2.validate_against("net")  # type: ignore[arg-type]
+
+
+def test_from_csv_accepts_a_byte_order_mark_and_padded_headers(tmp_path: Path) -> None:
+    path = tmp_path / "excel.csv"
+    path.write_text("sensor, time ,azimuth\n0,1.0,0.5\n1,2.0,0.25\n", encoding="utf-8-sig")
+    table = MeasurementTable.from_csv(path)
+    assert table.sensor.tolist() == [0, 1] and table.azimuth.tolist() == [0.5, 0.25]
+
+
+def test_from_csv_turns_csv_module_errors_into_value_errors(tmp_path: Path) -> None:
+    path = tmp_path / "long.csv"
+    path.write_text("sensor,time,azimuth\n0,0," + "1" * 200_000 + "\n")
+    with pytest.raises(ValueError, match=r"^path: .*long\.csv.* not a readable CSV file"):
+        MeasurementTable.from_csv(path)

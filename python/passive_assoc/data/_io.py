@@ -41,11 +41,16 @@ def read_csv(path: str | os.PathLike[str], integer_columns: Collection[str]) -> 
         If the file is empty, a line has the wrong number of fields (``path: line L ...``) or
         a field is not a number (``<column>: line L has ...``).
     """
-    with open(path, newline="", encoding="utf-8") as fh:
-        rows = list(csv.reader(fh))
+    # utf-8-sig: a file saved by Excel starts with a byte-order mark, which would otherwise
+    # become part of the first column's name.
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        try:
+            rows = list(csv.reader(fh))
+        except csv.Error as err:  # e.g. a field over the csv module's size limit
+            raise ValueError(f"path: {os.fspath(path)!r} is not a readable CSV file: {err}") from None
     if not rows:
         raise ValueError(f"path: {os.fspath(path)!r} is empty (no header row)")
-    header, body = rows[0], rows[1:]
+    header, body = [name.strip() for name in rows[0]], rows[1:]
     for r, row in enumerate(body):
         if len(row) != len(header):
             raise ValueError(f"path: line {r + 2} has {len(row)} fields, header has {len(header)}")
