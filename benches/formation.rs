@@ -121,7 +121,8 @@ fn large() -> Scene {
 fn run(s: &Scene, options: &FormationOptions) -> usize {
     let sensors = Sensors::new(Space::Planar, &s.positions, &s.sigma, &[]).expect("sensors");
     let meas = Measurements::new(&sensors, &s.sensor, &s.time, &s.azimuth, &[]).expect("table");
-    let table = AttributeTable::new(&s.values, &s.stds, s.sensor.len(), 4).expect("attributes");
+    let (values, stds) = (attribute_major(&s.values, 4), attribute_major(&s.stds, 4));
+    let table = AttributeTable::new(&values, &stds, s.sensor.len(), 4).expect("attributes");
     let gate = AttributeGate::new(table, Combination::SimpleSupport, 0.6).expect("gate");
     let out = locate(&sensors, &meas, Some(gate), options).expect("locates");
     out.radius.iter().filter(|r| !r.is_nan()).count()
@@ -153,3 +154,11 @@ fn bench_formation(c: &mut Criterion) {
 
 criterion_group!(benches, bench_formation);
 criterion_main!(benches);
+
+/// Row-major `N × k` → the core's attribute-major `k × N`.
+fn attribute_major(row_major: &[f64], k: usize) -> Vec<f64> {
+    let n = row_major.len() / k;
+    (0..k * n)
+        .map(|at| row_major[(at % n) * k + at / n])
+        .collect()
+}

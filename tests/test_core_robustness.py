@@ -138,8 +138,9 @@ def _formation_args() -> dict[str, Any]:
         "sensor_positions": np.array([[-1e4, 0, 0], [0, -5e3, 0], [1e4, 0, 0.0]]),
         "sigma_azimuth": np.full(3, 1e-3),
         "sigma_elevation": np.full(3, 1e-3),
-        "attributes": np.array([[1.0, 5.0], [2.0, 6.0], [1.1, 5.0], [2.1, 6.0], [1.0, 5.1], [2.0, 6.1]]),
-        "attribute_std": np.full((6, 2), 0.1),
+        # (K, N): the attribute columns stacked; one std per attribute (K, 1).
+        "attributes": np.array([[1.0, 2.0, 1.1, 2.1, 1.0, 2.0], [5.0, 6.0, 5.0, 6.0, 5.1, 6.1]]),
+        "attribute_std": np.full((2, 1), 0.1),
     }
 
 

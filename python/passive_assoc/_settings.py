@@ -134,8 +134,8 @@ class CoarseGateSettings:
 class AttributeEvidence:
     """Per-row emitter attributes and the Dempster-Shafer gate on them (METHODS §3)."""
 
-    values: NDArray[np.float64]  # (N, K), C-contiguous
-    stds: NDArray[np.float64]  # (N, K), C-contiguous
+    values: NDArray[np.float64]  # (K, N): the attribute columns stacked, C-contiguous
+    stds: NDArray[np.float64]  # (K, N) per report, or (K, 1) one per attribute
     eta: float
     combination: Combination
 

@@ -149,3 +149,23 @@ def _local_indices(rows: np.ndarray, scene: FormationScene) -> np.ndarray:
         mine = np.flatnonzero(sensor == s)
         local[mine] = np.arange(len(mine))
     return np.where(rows >= 0, local[np.maximum(rows, 0)], -1)
+
+
+def test_per_sensor_and_per_report_stds_equal_the_per_attribute_ones() -> None:
+    scene = paper_formation_scene(11, sigma_deg=1.5, noise="realistic")
+    m, s, std = scene.measurements, scene.sensors, dict(scene.attribute_std)
+    reference = pa.locate_formation(m, s, attribute_std=std)
+    per_sensor = {name: [value] * s.n_sensors for name, value in std.items()}
+    columns = {**m.attributes, **{f"{name}_std": np.full(len(m), value) for name, value in std.items()}}
+    with_std_columns = pa.MeasurementTable.from_arrays(m.sensor, m.time, m.azimuth, attributes=columns)
+    for result in (
+        pa.locate_formation(m, s, attribute_std=per_sensor),
+        pa.locate_formation(m, s, attribute_std=[std[name] for name in m.attributes]),
+        pa.locate_formation(with_std_columns, s),  # stds from the `<name>_std` columns
+    ):
+        np.testing.assert_array_equal(result.rows, reference.rows)
+        np.testing.assert_array_equal(result.support, reference.support)
+    # A much larger RF std on sensor 1 changes its supports: per-sensor stds are really used.
+    wider = {**per_sensor, "rf": [std["rf"], 1e4, std["rf"]]}
+    changed = pa.locate_formation(m, s, attribute_std=wider)
+    assert not np.array_equal(changed.support[:, 1], reference.support[:, 1], equal_nan=True)

@@ -8,6 +8,7 @@ attribute column named ``<name>_std`` next to ``<name>`` (so files carry it), us
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -57,7 +58,8 @@ def attribute_arrays(
     attributes: Sequence[str] | None,
     attribute_std: AttributeStd | None,
 ) -> tuple[list[str], NDArray[np.float64], NDArray[np.float64]]:
-    """The chosen attribute columns as an ``(N, K)`` array and their stds as another.
+    """The chosen attribute columns stacked ``(K, N)``, and their stds ``(K, N)`` or, when
+    each attribute has one std, ``(K, 1)`` (the core's layout: no transpose, no expansion).
 
     Parameters
     ----------
@@ -71,15 +73,20 @@ def attribute_arrays(
     names = _names(measurements, attributes)
     n = len(measurements)
     if not names:
-        return names, np.empty((n, 0)), np.empty((n, 0))
-    values = np.empty((n, len(names)))
-    stds = np.empty((n, len(names)))
-    for k, name in enumerate(names):  # column assignment: cheaper than stacking for small N
-        values[:, k] = measurements.attributes[name]
-        stds[:, k] = _std_column(measurements, sensors, (name, k, len(names)), attribute_std)
+        return names, np.empty((0, n)), np.empty((0, 1))
+    values = np.array([measurements.attributes[name] for name in names], dtype=np.float64)
+    per_name = [
+        _std_column(measurements, sensors, (name, k, len(names)), attribute_std) for k, name in enumerate(names)
+    ]
+    if all(isinstance(std, float) for std in per_name):  # one std per attribute: (K, 1)
+        for name, std in zip(names, per_name, strict=True):
+            if not (math.isfinite(std) and std > 0):
+                raise ValueError(f"attribute_std: {name!r} has std {std}, must be finite and > 0")
+        return names, values, np.array(per_name, dtype=np.float64).reshape(-1, 1)
+    stds = np.array([np.broadcast_to(std, n) for std in per_name], dtype=np.float64)
     if not (np.isfinite(stds).all() and (stds > 0).all()):
-        row, k = np.argwhere(~(np.isfinite(stds) & (stds > 0)))[0]
-        raise ValueError(f"attribute_std: {names[k]!r} has std {stds[row, k]} at row {row}, must be finite and > 0")
+        k, row = np.argwhere(~(np.isfinite(stds) & (stds > 0)))[0]
+        raise ValueError(f"attribute_std: {names[k]!r} has std {stds[k, row]} at row {row}, must be finite and > 0")
     return names, values, stds
 
 

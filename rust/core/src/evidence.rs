@@ -37,24 +37,29 @@ pub fn support(value_a: f64, std_a: f64, value_b: f64, std_b: f64) -> f64 {
     (-diff * diff / (2.0 * (std_a * std_a + std_b * std_b))).exp()
 }
 
-/// The attribute columns of a measurement table, row-major `N × K`, with one std per value
-/// (per-sensor stds are expanded to rows by the caller). Borrowed, validated once.
+/// The attribute columns of a measurement table, attribute-major (`K × N`: column `i` is
+/// `values[i N .. (i + 1) N]`, as NumPy stacks a table's columns without a transpose), with
+/// stds either per value (`K × N`) or per attribute (`K`). Borrowed, validated once.
 #[derive(Clone, Copy, Debug)]
 pub struct AttributeTable<'a> {
     values: &'a [f64],
     stds: &'a [f64],
     n_rows: usize,
     n_attributes: usize,
+    /// 1 when `stds` has one value per row, 0 when one per attribute.
+    std_row_step: usize,
 }
 
 impl<'a> AttributeTable<'a> {
-    /// Checks `values` and `stds` are `n_rows × n_attributes`, values finite, stds finite and
-    /// `> 0` (a zero std would make eq. 3 a 0/0 for two equal values).
+    /// Checks `values` is `n_attributes × n_rows` and finite, and `stds` is the same shape or
+    /// one per attribute, finite and `> 0` (a zero std would make eq. 3 a 0/0 for two equal
+    /// values).
     ///
     /// ```
     /// use passive_assoc_core::evidence::AttributeTable;
     /// let t = AttributeTable::new(&[1.0, 2.0], &[0.5, 0.5], 2, 1).unwrap();
     /// assert_eq!(t.n_attributes(), 1);
+    /// assert!(AttributeTable::new(&[1.0, 2.0], &[0.5], 2, 1).is_ok()); // one std per attribute
     /// assert!(AttributeTable::new(&[1.0, 2.0], &[0.5, 0.0], 2, 1).is_err());
     /// ```
     pub fn new(
@@ -63,23 +68,37 @@ impl<'a> AttributeTable<'a> {
         n_rows: usize,
         n_attributes: usize,
     ) -> CoreResult<Self> {
-        let expected = n_rows.checked_mul(n_attributes);
-        for (arg, got) in [("attributes", values.len()), ("attribute_std", stds.len())] {
-            if expected != Some(got) {
-                return Err(CoreError::shape(
-                    arg,
-                    format!("expected {n_rows} rows × {n_attributes} attributes, got {got} values"),
-                ));
-            }
+        let per_value = n_rows.checked_mul(n_attributes);
+        if per_value != Some(values.len()) {
+            return Err(CoreError::shape(
+                "attributes",
+                format!(
+                    "expected {n_attributes} attributes × {n_rows} rows, got {} values",
+                    values.len()
+                ),
+            ));
         }
+        let std_row_step = match stds.len() {
+            len if Some(len) == per_value => 1,
+            len if len == n_attributes => 0,
+            len => {
+                return Err(CoreError::shape(
+                    "attribute_std",
+                    format!(
+                        "expected {n_attributes} × {n_rows} values or {n_attributes}, got {len}"
+                    ),
+                ))
+            }
+        };
         ensure_finite("attributes", values)?;
         if let Some(index) = stds.iter().position(|s| !(s.is_finite() && *s > 0.0)) {
+            let row_count = if std_row_step == 1 { n_rows.max(1) } else { 1 };
             return Err(CoreError::out_of_range(
                 "attribute_std",
                 format!(
-                    "row {} attribute {} has std {}, must be finite and > 0",
-                    index / n_attributes.max(1),
-                    index % n_attributes.max(1),
+                    "attribute {} (row {}) has std {}, must be finite and > 0",
+                    index / row_count,
+                    index % row_count,
                     stds[index]
                 ),
             ));
@@ -89,6 +108,7 @@ impl<'a> AttributeTable<'a> {
             stds,
             n_rows,
             n_attributes,
+            std_row_step,
         })
     }
 
@@ -130,19 +150,28 @@ impl AttributeTable<'_> {
     /// Eq. 3's exponent `Δ² / (2(σ_a² + σ_b²))` of attribute `i` for rows `a` and `b`.
     #[inline]
     fn exponent(&self, a: usize, b: usize, i: usize) -> f64 {
-        let (ia, ib) = (a * self.n_attributes + i, b * self.n_attributes + i);
-        let (sa, sb) = (self.stds[ia], self.stds[ib]);
-        let diff = self.values[ia] - self.values[ib];
-        diff * diff / (2.0 * (sa * sa + sb * sb))
+        let (diff, variance) = self.difference(a, b, i);
+        diff * diff / (2.0 * variance)
+    }
+
+    /// `(f_a − f_b, σ_a² + σ_b²)` of attribute `i`.
+    #[inline]
+    fn difference(&self, a: usize, b: usize, i: usize) -> (f64, f64) {
+        let column = i * self.n_rows;
+        let std_column = i * (self.n_rows * self.std_row_step).max(1);
+        let sa = self.stds[std_column + a * self.std_row_step];
+        let sb = self.stds[std_column + b * self.std_row_step];
+        (
+            self.values[column + a] - self.values[column + b],
+            sa * sa + sb * sb,
+        )
     }
 
     /// Whether attribute `i`'s exponent exceeds `threshold`, without the division.
     #[inline]
     fn exponent_above(&self, a: usize, b: usize, i: usize, threshold: f64) -> bool {
-        let (ia, ib) = (a * self.n_attributes + i, b * self.n_attributes + i);
-        let (sa, sb) = (self.stds[ia], self.stds[ib]);
-        let diff = self.values[ia] - self.values[ib];
-        diff * diff > threshold * (2.0 * (sa * sa + sb * sb))
+        let (diff, variance) = self.difference(a, b, i);
+        diff * diff > threshold * (2.0 * variance)
     }
 }
 
@@ -238,15 +267,22 @@ mod tests {
     #[test]
     fn simple_support_matches_the_closed_form_and_the_paper_pair() {
         // Targets 1 and 4 of the paper (RF, PRF, PW, ASP) with σ = (10, 5, 0.2, 0.2).
-        let values = [4008.0, 1005.0, 4.9, 2.2, 3987.0, 994.0, 5.1, 1.8];
-        let stds = [10.0, 5.0, 0.2, 0.2, 10.0, 5.0, 0.2, 0.2];
+        // Attribute-major: (RF of both rows), (PRF of both), ...; one std per attribute.
+        let values = [4008.0, 3987.0, 1005.0, 994.0, 4.9, 5.1, 2.2, 1.8];
+        let stds = [10.0, 5.0, 0.2, 0.2];
         let table = AttributeTable::new(&values, &stds, 2, 4).expect("valid");
+        let per_value = [10.0, 10.0, 5.0, 5.0, 0.2, 0.2, 0.2, 0.2];
+        let expanded = AttributeTable::new(&values, &per_value, 2, 4).expect("valid");
         let s: Vec<f64> = (0..4)
-            .map(|k| support(values[k], stds[k], values[4 + k], stds[4 + k]))
+            .map(|k| support(values[2 * k], stds[k], values[2 * k + 1], stds[k]))
             .collect();
         let simple = 1.0 - s.iter().map(|v| 1.0 - v).product::<f64>();
         let mass = table.association_mass(0, 1, Combination::SimpleSupport);
         assert!((mass - simple).abs() < 1e-15);
+        assert_eq!(
+            mass,
+            expanded.association_mass(0, 1, Combination::SimpleSupport)
+        );
         assert!(mass > 0.6, "the paper keeps T1–T4: {mass}");
         let strict = table.association_mass(0, 1, Combination::TwoOutcome);
         assert!(strict < 0.6, "the two-outcome reading prunes it: {strict}");
@@ -260,13 +296,13 @@ mod tests {
     fn the_quick_refusal_decides_as_the_full_mass_does() {
         // Pairs straddling the threshold: attribute differences on a fine grid around the
         // exponent where a pair of equal exponents sits exactly at η.
-        let mut values = vec![0.0; 3];
-        let stds = [1.0; 6];
+        let mut values = vec![0.0; 6];
+        let stds = [1.0; 3];
         let mut rows = Vec::new();
         for step in 0..4000 {
             let d = 0.5 + step as f64 * 1e-3;
             values.clear();
-            values.extend([0.0, 0.0, 0.0, d, d, d * 0.999]);
+            values.extend([0.0, d, 0.0, d, 0.0, d * 0.999]); // attribute-major, 2 rows
             rows.push(values.clone());
         }
         for eta in [0.05, 0.6, 0.95] {

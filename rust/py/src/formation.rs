@@ -13,8 +13,8 @@ use passive_assoc_core::evidence::{AttributeGate, AttributeTable};
 use passive_assoc_core::formation::{locate, FormationOptions, FormationOutput, Reference};
 use passive_assoc_core::parallel::with_threads;
 
-/// `passive_assoc._settings.AttributeEvidence`, read by attribute: per-row attribute values
-/// and stds, both `(N, K)` float64, and the gate.
+/// `passive_assoc._settings.AttributeEvidence`, read by attribute: the attribute columns
+/// stacked `(K, N)` float64, their stds `(K, N)` or one per attribute `(K, 1)`, and the gate.
 #[derive(FromPyObject)]
 pub struct AttributesArg<'py> {
     values: PyReadonlyArray2<'py, f64>,
@@ -26,14 +26,14 @@ pub struct AttributesArg<'py> {
 impl AttributesArg<'_> {
     /// The gate over the table's rows (`n_rows` must match the measurements).
     pub fn gate(&self, n_rows: usize) -> BindResult<AttributeGate<'_>> {
-        let (rows, k) = (self.values.shape()[0], self.values.shape()[1]);
-        if rows != n_rows || self.stds.shape() != self.values.shape() {
+        let (k, rows) = (self.values.shape()[0], self.values.shape()[1]);
+        let std_shape = self.stds.shape();
+        if rows != n_rows || std_shape[0] != k || !(std_shape[1] == rows || std_shape[1] == 1) {
             return Err(value_error(
                 "attributes",
                 format!(
-                    "values {:?} and stds {:?} must both be ({n_rows}, K)",
-                    self.values.shape(),
-                    self.stds.shape()
+                    "values {:?} must be (K, {n_rows}) and stds (K, {n_rows}) or (K, 1), got stds {std_shape:?}",
+                    self.values.shape()
                 ),
             ));
         }

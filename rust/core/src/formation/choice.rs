@@ -51,23 +51,28 @@ impl Scene<'_> {
                 false => ByAlong::new(&subsets[k]),
             })
             .collect();
-        let mut best: Option<(f64, Vec<usize>)> = None;
         let mut picks = vec![0usize; self.lines.len()];
-        for (r, point) in subsets[reference].iter().enumerate() {
+        let complete = |r: usize, picks: &mut [usize]| {
+            let along = subsets[reference][r].along;
             for k in others() {
                 picks[k] = if k == reference {
                     r
                 } else {
-                    by_along[k].nearest(point.along)
+                    by_along[k].nearest(along)
                 };
             }
+        };
+        let mut best: Option<(f64, usize)> = None;
+        for r in 0..subsets[reference].len() {
+            complete(r, &mut picks);
             counts.candidates += 1;
             let radius = self.radius(base_index, subsets, &picks);
-            if best.as_ref().is_none_or(|(b, _)| radius < *b) {
-                best = Some((radius, picks.clone()));
+            if best.is_none_or(|(b, _)| radius < b) {
+                best = Some((radius, r));
             }
         }
-        let (radius, picks) = best?;
+        let (radius, r) = best?;
+        complete(r, &mut picks);
         let mut lines = vec![base_index as u32; self.lines.len()];
         let mut support = vec![f64::NAN; self.lines.len()];
         for k in others() {

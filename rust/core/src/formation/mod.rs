@@ -20,5 +20,5 @@ mod subsets;
 mod tests;
 
 pub use locate::{locate, FormationOutput};
-pub use options::{ClusterRadius, FormationOptions, Reference, Region};
+pub use options::{triangulation_fit_options, ClusterRadius, FormationOptions, Reference, Region};
 pub use subsets::PruneCounts;

@@ -75,7 +75,7 @@ impl Default for FormationOptions {
     /// The paper's settings (η and the Dempster reading belong to the attribute gate,
     /// [`crate::evidence::AttributeGate`]): baseline sensor 0, the
     /// smallest reference subset, the planar radius, independent baselines, R_max = 200 km,
-    /// no region, full lines (not only in front of the sensors).
+    /// no region, full lines (not only in front of the sensors), [`triangulation_fit_options`].
     fn default() -> Self {
         Self {
             baseline: 0,
@@ -85,9 +85,18 @@ impl Default for FormationOptions {
             r_max: 200e3,
             region: None,
             in_front: false,
-            fit: FitOptions::default(),
+            fit: triangulation_fit_options(),
         }
     }
+}
+
+/// The Gauss-Newton settings of the triangulation: the library defaults, except that a step
+/// shorter than 10⁻³ standard deviations ends the fit (as the static enumeration's): the start,
+/// the mean of the chosen lines' intersections, is already close, and the position is then
+/// within ~10⁻³σ of the ML point — far inside its own covariance — in 1–2 fewer iterations.
+pub fn triangulation_fit_options() -> FitOptions {
+    let defaults = FitOptions::default();
+    defaults.with_step_sigmas(1e-3).unwrap_or(defaults)
 }
 
 impl FormationOptions {

@@ -65,8 +65,12 @@ fn run(scene: &Scene, attributes: bool, options: &FormationOptions) -> Formation
     let meas = Measurements::new(&sensors, &scene.sensor, &scene.time, &scene.azimuth, &[])
         .expect("measurements");
     let n = scene.sensor.len();
+    let (values, stds) = (
+        attribute_major(&scene.values, 4),
+        attribute_major(&scene.stds, 4),
+    );
     let gate = attributes.then(|| {
-        let table = AttributeTable::new(&scene.values, &scene.stds, n, 4).expect("table");
+        let table = AttributeTable::new(&values, &stds, n, 4).expect("table");
         AttributeGate::new(table, Combination::SimpleSupport, 0.6).expect("gate")
     });
     locate(&sensors, &meas, gate, options).expect("locate")
@@ -178,4 +182,12 @@ fn bad_networks_and_options_are_errors_naming_the_argument() {
     let gate = AttributeGate::new(short, Combination::SimpleSupport, 0.6).expect("gate");
     let e = locate(&sensors, &meas, Some(gate), &FormationOptions::default()).expect_err("rows");
     assert!(e.to_string().starts_with("attributes"));
+}
+
+/// Row-major `N × k` → the core's attribute-major `k × N`.
+fn attribute_major(row_major: &[f64], k: usize) -> Vec<f64> {
+    let n = row_major.len() / k;
+    (0..k * n)
+        .map(|at| row_major[(at % n) * k + at / n])
+        .collect()
 }
