@@ -148,7 +148,30 @@ KF_POLAR = pa.KalmanFilter(measurement="polar", process_noise=1.0)
 KF_T = np.array([0.0, 1.0, 2.0])
 KF_Z = np.array([[0.0, 0.0], [10.0, 5.0], [20.0, 10.0]])
 
+
+def _two_dense_sensors(n: int) -> tuple[pa.MeasurementTable, pa.SensorNetwork]:
+    """n bearings per sensor, every pair of which meets: n² partial tuples."""
+    rng = np.random.default_rng(0)
+    sensors = pa.SensorNetwork.planar(np.array([[-1e4, 0.0], [1e4, 0.0]]), 1e-3)
+    table = pa.MeasurementTable.from_arrays(np.repeat([0, 1], n), np.zeros(2 * n), rng.uniform(0.5, 2.5, 2 * n))
+    return table, sensors
+
+
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
+    (
+        # 2 x 20 000 reports once aborted the interpreter allocating the pair list (15 GB);
+        # the pairs are now decoded, never listed, and the cap stops the work.
+        "enumerate_candidates cap on a dense scan",
+        lambda: pa.enumerate_candidates(*_two_dense_sensors(3000), pd=0.9, max_candidates=1000),
+        ValueError,
+        "candidate tuples: 1001 exceeds the cap of 1000",
+    ),
+    (
+        "fit_ml group longer than the table",
+        lambda: pa.fit_ml(TABLE, SENSORS, [np.zeros(len(TABLE) + 1, dtype=np.int64)]),
+        ValueError,
+        "indices: problem 0 has",
+    ),
     (
         "assign_sd all-zero tuple",
         lambda: pa.assign_sd([[0, 0, 0], [1, 1, 1]], [-3.0, -5.0], [1, 1, 1]),

@@ -9,6 +9,7 @@
 //! (and every counter) is identical for any thread count without a final sort. A shared atomic
 //! counter enforces `max_candidates`; the error is raised iff the total exceeds the cap.
 
+use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
@@ -209,9 +210,10 @@ impl Prepared<'_> {
         out.stages.candidates += 1;
     }
 
-    /// The subtrees where sensors 0 and 1 take the choices `tasks` (0 = missed, else
-    /// 1-based), in order, into one output.
-    fn run_tasks(&self, tasks: &[(usize, usize)], shared: &Shared) -> Output {
+    /// The subtrees of tasks `tasks` in order, into one output. Task `t` is sensor 0 taking
+    /// choice `t / second` and sensor 1 choice `t % second` (0 = missed, else 1-based): decoded,
+    /// never listed, since the list of all pairs is as large as the two sensors' product.
+    fn run_tasks(&self, tasks: Range<usize>, second: usize, shared: &Shared) -> Output {
         let s_count = self.n_sensors;
         let mut ctx = Ctx {
             tuple: vec![0; s_count],
@@ -224,7 +226,11 @@ impl Prepared<'_> {
             },
         };
         let choice = |i: usize| i.checked_sub(1);
-        for &(i0, i1) in tasks {
+        for t in tasks {
+            if shared.abort.load(Ordering::Relaxed) {
+                break; // over the cap: the caller discards everything
+            }
+            let (i0, i1) = (t / second, t % second);
             ctx.obs.clear();
             if let Some(first) = self.branch(0, choice(i0), &ROOT, &mut ctx) {
                 if let Some(second) = self.branch(1, choice(i1), &first, &mut ctx) {
@@ -236,8 +242,13 @@ impl Prepared<'_> {
     }
 }
 
-/// Tasks per parallel chunk: a function of the problem only, never of the thread count.
+/// Fewest tasks per parallel chunk. The chunk size is a function of the problem only, never
+/// of the thread count, so the concatenated output is the same for any pool.
 const TASKS_PER_CHUNK: usize = 16;
+
+/// Most chunks: a chunk's output has a fixed overhead, so a huge pair count gets bigger chunks
+/// rather than millions of outputs.
+const MAX_CHUNKS: usize = 1 << 14;
 
 /// Enumerates the candidate tuples of one scan (times are ignored) with their ML positions,
 /// covariances and eq. 2 costs. Runs on the current rayon pool (wrap in
@@ -272,16 +283,16 @@ pub fn enumerate_with_attributes(
 pub(crate) fn enumerate_prepared(p: &Prepared<'_>) -> CoreResult<Candidates> {
     let s_count = p.n_sensors;
     let sizes: Vec<usize> = p.rays.iter().map(Vec::len).collect();
-    let tasks: Vec<(usize, usize)> = (0..=sizes[0])
-        .flat_map(|a| (0..=sizes[1]).map(move |b| (a, b)))
-        .collect();
+    let second = sizes[1] + 1;
+    let n_tasks = (sizes[0] + 1).saturating_mul(second);
+    let chunk = TASKS_PER_CHUNK.max(n_tasks.div_ceil(MAX_CHUNKS));
     let shared = Shared {
         count: AtomicUsize::new(0),
         abort: AtomicBool::new(false),
     };
-    let parts: Vec<Output> = tasks
-        .par_chunks(TASKS_PER_CHUNK)
-        .map(|chunk| p.run_tasks(chunk, &shared))
+    let parts: Vec<Output> = (0..n_tasks.div_ceil(chunk))
+        .into_par_iter()
+        .map(|c| p.run_tasks(c * chunk..((c + 1) * chunk).min(n_tasks), second, &shared))
         .collect();
     if shared.abort.load(Ordering::Relaxed) {
         return Err(CoreError::CapExceeded {

@@ -60,6 +60,18 @@ impl Problems<'_> {
             ));
         }
         for p in 0..self.len() {
+            // More indices than rows means a repeated measurement; it would also size the
+            // problem's buffers by the caller's count instead of by the table (10⁸ indices
+            // of a small table once asked for gigabytes).
+            if self.rows(p).len() > n_rows {
+                return Err(CoreError::out_of_range(
+                    "indices",
+                    format!(
+                        "problem {p} has {} indices but the table has {n_rows} measurements; each may enter a fit once",
+                        self.rows(p).len()
+                    ),
+                ));
+            }
             let scalars = self.rows(p).len() * angles_per_row;
             if scalars < dim {
                 return Err(CoreError::ill_posed(
