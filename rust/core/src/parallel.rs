@@ -2,28 +2,29 @@
 //! specific count, in which case a pool of that size runs it; results never depend on the
 //! count because every parallel stage collects in input order or sums integers.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use crate::error::{CoreError, CoreResult};
 
-/// Pool sizes kept at once. A caller uses one or two sizes over and over; one sweeping
-/// `n_threads` over many values would otherwise leave every pool's threads parked for good.
+/// Pool sizes kept at once per calling thread. A caller uses one or two sizes over and over;
+/// one sweeping `n_threads` over many values would otherwise leave every pool's threads parked
+/// for good. A calling thread's pools end with it.
 const MAX_CACHED_POOLS: usize = 4;
 
-/// Pools by size, built once: starting threads costs more than a small call's work
-/// (a per-scan association or a single fit asked for on one thread).
+/// Pools by size, built once per calling thread: starting threads costs more than a small
+/// call's work (a per-scan association or a single fit asked for on one thread). Per calling
+/// thread, not per process: with one shared pool of each size, two Python threads that each
+/// asked for one thread queued on the same worker and ran one after the other.
 fn pool(threads: usize) -> CoreResult<Arc<ThreadPool>> {
-    static POOLS: OnceLock<Mutex<HashMap<usize, Arc<ThreadPool>>>> = OnceLock::new();
-    let pools = POOLS.get_or_init(|| Mutex::new(HashMap::new()));
-    // A poisoned lock only means another thread panicked while inserting; the map is intact.
-    let mut pools = pools
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
-    if let Some(pool) = pools.get(&threads) {
-        return Ok(Arc::clone(pool));
+    thread_local! {
+        static POOLS: RefCell<HashMap<usize, Arc<ThreadPool>>> = RefCell::new(HashMap::new());
+    }
+    if let Some(pool) = POOLS.with(|pools| pools.borrow().get(&threads).cloned()) {
+        return Ok(pool);
     }
     let pool = ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -32,7 +33,7 @@ fn pool(threads: usize) -> CoreResult<Arc<ThreadPool>> {
         .map_err(|e| {
             CoreError::out_of_range("n_threads", format!("cannot start {threads} threads: {e}"))
         })?;
-    remember(&mut pools, threads, Arc::clone(&pool));
+    POOLS.with(|pools| remember(&mut pools.borrow_mut(), threads, Arc::clone(&pool)));
     Ok(pool)
 }
 
@@ -81,6 +82,16 @@ mod tests {
         assert!(Arc::ptr_eq(&a, &b));
         assert!(with_threads(Some(0), || ()).is_err());
         assert!(with_threads(Some(MAX_THREADS + 1), || ()).is_err());
+    }
+
+    #[test]
+    fn calling_threads_get_their_own_pools() {
+        let here = pool(1).expect("pool");
+        let there = std::thread::spawn(|| pool(1).expect("pool"))
+            .join()
+            .expect("thread");
+        assert!(!Arc::ptr_eq(&here, &there));
+        assert!(Arc::ptr_eq(&here, &pool(1).expect("pool")));
     }
 
     #[test]
