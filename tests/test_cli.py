@@ -133,3 +133,21 @@ def test_reproduce_formation_is_listed_and_its_help_says_what_is_printed(capsys:
     text = capsys.readouterr().out
     assert "Table 2 (azimuth only) and Table 3" in text and "'ours / paper'" in text
     assert all(option in text for option in ("--runs", "--seed", "--workers", "--noise", "--plot", "--json"))
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["reproduce", "fti", "--workers", "0"], "--workers: expected an integer >= 1, got 0"),
+        (["reproduce", "formation", "--runs", "-4"], "--runs: expected an integer >= 1, got -4"),
+        (["reproduce", "wavelet", "--seed", "-1"], "--seed: expected an integer >= 0, got -1"),
+        (["reproduce", "topology", "--json", ""], "--json: expected a file name"),
+        (["reproduce", "intensity", "--plot", "/no/such/dir/x.png"], "does not exist"),
+    ],
+)
+def test_bad_options_are_usage_errors(argv: list[str], message: str, capsys: pytest.CaptureFixture[str]) -> None:
+    """argparse refuses them before any work (exit status 2, the message on stderr)."""
+    with pytest.raises(SystemExit) as exit_info:
+        cli_main(argv)
+    assert exit_info.value.code == 2
+    assert message in capsys.readouterr().err

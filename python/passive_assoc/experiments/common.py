@@ -3,6 +3,7 @@ may execute on several worker threads, and JSON output."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import sys
@@ -15,6 +16,40 @@ import numpy as np
 from tqdm import tqdm
 
 R = TypeVar("R")
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an integer ≥ 1 (``--runs``, ``--workers``), so ``--workers 0`` is a usage
+    error rather than a traceback or a silent fallback."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {value}")
+    return value
+
+
+def seed_int(text: str) -> int:
+    """argparse type: a seed NumPy accepts, an integer ≥ 0."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
+    return value
+
+
+def output_file(text: str) -> str:
+    """argparse type: a file to write, non-empty, in a directory that exists (checked before a
+    long run, not after it)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a file name, got an empty string")
+    parent = Path(text).expanduser().resolve().parent
+    if not parent.is_dir():
+        raise argparse.ArgumentTypeError(f"the directory {str(parent)!r} does not exist")
+    return text
 
 
 def run_seeds(seed: int, runs: int) -> list[np.random.SeedSequence]:

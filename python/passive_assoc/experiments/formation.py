@@ -43,7 +43,7 @@ from ..simulation.formation import (
     paper_formation_scene,
 )
 from ..static_los import StaticAssociation, StaticAssociator
-from .common import print_rows, write_json
+from .common import output_file, positive_int, print_rows, seed_int, write_json
 
 #: Methods in print order, with their row titles.
 METHODS = {
@@ -362,17 +362,23 @@ every target at 1° and beat it on targets 3-6."""
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.description = f"{parser.description}.\n\n{_HELP}"
-    parser.add_argument("--runs", type=int, default=1000, help="Monte-Carlo runs per sigma and mode (default 1000)")
-    parser.add_argument("--seed", type=int, default=1, help="base seed (default 1)")
-    parser.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument(
+        "--runs", type=positive_int, default=1000, help="Monte-Carlo runs per sigma and mode (default 1000)"
+    )
+    parser.add_argument("--seed", type=seed_int, default=1, help="base seed (default 1)")
+    parser.add_argument("--workers", type=positive_int, default=1, help="worker processes (default 1)")
     parser.add_argument(
         "--noise",
         choices=["paper", "realistic", "both"],
         default="both",
         help="paper: bearings uniform on ±σθ, attributes exact; realistic: Gaussian both (default both)",
     )
-    parser.add_argument("--plot", metavar="FILE", help="save one run's meetings and the rates against σθ")
-    parser.add_argument("--json", metavar="FILE", help="save every rate, the paper's tables and the settings")
+    parser.add_argument(
+        "--plot", metavar="FILE", type=output_file, help="save one run's meetings and the rates against σθ"
+    )
+    parser.add_argument(
+        "--json", metavar="FILE", type=output_file, help="save every rate, the paper's tables and the settings"
+    )
 
 
 def main(args: argparse.Namespace) -> int:

@@ -18,7 +18,7 @@ from ..evaluation import gospa
 from ..simulation.static_los import SQUARE_X, SQUARE_Y, StaticScan, static_scan
 from ..static_los import associate_static, enumerate_candidates
 from ..static_los.associator import Method
-from .common import fmt, map_runs, print_rows, run_seeds, write_json
+from .common import fmt, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 from .intensity_timing import METHODS, Solvers, print_timing, timing_table
 
 PAPER_ACCURACY = {5: {"lagrangian": 35.0, "intensity": 39.0}, 15: {"lagrangian": 58.0, "intensity": 67.0}}
@@ -179,9 +179,9 @@ def print_accuracy(table: dict[str, Any], runs: int, n_targets: int) -> None:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--runs", type=int, default=200, help="Monte-Carlo runs per R (default 200)")
-    parser.add_argument("--seed", type=int, default=2026, help="master seed (default 2026)")
-    parser.add_argument("--workers", type=int, default=1, help="runs executed concurrently (default 1)")
+    parser.add_argument("--runs", type=positive_int, default=200, help="Monte-Carlo runs per R (default 200)")
+    parser.add_argument("--seed", type=seed_int, default=2026, help="master seed (default 2026)")
+    parser.add_argument("--workers", type=positive_int, default=1, help="runs executed concurrently (default 1)")
     parser.add_argument("--targets", type=int, default=10, help="M for the accuracy table (paper: 10)")
     parser.add_argument(
         "--ratios", type=float, nargs="+", default=[5, 10, 15, 20], help="R values (default 5 10 15 20)"
@@ -224,9 +224,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--max-m", type=int, default=500, help="largest M in Table 1 (default 500)")
     parser.add_argument(
-        "--plot", metavar="FILE", help="save a picture of one scan: lines of sight, candidates, accepted targets"
+        "--plot",
+        metavar="FILE",
+        type=output_file,
+        help="save a picture of one scan: lines of sight, candidates, accepted targets",
     )
-    parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
+    parser.add_argument("--json", metavar="FILE", type=output_file, help="save every printed figure as JSON")
 
 
 def main(args: argparse.Namespace) -> int:

@@ -24,7 +24,7 @@ from ..estimation.kalman import KalmanFilter
 from ..evaluation.track_scores import track_association_scores
 from ..simulation.topology import RadarScenario, paper_topology_scenario
 from ..topology import TopologyAssociator
-from .common import map_runs, print_rows, run_seeds, write_json
+from .common import map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 
 #: The paper's precision, recall and F1 (%); its text swaps precision and recall (METHODS §4).
 PAPER = {"precision": 99.9034, "recall": 99.5362, "f1": 99.7195}
@@ -171,9 +171,9 @@ def print_report(summary: dict[str, Any], settings: dict[str, Any]) -> None:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--runs", type=int, default=20, help="Monte-Carlo runs per bias level (default 20)")
-    parser.add_argument("--seed", type=int, default=1, help="base seed (default 1)")
-    parser.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument("--runs", type=positive_int, default=20, help="Monte-Carlo runs per bias level (default 20)")
+    parser.add_argument("--seed", type=seed_int, default=1, help="base seed (default 1)")
+    parser.add_argument("--workers", type=positive_int, default=1, help="worker processes (default 1)")
     parser.add_argument(
         "--bias", type=float, nargs="+", default=[0.0, 1.0, 3.0, 5.0], help="bias levels B, degrees (0 1 3 5)"
     )
@@ -184,8 +184,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--process-noise", type=float, default=PROCESS_NOISE, help=f"local trackers' q, m²/s³ ({PROCESS_NOISE:g})"
     )
-    parser.add_argument("--plot", metavar="FILE", help="save the pictures and F1 against bias (PNG/PDF)")
-    parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
+    parser.add_argument(
+        "--plot", metavar="FILE", type=output_file, help="save the pictures and F1 against bias (PNG/PDF)"
+    )
+    parser.add_argument("--json", metavar="FILE", type=output_file, help="save every printed figure as JSON")
 
 
 def main(args: argparse.Namespace) -> int:

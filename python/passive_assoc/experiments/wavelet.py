@@ -35,7 +35,7 @@ from ..radar_esm import (
     filter_reports,
 )
 from ..simulation.radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, paper_wavelet_scenario
-from .common import map_runs, print_rows, run_seeds, write_json
+from .common import map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 
 #: The paper's correct-association probabilities (its §5), as ranges over scans.
 PAPER = {"wavelet": (0.88, 0.93), "nearest": (0.72, 0.85)}
@@ -246,9 +246,11 @@ def print_summary(levels: dict[int, Any], runs: int) -> None:
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--runs", type=int, default=1000, help="Monte-Carlo runs per clutter level (default 1000)")
-    parser.add_argument("--seed", type=int, default=1, help="base seed (default 1)")
-    parser.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument(
+        "--runs", type=positive_int, default=1000, help="Monte-Carlo runs per clutter level (default 1000)"
+    )
+    parser.add_argument("--seed", type=seed_int, default=1, help="base seed (default 1)")
+    parser.add_argument("--workers", type=positive_int, default=1, help="worker processes (default 1)")
     parser.add_argument(
         "--clutter", type=int, nargs="+", default=[0, 1, 2, 5], help="false tracks per sensor (0 1 2 5)"
     )
@@ -267,8 +269,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--demo-runs", type=int, default=100, help="runs of the 2-D radar + passive demo (100; 0: none)"
     )
-    parser.add_argument("--plot", metavar="FILE", help="save the tracks of one run and P(correct) against scan")
-    parser.add_argument("--json", metavar="FILE", help="save every printed figure as JSON")
+    parser.add_argument(
+        "--plot", metavar="FILE", type=output_file, help="save the tracks of one run and P(correct) against scan"
+    )
+    parser.add_argument("--json", metavar="FILE", type=output_file, help="save every printed figure as JSON")
 
 
 def main(args: argparse.Namespace) -> int:
