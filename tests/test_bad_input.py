@@ -159,6 +159,20 @@ def _two_dense_sensors(n: int) -> tuple[pa.MeasurementTable, pa.SensorNetwork]:
 
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
     (
+        # returned 8.403 where the optimum is 0: 1e300 − 1e300 is lost to rounding
+        "linear_assignment cost beyond ±1e150",
+        lambda: pa.linear_assignment([[1e300, 11.07], [-2.667, -1e300]]),
+        ValueError,
+        "costs: entry 0 is 1e300; finite costs must lie within ±1e150",
+    ),
+    (
+        # overflowed to −inf and was reported optimal
+        "assign_sd cost beyond ±1e150",
+        lambda: pa.assign_sd([[1, 1, 0], [0, 1, 1]], [-1e308, -1e308], [1, 1, 1], method="exact"),
+        ValueError,
+        "costs: entry 0 is -1e308",
+    ),
+    (
         # 2 x 20 000 reports once aborted the interpreter allocating the pair list (15 GB);
         # the pairs are now decoded, never listed, and the cap stops the work.
         "enumerate_candidates cap on a dense scan",

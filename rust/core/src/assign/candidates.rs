@@ -47,6 +47,7 @@ impl CandidateSet {
             ));
         }
         ensure_finite("costs", &costs)?;
+        super::check_cost_range("costs", &costs)?;
         Ok(Self {
             n_sensors,
             sizes,

@@ -24,7 +24,28 @@ mod sd_problem;
 
 pub use candidates::CandidateSet;
 
-use crate::error::{parse_option, UnknownOption};
+use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+
+/// Largest magnitude of a finite cost any solver accepts. The solvers add and subtract costs
+/// (dual potentials, path lengths, bounds): within ±1e150 every such sum of up to 1e150 terms
+/// stays finite, where ±1e308 once overflowed to −inf and was reported optimal. Results are
+/// optimal to within floating-point rounding, about n · max|c| · 2⁻⁵², so costs spanning many
+/// orders of magnitude lose their small terms (scale them first).
+pub const MAX_ABS_COST: f64 = 1e150;
+
+/// A `CoreError` naming `arg` for the first finite value beyond ±[`MAX_ABS_COST`].
+pub fn check_cost_range(arg: &'static str, values: &[f64]) -> CoreResult<()> {
+    match values.iter().position(|c| c.is_finite() && c.abs() > MAX_ABS_COST) {
+        Some(index) => Err(CoreError::out_of_range(
+            arg,
+            format!(
+                "entry {index} is {:e}; finite costs must lie within ±{MAX_ABS_COST:e} so that sums of them stay finite",
+                values[index]
+            ),
+        )),
+        None => Ok(()),
+    }
+}
 pub use sd_problem::{SdProblem, MAX_REPORTS_PER_SENSOR};
 
 /// Which S-D solver to run.

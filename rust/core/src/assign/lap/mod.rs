@@ -52,6 +52,7 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
             index,
         });
     }
+    super::check_cost_range("costs", costs)?;
     let mut row_to_col = vec![None; n_rows];
     if n_rows <= n_cols {
         let col4row = sap::dense(n_rows, n_cols, costs)?;
@@ -123,6 +124,8 @@ pub fn solve_sparse(
     }
     crate::error::ensure_finite("row_unassigned", row_unassigned)?;
     crate::error::ensure_finite("col_unassigned", col_unassigned)?;
+    super::check_cost_range("row_unassigned", row_unassigned)?;
+    super::check_cost_range("col_unassigned", col_unassigned)?;
     Ok(sparse_core(costs, row_unassigned, col_unassigned))
 }
 

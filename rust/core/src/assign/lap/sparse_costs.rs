@@ -67,6 +67,7 @@ impl SparseCosts {
             ));
         }
         crate::error::ensure_finite("values", &values)?;
+        crate::assign::check_cost_range("values", &values)?;
         Ok(Self {
             n_rows,
             n_cols,
