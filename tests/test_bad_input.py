@@ -159,6 +159,19 @@ def _two_dense_sensors(n: int) -> tuple[pa.MeasurementTable, pa.SensorNetwork]:
 
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
     (
+        # accepted, and the covariances came back NaN
+        "SensorNetwork sigma 1e-300",
+        lambda: pa.SensorNetwork.planar(np.array([[0.0, 0.0], [1e4, 0.0]]), 1e-300),
+        ValueError,
+        "sigma_azimuth[0] = ",
+    ),
+    (
+        "SensorNetwork sigma 1e300",
+        lambda: pa.SensorNetwork.planar(np.array([[0.0, 0.0], [1e4, 0.0]]), 1e300),
+        ValueError,
+        "an angle std must lie in",
+    ),
+    (
         # returned 8.403 where the optimum is 0: 1e300 − 1e300 is lost to rounding
         "linear_assignment cost beyond ±1e150",
         lambda: pa.linear_assignment([[1e300, 11.07], [-2.667, -1e300]]),

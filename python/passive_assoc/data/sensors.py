@@ -7,6 +7,7 @@ Conventions (METHODS §0): x east, y north, z up, metres; angles in radians. A 2
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,8 +29,15 @@ __all__ = ["SensorNetwork", "COINCIDENCE_TOLERANCE"]
 COINCIDENCE_TOLERANCE = 1e-9
 
 
+#: Accepted angle noise stds, radians. Below 1e-12 the information 1/σ² (≳ 1e24 per
+#: measurement) overflows the fitter's sums at long ranges and covariances came back NaN;
+#: above π an angle carries no information (a wrapped residual is at most π).
+ANGLE_STD_RANGE = (1e-12, math.pi)
+
+
 def _sigma_array(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
-    """Broadcast a scalar or per-sensor std to shape ``(n,)`` and check it is > 0."""
+    """Broadcast a scalar or per-sensor std to shape ``(n,)`` and check it lies in
+    :data:`ANGLE_STD_RANGE`."""
     arr = as_float_array(name, value)
     if arr.ndim == 0:
         arr = np.full(n, float(arr))
@@ -37,6 +45,11 @@ def _sigma_array(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
         raise ValueError(f"{name}: expected a scalar or shape ({n},) (one per sensor), got {arr.shape}")
     require_finite(name, arr)
     require_positive(name, arr)
+    low, high = ANGLE_STD_RANGE
+    outside = np.flatnonzero((arr < low) | (arr > high))
+    if outside.size:
+        i = int(outside[0])
+        raise ValueError(f"{name}[{i}] = {arr[i]!r} rad; an angle std must lie in [{low:g}, π]")
     return arr
 
 

@@ -90,11 +90,20 @@ impl<'a> Sensors<'a> {
     }
 }
 
+/// Accepted angle noise stds, radians (as the Python `SensorNetwork`'s `ANGLE_STD_RANGE`):
+/// below 1e-12 the information 1/σ² overflows the fitter's sums at long ranges, above π an
+/// angle carries no information.
+pub const ANGLE_STD_RANGE: (f64, f64) = (1e-12, std::f64::consts::PI);
+
 fn check_stds(arg: &'static str, stds: &[f64]) -> CoreResult<()> {
-    match stds.iter().position(|s| !(s.is_finite() && *s > 0.0)) {
+    let (low, high) = ANGLE_STD_RANGE;
+    match stds.iter().position(|s| !(*s >= low && *s <= high)) {
         Some(j) => Err(CoreError::out_of_range(
             arg,
-            format!("sensor {j} has std {}, must be finite and > 0", stds[j]),
+            format!(
+                "sensor {j} has std {} rad, must lie in [{low:e}, π]",
+                stds[j]
+            ),
         )),
         None => Ok(()),
     }
