@@ -49,7 +49,7 @@ def _sigma_array(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
     outside = np.flatnonzero((arr < low) | (arr > high))
     if outside.size:
         i = int(outside[0])
-        raise ValueError(f"{name}[{i}] = {arr[i]!r} rad; an angle std must lie in [{low:g}, π]")
+        raise ValueError(f"{name}[{i}] = {float(arr[i])!r} rad; an angle std must lie in [{low:g}, π]")
     return arr
 
 
