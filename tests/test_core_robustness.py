@@ -6,6 +6,8 @@ back; PanicException derives from BaseException, so `except Exception` does not 
 from __future__ import annotations
 
 import contextlib
+import subprocess
+import sys
 from types import SimpleNamespace
 from typing import Any
 
@@ -339,3 +341,30 @@ def test_a_huge_time_limit_is_a_value_error_not_a_panic() -> None:
     settings = SdSettings("exact", 200, 1e-3, 10_000_000, 1e20, "auto", "auto", False)
     with pytest.raises(ValueError, match="time_limit"):
         _core.assign_sd(np.array([[1, 1, 1]], I64), np.array([-5.0]), np.array([1, 1, 1], I64), settings)
+
+
+_OOM_SCRIPT = """
+import resource
+import numpy as np
+import passive_assoc as pa
+
+resource.setrlimit(resource.RLIMIT_AS, (3 << 29, 3 << 29))  # 1.5 GB of address space
+rng = np.random.default_rng(0)
+sensor = np.repeat([0, 1, 0, 1], 500)
+time = np.repeat([0.0, 0.0, 30.0, 30.0], 500)
+table = pa.MeasurementTable.from_arrays(sensor, time, rng.uniform(0.3, 2.8, 2000))
+sensors = pa.SensorNetwork.planar(np.array([[-2e4, 0.0], [2e4, 0.0]]), 2e-3)
+try:
+    pa.FuzzyTrackInitiator(v_max=None, max_candidates=10**9, ray_gate_sigmas=None).initiate(table, sensors)
+except MemoryError as err:
+    print("MemoryError", err)
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_AS is how the test bounds memory")
+def test_candidates_outgrowing_memory_raise_memory_error_not_abort() -> None:
+    """500 clutter bearings per sensor and scan, no v_max, a cap of 10⁹: the candidates once
+    grew until an allocation failed and the interpreter aborted."""
+    done = subprocess.run([sys.executable, "-c", _OOM_SCRIPT], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.startswith("MemoryError fitted candidates: could not allocate"), done.stdout

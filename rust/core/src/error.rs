@@ -22,6 +22,15 @@ pub enum CoreError {
     #[error("{arg}: {reason}")]
     IllPosed { arg: &'static str, reason: String },
 
+    /// Memory for a result that grows with the input could not be had (a `try_reserve` failed):
+    /// the bindings raise `MemoryError`, not an abort of the process.
+    #[error("{what}: could not allocate memory for {count} entries; {hint}")]
+    OutOfMemory {
+        what: &'static str,
+        count: usize,
+        hint: &'static str,
+    },
+
     /// A configurable resource cap was hit (e.g. too many candidates); raise the cap to go on.
     #[error("{what}: {count} exceeds the cap of {cap}; {hint}")]
     CapExceeded {
@@ -56,6 +65,20 @@ impl CoreError {
 }
 
 pub type CoreResult<T> = Result<T, CoreError>;
+
+/// Makes room for one more entry in `vec`, growing it by doubling through `try_reserve`: a
+/// failed allocation is [`CoreError::OutOfMemory`] instead of the process aborting.
+pub fn reserve_one<T>(vec: &mut Vec<T>, what: &'static str, hint: &'static str) -> CoreResult<()> {
+    if vec.len() < vec.capacity() {
+        return Ok(());
+    }
+    vec.try_reserve(vec.len().max(64))
+        .map_err(|_| CoreError::OutOfMemory {
+            what,
+            count: vec.len().saturating_mul(2),
+            hint,
+        })
+}
 
 /// Fails with [`CoreError::NonFinite`] at the first NaN/inf of `values`.
 pub fn ensure_finite(arg: &'static str, values: &[f64]) -> CoreResult<()> {

@@ -1,11 +1,12 @@
-//! The one place where core errors become Python exceptions. Every core variant describes a
-//! bad argument value, so all map to `ValueError`; wrong types are rejected by PyO3's own
-//! extraction as `TypeError` before the core is reached.
+//! The one place where core errors become Python exceptions. Every core variant but one
+//! describes a bad argument value and maps to `ValueError`; `OutOfMemory` maps to
+//! `MemoryError`. Wrong types are rejected by PyO3's own extraction as `TypeError` before the
+//! core is reached.
 //!
 //! The orphan rule forbids `impl From<CoreError> for PyErr` outside the core, so the bindings
 //! return [`BindResult`], whose error holds either side and converts to `PyErr` at the edge.
 
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::PyErr;
 
 use passive_assoc_core::error::CoreError;
@@ -33,6 +34,9 @@ impl From<PyErr> for BindError {
 impl From<BindError> for PyErr {
     fn from(err: BindError) -> PyErr {
         match err {
+            BindError::Core(core @ CoreError::OutOfMemory { .. }) => {
+                PyMemoryError::new_err(core.to_string())
+            }
             BindError::Core(core) => PyValueError::new_err(core.to_string()),
             BindError::Python(py) => py,
         }

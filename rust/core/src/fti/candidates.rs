@@ -30,7 +30,7 @@ use rayon::prelude::*;
 
 use super::scans::Scans;
 use super::{InitiationOptions, Problem, StageCounts};
-use crate::error::{CoreError, CoreResult};
+use crate::error::{reserve_one, CoreError, CoreResult};
 use crate::estimation::fit::gauss_newton::{fit_into, FitSlots};
 use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::los::{closest_points, direction, intersect_bearings, pseudo_linear_state};
@@ -154,6 +154,7 @@ fn ray_pairs(
                     hint: "tighten ray_gate, enable reject_behind, or raise max_candidates",
                 });
             }
+            reserve_one(&mut out, "ray pairs of one scan pair", OOM_HINT)?;
             out.push(RayPair {
                 rows: [ra, rb],
                 meeting,
@@ -247,13 +248,12 @@ fn combine(
             }
             chunk.push((f, l));
             if chunk.len() == CHUNK {
-                fit_chunk(problem, &chunk, options, set);
+                fit_chunk(problem, &chunk, options, set)?;
                 chunk.clear();
             }
         }
     }
-    fit_chunk(problem, &chunk, options, set);
-    Ok(())
+    fit_chunk(problem, &chunk, options, set)
 }
 
 fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) -> bool {
@@ -274,7 +274,7 @@ fn fit_chunk(
     chunk: &[(&RayPair, &RayPair)],
     options: &InitiationOptions,
     set: &mut CandidateSet,
-) {
+) -> CoreResult<()> {
     let start = Instant::now();
     let fitted: Vec<Option<Candidate>> = chunk
         .par_iter()
@@ -290,10 +290,16 @@ fn fit_chunk(
             continue;
         }
         set.counts.chi2_gate += 1;
+        reserve_one(&mut set.candidates, "fitted candidates", OOM_HINT)?;
         set.candidates.push(candidate);
     }
     set.seconds_fit += start.elapsed().as_secs_f64();
+    Ok(())
 }
+
+/// What to do when the candidates outgrow memory (max_candidates bounds them only by count).
+const OOM_HINT: &str =
+    "lower max_candidates, set v_max, tighten ray_gate_sigmas or enable reject_behind";
 
 /// Gauss-Newton fit of the 4 measurements from the triangulated start; `None` when the fit
 /// is singular or non-finite.
