@@ -71,7 +71,10 @@ pub fn locate(
         let mut counts = PruneCounts::default();
         let subsets = scene.subsets(&bases[b], &mut counts);
         let choice = scene.choose(b, &subsets, None, &mut counts);
-        (subsets, choice, counts)
+        // Only the one-to-one pass re-decides, so only it keeps the subsets (B × Σ|A_k|
+        // meetings: gigabytes for tens of thousands of reports per sensor).
+        let kept = if options.one_to_one() { subsets } else { Vec::new() };
+        (kept, choice, counts)
     };
     // Handing a small scene to the thread pool costs more than deciding it (the paper's
     // 3 × 6 scene: 28 µs through the pool, 13 µs here); both paths give the same output.
