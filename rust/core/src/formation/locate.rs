@@ -73,7 +73,11 @@ pub fn locate(
         let choice = scene.choose(b, &subsets, None, &mut counts);
         // Only the one-to-one pass re-decides, so only it keeps the subsets (B × Σ|A_k|
         // meetings: gigabytes for tens of thousands of reports per sensor).
-        let kept = if options.one_to_one() { subsets } else { Vec::new() };
+        let kept = if options.one_to_one() {
+            subsets
+        } else {
+            Vec::new()
+        };
         (kept, choice, counts)
     };
     // Handing a small scene to the thread pool costs more than deciding it (the paper's
