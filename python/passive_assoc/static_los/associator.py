@@ -117,7 +117,7 @@ class StaticAssociator:
         level, and the vote grows quadratically in the number of candidates (M = 300 targets
         took 1.5–2 minutes, M = 500 over 4). ``reproduce intensity`` runs the paper's rule up
         to M = 18 and 64 beyond (docs/experiments.md).
-    max_iter, gap_tol, time_limit, sensor_order, polish
+    max_iter, gap_tol, time_limit, sensor_order, polish, exact_backend
         Solver settings, as in :func:`passive_assoc.assign_sd`.
     max_candidates : int
         Refuse with a ValueError rather than enumerate more candidates than this.
@@ -147,6 +147,7 @@ class StaticAssociator:
     time_limit: float | None = 10.0
     sensor_order: Literal["auto", "given"] = "auto"
     polish: bool = False
+    exact_backend: Literal["auto", "branch_bound", "highs"] = "auto"
     max_candidates: int = 1_000_000
     n_threads: int | None = None
     attributes: Sequence[str] | None = ()
@@ -168,6 +169,7 @@ class StaticAssociator:
         "time_limit": [Interval(float, 0.0, None, closed="neither"), None],
         "sensor_order": [Options("auto", "given")],
         "polish": [Boolean()],
+        "exact_backend": [Options("auto", "branch_bound", "highs")],
         **ATTRIBUTE_CONSTRAINTS,
     }
 
@@ -233,6 +235,7 @@ class StaticAssociator:
                 time_limit=self.time_limit,
                 sensor_order=self.sensor_order,
                 polish=self.polish,
+                exact_backend=self.exact_backend,
             )
             chosen = solved.chosen
             report.update(

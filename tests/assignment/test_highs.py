@@ -1,0 +1,74 @@
+"""The exact S-D method's HiGHS backend: the same optimum as the branch-and-bound and as brute
+force, the "auto" hand-over, limits, and validation identical to the core's."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import passive_assoc as pa
+import pytest
+from numpy.typing import NDArray
+
+
+def _random_problem(
+    seed: int, n_sensors: int, n: int, density: float
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
+    rng = np.random.default_rng(seed)
+    grid = np.stack(np.meshgrid(*[np.arange(n + 1)] * n_sensors, indexing="ij"), -1).reshape(-1, n_sensors)
+    grid = grid[(grid > 0).sum(axis=1) >= 2]
+    tuples = grid[rng.random(len(grid)) < density]
+    return tuples, rng.normal(-5.0, 3.0, len(tuples)), np.full(n_sensors, n)
+
+
+def _brute_force(tuples: NDArray[np.int64], costs: NDArray[np.float64]) -> float:
+    best = 0.0
+    for r in range(1, len(tuples) + 1):
+        for subset in itertools.combinations(range(len(tuples)), r):
+            used = tuples[list(subset)]
+            if all(len(set(c[c > 0])) == (c > 0).sum() for c in used.T):
+                best = min(best, float(costs[list(subset)].sum()))
+    return best
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_every_backend_finds_the_brute_force_optimum(seed: int) -> None:
+    tuples, costs, sizes = _random_problem(seed, 3, 2, 0.5)
+    optimum = _brute_force(tuples, costs)
+    for backend in ("auto", "branch_bound", "highs"):
+        result = pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend=backend)
+        assert result.optimal and result.termination == "optimal"
+        assert result.primal_cost == pytest.approx(optimum, abs=1e-9)
+        assert result.primal_cost == pytest.approx(float(costs[result.chosen].sum()))
+
+
+def test_auto_hands_a_hard_problem_to_highs_and_proves_it() -> None:
+    tuples, costs, sizes = _random_problem(1, 3, 14, 0.15)  # K ≈ 500: beyond 50 000 nodes
+    search = pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend="branch_bound", max_nodes=50_000)
+    assert not search.optimal
+    auto = pa.assign_sd(tuples, costs, sizes, method="exact")
+    highs = pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend="highs")
+    assert auto.optimal and highs.optimal
+    assert auto.primal_cost == pytest.approx(highs.primal_cost, abs=1e-7)
+    assert auto.primal_cost <= search.primal_cost + 1e-9
+    assert auto.dual_bound <= auto.primal_cost + 1e-9
+    for result in (auto, highs):  # a packing: no report used twice
+        used = tuples[result.chosen]
+        assert all(len(set(col[col > 0])) == (col > 0).sum() for col in used.T)
+
+
+def test_a_tiny_time_limit_returns_a_feasible_unproven_answer() -> None:
+    tuples, costs, sizes = _random_problem(2, 5, 7, 0.02)
+    result = pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend="highs", time_limit=1e-3)
+    assert result.termination in ("optimal", "time_limit")
+    if not result.optimal:
+        assert result.primal_cost <= 0.0 and not result.success
+    used = tuples[result.chosen]
+    assert all(len(set(col[col > 0])) == (col > 0).sum() for col in used.T)
+
+
+def test_highs_refuses_what_the_core_refuses() -> None:
+    with pytest.raises(ValueError, match="tuples: row 0 column 1 is 3"):
+        pa.assign_sd([[1, 3, 1]], [-1.0], [1, 2, 1], method="exact", exact_backend="highs")
+    with pytest.raises(ValueError, match="exact_backend"):
+        pa.assign_sd([[1, 1, 1]], [-1.0], [1, 1, 1], method="exact", exact_backend="cplex")  # type: ignore[arg-type]
