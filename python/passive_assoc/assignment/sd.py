@@ -83,7 +83,7 @@ def assign_sd(
     time_limit: float | None = 10.0,
     warm_start: Literal["auto", "always", "never"] = "auto",
     sensor_order: Literal["auto", "given"] = "auto",
-    polish: bool = False,
+    polish: bool = True,
     exact_backend: Literal["auto", "branch_bound", "highs"] = "auto",
 ) -> SdAssignment:
     """Sparse S-D assignment: choose candidate tuples of minimum total cost such that every
@@ -124,9 +124,12 @@ def assign_sd(
     polish : bool
         Lagrangian: give the best solution, once at the end, compound moves the per-iteration
         search cannot make (bring in a tuple, evict what it conflicts with, refill the freed
-        reports). On paper scans it cut the primal's distance from the LP bound by 38-59 % from
-        M = 18 to 100, at 1.25-1.7 times the solve's time
-        (``python benches/bench_sensor_order.py``); off by default for speed. It runs only
+        reports). On by default, by measurement: on random S = 5 problems it took the answer
+        from 0.92 % to 0.18 % above the optimum on average (exact on 18 of 20 instead of 13)
+        for 1.8 → 2.2 ms, on S = 3 from 0.59 % to 0.34 % at the same time
+        (``python benches/bench_polish.py``); on paper scans it cut the primal's distance from
+        the LP bound by 38-59 % from M = 18 to 100, at 1.25-1.7 times the solve's time
+        (``python benches/bench_sensor_order.py``). ``polish=False`` for speed. It runs only
         when the solve ended on ``max_iter`` or a stalled step, and ``time_limit`` does not
         bound it.
 

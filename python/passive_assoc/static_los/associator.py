@@ -146,7 +146,7 @@ class StaticAssociator:
     gap_tol: float = 1e-3
     time_limit: float | None = 10.0
     sensor_order: Literal["auto", "given"] = "auto"
-    polish: bool = False
+    polish: bool = True
     exact_backend: Literal["auto", "branch_bound", "highs"] = "auto"
     max_candidates: int = 1_000_000
     n_threads: int | None = None
