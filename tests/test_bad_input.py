@@ -159,6 +159,20 @@ def _two_dense_sensors(n: int) -> tuple[pa.MeasurementTable, pa.SensorNetwork]:
 
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
     (
+        # the gradient came back NaN
+        "closeness at a 1e300 state",
+        lambda: pa.closeness(TABLE, SENSORS, np.full((1, 6), 1e300)),
+        ValueError,
+        "state components must lie within",
+    ),
+    (
+        # the fit came back singular and NaN instead of refusing
+        "fit_ml t0 = 2**70",
+        lambda: pa.fit_ml(TABLE, SENSORS, [np.arange(len(TABLE))], t0=2**70),
+        ValueError,
+        "t0",
+    ),
+    (
         # accepted, and the covariances came back NaN
         "SensorNetwork sigma 1e-300",
         lambda: pa.SensorNetwork.planar(np.array([[0.0, 0.0], [1e4, 0.0]]), 1e-300),

@@ -222,6 +222,23 @@ def require_nonnegative(name: str, arr: NDArray[Any]) -> None:
         raise ValueError(f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; must be >= 0")
 
 
+#: Largest magnitude accepted for a state component (metres, m/s): beyond it the angle
+#: arithmetic keeps no digits of a sensor's offset (closeness gradients were NaN at 1e300).
+MAX_STATE_MAGNITUDE = 1e12
+
+
+def require_state_range(name: str, arr: NDArray[Any]) -> None:
+    """Raise ValueError naming the first element beyond ±:data:`MAX_STATE_MAGNITUDE`."""
+    require_finite(name, arr)
+    bad = np.abs(arr) > MAX_STATE_MAGNITUDE
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; state components must lie within "
+            f"±{MAX_STATE_MAGNITUDE:g} (m, m/s), where the angle arithmetic stays exact enough"
+        )
+
+
 def readonly(arr: NDArray[Any]) -> NDArray[Any]:
     """Mark ``arr`` read-only and return it (frozen containers hand out such arrays)."""
     arr.flags.writeable = False

@@ -19,7 +19,7 @@ from .. import _core
 from .._inputs import check_network, check_pair
 from .._params import Constraint, Interval, Options, validate
 from .._settings import FitSettings
-from .._validation import as_float_array, as_int_array
+from .._validation import as_float_array, as_int_array, require_state_range
 from ..data import MeasurementTable, SensorNetwork
 
 Motion = Literal["static", "cv"]
@@ -30,7 +30,9 @@ MAX_HALVINGS = 30
 #: Declared constraints of :func:`fit_ml`'s (and :func:`crlb`'s) scalar parameters.
 FIT_CONSTRAINTS: dict[str, list[Constraint]] = {
     "motion": [Options("cv", "static")],
-    "t0": [Interval(float, None, None)],
+    # Beyond ±1e12 s (32 000 years) the epoch swamps the measurement times: t − t0 keeps no
+    # digits of t, and the fit came back singular (t0 = 2**70) instead of refusing.
+    "t0": [Interval(float, -1e12, 1e12)],
     "max_iter": [Interval(int, 1, None)],
     "xtol": [Interval(float, 0.0, None, closed="neither")],
     "step_sigmas": [Interval(float, 0.0, None)],
@@ -233,9 +235,11 @@ def fisher_and_crlb(
     """The Fisher information and its inverse; see :func:`crlb`."""
     network = check_network(sensors)
     checked = validate(dict(motion=motion, t0=t0), FIT_CONSTRAINTS)
+    state = as_float_array("truth", truth, ndim=1)
+    require_state_range("truth", state)
     return _core.crlb(
         network,
-        as_float_array("truth", truth, ndim=1),
+        state,
         as_int_array("sensor_index", sensor_index, ndim=1),
         as_float_array("times", times, ndim=1),
         checked["motion"],

@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._inputs import check_pair
 from .._settings import DescentSettings
-from .._validation import as_float_array, as_float_scalar, as_int_scalar
+from .._validation import as_float_array, as_float_scalar, as_int_scalar, require_state_range
 from ..data import MeasurementTable, SensorNetwork
 
 
@@ -60,6 +60,7 @@ def closeness(
     """
     d = 2 * sensors.ndim
     x = as_float_array("states", states, shape=(None, d))
+    require_state_range("states", x)
     return _core.closeness(
         *_spreads(measurements, sensors, spread_factor), x, as_float_scalar("t0", t0, finite=True), n_threads
     )
@@ -107,6 +108,7 @@ def maximize_closeness(
     """
     d = 2 * sensors.ndim
     x = as_float_array("starts", starts, shape=(None, d))
+    require_state_range("starts", x)
     c = as_float_array("covariances", covariances, shape=(x.shape[0], d, d))
     if scaling not in ("whitened", "diagonal"):
         raise ValueError(f"scaling: must be 'whitened' or 'diagonal', got {scaling!r}")
