@@ -153,6 +153,10 @@ def as_int_array(
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             raise ValueError(f"{_where(name, arr, i)} = {arr.flat[i].item()!r} is not an integer")
+        huge = np.abs(arr) >= 2.0**63  # integral but beyond int64: the cast would wrap
+        if huge.any():
+            i = int(np.flatnonzero(huge)[0])
+            raise ValueError(f"{_where(name, arr, i)} = {arr.flat[i].item()!r} is out of the 64-bit integer range")
     if arr.dtype.kind == "u" and arr.size and int(arr.max()) > np.iinfo(np.int64).max:
         raise ValueError(f"{name}: values exceed the int64 range")
     return np.array(arr, dtype=np.int64, order="C", copy=True)
