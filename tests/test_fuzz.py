@@ -9,6 +9,7 @@ The suite runs a small budget; a large one on demand:
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Callable
 from typing import Any
@@ -21,9 +22,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 EXAMPLES = int(os.environ.get("FUZZ_EXAMPLES", "40"))
-FUZZ = settings(
-    max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True
-)
+FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
 
 #: Values that break arithmetic, and plain ones.
 SPECIAL = st.sampled_from([0.0, -0.0, 1.0, -1.0, 1e-300, 1e300, -1e300, np.nan, np.inf, -np.inf, 2.0**63])
@@ -42,10 +41,8 @@ def arrays(max_dims: int = 2, max_side: int = 4) -> st.SearchStrategy[Any]:
 def _accepts(call: Callable[[], Any]) -> None:
     """The call either returns or raises ValueError/TypeError (MemoryError would be a bug
     here too: every input is tiny)."""
-    try:
+    with contextlib.suppress(ValueError, TypeError):
         call()
-    except (ValueError, TypeError):
-        pass
 
 
 def _network() -> pa.SensorNetwork:
