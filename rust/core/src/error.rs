@@ -31,6 +31,11 @@ pub enum CoreError {
         hint: &'static str,
     },
 
+    /// The user asked to stop (`parallel::request_interrupt`, Ctrl-C): a long pipeline ends at
+    /// its next stage instead of running later stages on partial results.
+    #[error("interrupted")]
+    Interrupted,
+
     /// A configurable resource cap was hit (e.g. too many candidates); raise the cap to go on.
     #[error("{what}: {count} exceeds the cap of {cap}; {hint}")]
     CapExceeded {

@@ -4,6 +4,7 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use rayon::{ThreadPool, ThreadPoolBuilder};
@@ -44,6 +45,29 @@ fn remember<P>(pools: &mut HashMap<usize, P>, threads: usize, pool: P) {
         pools.clear();
     }
     pools.insert(threads, pool);
+}
+
+/// Set when the user asked to stop (the binding's SIGINT handler sets it; nothing here knows
+/// about signals). The long loops — the static enumeration, branch-and-bound, the Lagrangian,
+/// the intensity chains, the fuzzy initiation's candidates and descents — poll it and stop
+/// early; the binding then raises `KeyboardInterrupt` instead of returning the partial result.
+/// Process-wide: Ctrl-C stops every running call, as it stops the program.
+static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+/// Asks every running call to stop (async-signal-safe: one atomic store).
+pub fn request_interrupt() {
+    INTERRUPT.store(true, Ordering::Relaxed);
+}
+
+/// Clears the request (the binding does, before a call and after it raised).
+pub fn clear_interrupt() {
+    INTERRUPT.store(false, Ordering::Relaxed);
+}
+
+/// Whether a stop was requested.
+#[inline]
+pub fn interrupted() -> bool {
+    INTERRUPT.load(Ordering::Relaxed)
 }
 
 /// Largest thread count accepted: far above any machine, low enough that a typo cannot ask

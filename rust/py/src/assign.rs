@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 
 use super::convert::{count, owned, parse, row_major, slice1, to_numpy, to_usize, I64Array};
 use super::errors::{value_error, BindError, BindResult};
+use super::interrupt;
 use passive_assoc_core::assign::lagrangian::LagrangianOptions;
 use passive_assoc_core::assign::{branch_bound, lagrangian, lap, SdMethod, SdProblem};
 
@@ -63,7 +64,7 @@ pub fn assign_sd(
         to_usize("sizes", slice1("sizes", &sizes)?)?,
     )?;
     let solution = match method {
-        SdMethod::Lagrangian => py.detach(|| lagrangian::solve(&problem, &root)),
+        SdMethod::Lagrangian => interrupt::detach(py, || lagrangian::solve(&problem, &root))?,
         SdMethod::Exact => {
             let options = branch_bound::BranchBoundOptions::default()
                 .with_max_nodes(count("max_nodes", settings.max_nodes, 1)?)?
@@ -77,7 +78,7 @@ pub fn assign_sd(
                 Some(seconds) => return Err(time_limit_error(seconds)),
                 None => options.without_time_limit(),
             };
-            py.detach(|| branch_bound::solve(&problem, &options))
+            interrupt::detach(py, || branch_bound::solve(&problem, &options))?
         }
     };
     let chosen = solution.chosen.iter().map(|&k| k as i64).collect();

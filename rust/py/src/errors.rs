@@ -6,7 +6,7 @@
 //! The orphan rule forbids `impl From<CoreError> for PyErr` outside the core, so the bindings
 //! return [`BindResult`], whose error holds either side and converts to `PyErr` at the edge.
 
-use pyo3::exceptions::{PyMemoryError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyValueError};
 use pyo3::PyErr;
 
 use passive_assoc_core::error::CoreError;
@@ -37,6 +37,7 @@ impl From<BindError> for PyErr {
             BindError::Core(core @ CoreError::OutOfMemory { .. }) => {
                 PyMemoryError::new_err(core.to_string())
             }
+            BindError::Core(CoreError::Interrupted) => PyKeyboardInterrupt::new_err("interrupted"),
             BindError::Core(core) => PyValueError::new_err(core.to_string()),
             BindError::Python(py) => py,
         }

@@ -9,6 +9,7 @@ use super::convert::{
     count, owned, parse, row_major, threads, to_numpy, MeasurementsArg, SensorsArg,
 };
 use super::errors::{value_error, BindResult};
+use super::interrupt;
 use passive_assoc_core::evidence::{AttributeGate, AttributeTable};
 use passive_assoc_core::formation::{locate, FormationOptions, FormationOutput, Reference};
 use passive_assoc_core::parallel::with_threads;
@@ -139,8 +140,9 @@ pub fn locate_formation(
         Some(a) => Some(a.gate(table.len())?),
         None => None,
     };
-    let out =
-        py.detach(|| with_threads(n_threads, || locate(&network, &table, gate, &options)))??;
+    let out = interrupt::detach(py, || {
+        with_threads(n_threads, || locate(&network, &table, gate, &options))
+    })???;
     output(py, out)
 }
 

@@ -9,6 +9,7 @@ use super::convert::{
     MeasurementsArg, SensorsArg,
 };
 use super::errors::{value_error, BindError, BindResult};
+use super::interrupt;
 use passive_assoc_core::data::Sensors;
 use passive_assoc_core::error::ensure_finite;
 use passive_assoc_core::fti::closeness::closeness_batch;
@@ -119,11 +120,11 @@ pub fn initiate(
     let options = settings.options(pair_list(slice2("pairs", &pairs, 2)?)?)?;
     let n_threads = threads(settings.n_threads)?;
     let t0 = settings.t0;
-    let result = py.detach(|| {
+    let result = interrupt::detach(py, || {
         with_threads(n_threads, || {
             core_initiate(&network, &table, &spreads, t0, &options)
         })
-    })??;
+    })???;
     initiation_output(py, result)
 }
 
@@ -249,11 +250,11 @@ pub fn maximize_closeness<'py>(
         .with_max_iter(count("max_iter", settings.max_iter, 0)?)
         .with_scaling(parse("scaling", &settings.scaling)?);
     let threads = threads(settings.n_threads)?;
-    let optima = py.detach(|| {
+    let optima = interrupt::detach(py, || {
         with_threads(threads, || {
             descend_from(&pre, starts, covariances, &options)
         })
-    })??;
+    })???;
     let p = optima.len();
     let states: Vec<f64> = optima.iter().flat_map(|o| o.x[..d].to_vec()).collect();
     Ok((

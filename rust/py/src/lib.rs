@@ -9,6 +9,7 @@ mod errors;
 mod fit;
 mod formation;
 mod fti;
+mod interrupt;
 mod kalman;
 mod radar_esm;
 mod static_los;
@@ -19,6 +20,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    interrupt::install();
     m.add_function(wrap_pyfunction!(fit::fit_batch, m)?)?;
     m.add_function(wrap_pyfunction!(fit::crlb, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_sd, m)?)?;

@@ -10,6 +10,7 @@ use super::convert::{
 };
 use super::errors::{value_error, BindResult};
 use super::formation::AttributesArg;
+use super::interrupt;
 use passive_assoc_core::assign::CandidateSet;
 use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::static_los::{
@@ -88,11 +89,11 @@ pub fn enumerate_static(
         Some(a) => Some(a.gate(table.len())?),
         None => None,
     };
-    let found = py.detach(|| {
+    let found = interrupt::detach(py, || {
         with_threads(n_threads, || {
             enumerate_with_attributes(&network, &table, &detection, &options, gate)
         })
-    })??;
+    })???;
     candidates_output(py, found)
 }
 
@@ -185,8 +186,9 @@ pub fn intensity_search(
         .with_vote_fraction(settings.vote_fraction)?
         .with_valid_airspace(settings.valid_airspace)
         .with_max_chains(max_chains)?;
-    let outcome =
-        py.detach(|| with_threads(n_threads, || core_intensity_search(&input, &options)))??;
+    let outcome = interrupt::detach(py, || {
+        with_threads(n_threads, || core_intensity_search(&input, &options))
+    })???;
     let chosen = outcome.chosen.iter().map(|&c| c as i64).collect();
     let levels = outcome
         .levels

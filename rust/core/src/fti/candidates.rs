@@ -231,6 +231,9 @@ fn combine(
 ) -> CoreResult<()> {
     let mut chunk: Vec<(&RayPair, &RayPair)> = Vec::with_capacity(CHUNK);
     for f in firsts {
+        if crate::parallel::interrupted() {
+            return Ok(()); // the binding raises KeyboardInterrupt; nothing partial escapes
+        }
         for l in lasts {
             if !speed_passes(f, l, options.v_max()) {
                 continue;
@@ -250,6 +253,9 @@ fn combine(
             if chunk.len() == CHUNK {
                 fit_chunk(problem, &chunk, options, set)?;
                 chunk.clear();
+                if crate::parallel::interrupted() {
+                    return Ok(());
+                }
             }
         }
     }

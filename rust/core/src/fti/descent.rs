@@ -175,11 +175,21 @@ pub fn descend(
 ) -> Optimum {
     let d = pre.dim();
     let mut x = *start;
+    if crate::parallel::interrupted() {
+        // Not even the first evaluation: an interrupted pipeline discards every optimum.
+        return Optimum {
+            x,
+            closeness: f64::NAN,
+            iterations: 0,
+            evaluations: 0,
+            scale: std::array::from_fn(|k| factor[k][k]),
+        };
+    }
     let (mut r, g) = closeness_and_gradient(pre, &x);
     let mut gy = scaled(&g, factor, d);
     let mut next_step: Option<f64> = None;
     let (mut iterations, mut evaluations) = (0, 1);
-    while iterations < options.max_iter() && r.is_finite() {
+    while iterations < options.max_iter() && r.is_finite() && !crate::parallel::interrupted() {
         let g2: f64 = gy.iter().map(|v| v * v).sum();
         if !(g2 > 0.0 && g2.is_finite()) {
             break; // stationary (or every row in the exact-zero tail)

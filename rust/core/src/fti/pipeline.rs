@@ -12,7 +12,7 @@ use super::detection::{classify, detect};
 use super::scans::{resolve_pairs, Scans};
 use super::{Initiation, InitiationOptions, Problem, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
-use crate::error::CoreResult;
+use crate::error::{CoreError, CoreResult};
 use crate::estimation::fit::gauss_newton::fit;
 use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::model::{Motion, StateLayout, MAX_DIM};
@@ -40,6 +40,7 @@ pub fn initiate(
     let pairs = resolve_pairs(options.pairs(), &scans)?;
 
     let set = candidates::generate(&problem, &scans, &pairs, options)?;
+    stop_if_interrupted()?;
     let mut counts = set.counts;
     let mut seconds = StageSeconds {
         candidates: set.seconds_enumerate,
@@ -49,6 +50,7 @@ pub fn initiate(
 
     let clock = Instant::now();
     let optima = descend_all(&pre, &set.candidates, options.descent());
+    stop_if_interrupted()?;
     let order = merge(&optima, dim, options.merge_tol());
     seconds.descent = clock.elapsed().as_secs_f64();
     counts.optima = optima.len();
@@ -196,5 +198,15 @@ pub(crate) fn candidates_of(
     let scans = Scans::new(measurements, sensors.len());
     let pairs = resolve_pairs(options.pairs(), &scans)?;
     let set = candidates::generate(&problem, &scans, &pairs, options)?;
+    stop_if_interrupted()?;
     Ok((set.candidates, set.counts, scans, pairs))
+}
+
+/// Ends the pipeline between stages when the user asked to stop: the stages after an
+/// interrupted one would otherwise run on its partial output (millions of descents).
+fn stop_if_interrupted() -> CoreResult<()> {
+    match crate::parallel::interrupted() {
+        true => Err(CoreError::Interrupted),
+        false => Ok(()),
+    }
 }

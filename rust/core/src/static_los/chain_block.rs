@@ -72,6 +72,9 @@ impl ChainData {
         let mut has = vec![0u64; levels];
         let mut want = vec![0u64; levels];
         loop {
+            if crate::parallel::interrupted() {
+                break votes; // the vote is discarded and the binding raises KeyboardInterrupt
+            }
             // 1. Alive: none of the candidate's measurements taken; the dead-everywhere leave.
             let mut active = 0u64;
             live.retain(|&u| {

@@ -113,6 +113,9 @@ impl Level {
         };
         let mut run = 0;
         for chunk in ranks.chunks(batch) {
+            if crate::parallel::interrupted() {
+                break; // the binding raises KeyboardInterrupt; the partial vote is discarded
+            }
             // Summed as the blocks finish, not collected: a full vote may run thousands of
             // blocks, each with a count per candidate. Integer sums do not depend on the order.
             let counts = chunk

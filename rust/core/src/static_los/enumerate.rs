@@ -145,7 +145,7 @@ impl Prepared<'_> {
     }
 
     fn descend(&self, s: usize, node: &Node, ctx: &mut Ctx, shared: &Shared) {
-        if shared.abort.load(Ordering::Relaxed) {
+        if shared.abort.load(Ordering::Relaxed) || crate::parallel::interrupted() {
             return;
         }
         if s == self.n_sensors {
@@ -227,8 +227,8 @@ impl Prepared<'_> {
         };
         let choice = |i: usize| i.checked_sub(1);
         for t in tasks {
-            if shared.abort.load(Ordering::Relaxed) {
-                break; // over the cap: the caller discards everything
+            if shared.abort.load(Ordering::Relaxed) || crate::parallel::interrupted() {
+                break; // over the cap, or asked to stop: the caller discards everything
             }
             let (i0, i1) = (t / second, t % second);
             ctx.obs.clear();
@@ -294,6 +294,9 @@ pub(crate) fn enumerate_prepared(p: &Prepared<'_>) -> CoreResult<Candidates> {
         .into_par_iter()
         .map(|c| p.run_tasks(c * chunk..((c + 1) * chunk).min(n_tasks), second, &shared))
         .collect();
+    if crate::parallel::interrupted() {
+        return Err(CoreError::Interrupted); // before concatenating what was found so far
+    }
     if shared.abort.load(Ordering::Relaxed) {
         return Err(CoreError::CapExceeded {
             what: "candidate tuples",

@@ -259,8 +259,11 @@ impl<'a> Search<'a> {
             return Some(Limit::Nodes);
         }
         self.nodes += 1;
-        if self.nodes & 255 == 0 && self.deadline.is_some_and(|d| Instant::now() >= d) {
-            return Some(Limit::Time);
+        if self.nodes & 255 == 0
+            && (self.deadline.is_some_and(|d| Instant::now() >= d)
+                || crate::parallel::interrupted())
+        {
+            return Some(Limit::Time); // an interrupt ends it like the clock; the binding raises
         }
         // Every node's partial selection is feasible, so it can be the incumbent.
         if cost < self.best {

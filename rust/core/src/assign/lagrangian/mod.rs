@@ -69,7 +69,7 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
     let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
     let (mut iterations, mut termination) = (0, Termination::MaxIterations);
-    while iterations < options.max_iter() {
+    while iterations < options.max_iter() && !crate::parallel::interrupted() {
         iterations += 1;
         let (dual, relaxed) = relax.evaluate(&mult);
         if dual > dual_bound {

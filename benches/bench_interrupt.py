@@ -1,0 +1,67 @@
+"""Interrupt latency: SIGINT one second into long calls, and how long until KeyboardInterrupt.
+The figures go to docs/reliability.md.
+
+    python benches/bench_interrupt.py
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import passive_assoc as pa
+from bench_exact_sd import random_problem
+from passive_assoc.simulation import static_scan
+
+
+def cases() -> dict[str, Callable[[], Any]]:
+    rng = np.random.default_rng(0)
+    t, c, n = random_problem(0, 3, 25, 0.08)
+    scan = static_scan(3, n_targets=300, ratio=2.0)
+    dense = pa.MeasurementTable.from_arrays(np.repeat([0, 1], 6000), np.zeros(12000), rng.uniform(0.5, 2.5, 12000))
+    two = pa.SensorNetwork.planar(np.array([[-1e4, 0.0], [1e4, 0.0]]), 1e-3)
+    clutter = pa.MeasurementTable.from_arrays(
+        np.repeat([0, 1, 0, 1], 400), np.repeat([0.0, 0.0, 30.0, 30.0], 400), rng.uniform(0.3, 2.8, 1600)
+    )
+    wide = pa.SensorNetwork.planar(np.array([[-2e4, 0.0], [2e4, 0.0]]), 2e-3)
+    return {
+        "exact S-D, branch-and-bound, no limits (S=3, K=1429)": lambda: pa.assign_sd(
+            t, c, n, method="exact", exact_backend="branch_bound", max_nodes=10**15, time_limit=None
+        ),
+        "intensity vote, M=300, max_chains=None": lambda: pa.associate_static(
+            scan.measurements, scan.sensors, max_chains=None
+        ),
+        "static enumeration, 2 x 6000 reports": lambda: pa.enumerate_candidates(
+            dense, two, pd=0.9, max_candidates=10**9
+        ),
+        "fuzzy initiation, 4 scans x 400 clutter bearings": lambda: pa.FuzzyTrackInitiator(
+            v_max=None, max_candidates=10**9, ray_gate_sigmas=None
+        ).initiate(clutter, wide),
+    }
+
+
+def _interrupt_after(seconds: float, sent: list[float]) -> None:
+    time.sleep(seconds)
+    sent.append(time.perf_counter())
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+def main() -> None:
+    for name, call in cases().items():
+        sent: list[float] = []
+        threading.Thread(target=_interrupt_after, args=(1.0, sent), daemon=True).start()
+        try:
+            call()
+            print(f"{name}: returned before the signal")
+        except KeyboardInterrupt:
+            print(f"{name}: KeyboardInterrupt {1e3 * (time.perf_counter() - sent[0]):.1f} ms after SIGINT")
+        time.sleep(0.1)
+
+
+if __name__ == "__main__":
+    main()
