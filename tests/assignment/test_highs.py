@@ -72,3 +72,19 @@ def test_highs_refuses_what_the_core_refuses() -> None:
         pa.assign_sd([[1, 3, 1]], [-1.0], [1, 2, 1], method="exact", exact_backend="highs")
     with pytest.raises(ValueError, match="exact_backend"):
         pa.assign_sd([[1, 1, 1]], [-1.0], [1, 1, 1], method="exact", exact_backend="cplex")  # type: ignore[arg-type]
+
+
+def test_the_lagrangian_honours_time_limit() -> None:
+    """It used to ignore it; now a solve that reaches it returns its best feasible answer."""
+    tuples, costs, sizes = _random_problem(3, 5, 10, 0.01)
+    unlimited = pa.assign_sd(tuples, costs, sizes, gap_tol=0.0, time_limit=None)
+    assert unlimited.iterations > 1
+    # A microsecond is spent before the first iteration: the loop stops at its first check.
+    limited = pa.assign_sd(tuples, costs, sizes, gap_tol=0.0, time_limit=1e-6)
+    assert limited.termination == "time_limit" and not limited.optimal and not limited.success
+    assert limited.iterations < unlimited.iterations
+    assert limited.primal_cost == pytest.approx(float(costs[limited.chosen].sum()))
+    used = tuples[limited.chosen]
+    assert all(len(set(col[col > 0])) == (col > 0).sum() for col in used.T)
+    with pytest.raises(ValueError, match="time_limit"):
+        pa.assign_sd(tuples, costs, sizes, time_limit=0.0)

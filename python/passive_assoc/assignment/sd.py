@@ -24,7 +24,7 @@ SD_MESSAGES: dict[SdTermination, str] = {
     "max_iterations": "max_iter reached before the gap closed",
     "stalled": "the subgradient step vanished: the dual bound stopped improving",
     "node_limit": "branch and bound hit max_nodes; the best solution found is not proven optimal",
-    "time_limit": "branch and bound hit time_limit; the best solution found is not proven optimal",
+    "time_limit": "the solver hit time_limit; the best solution found is not proven optimal",
 }
 
 
@@ -107,7 +107,9 @@ def assign_sd(
         at 100 iterations or a 1 % gap; these defaults are tighter, for answers nearer the
         optimum at more time (``max_iter=100, gap_tol=0.01`` gives MATLAB's limits).
     max_nodes, time_limit
-        Branch-and-bound limits (``time_limit=None``: none).
+        Branch-and-bound node cap; wall-clock limit in seconds of either method
+        (``time_limit=None``: none). A Lagrangian solve that reaches it returns its best
+        feasible solution with ``termination="time_limit"``.
     warm_start : {"auto", "always", "never"}
         Whether each Lagrangian iteration's inner 2-D assignment starts from the previous
         one's solution. It is exact either way, so only speed differs (and, between equally

@@ -54,7 +54,8 @@ pub fn assign_sd(
         .with_gap_tol(settings.gap_tol)?
         .with_warm_start(parse("warm_start", &settings.warm_start)?)
         .with_sensor_order(parse("sensor_order", &settings.sensor_order)?)
-        .with_polish(settings.polish);
+        .with_polish(settings.polish)
+        .with_time_limit(time_limit(settings.time_limit)?)?;
     let n_sensors = tuples.shape()[1];
     let tuple_values = row_major("tuples", &tuples)?;
     let problem = SdProblem::new(
@@ -69,13 +70,8 @@ pub fn assign_sd(
             let options = branch_bound::BranchBoundOptions::default()
                 .with_max_nodes(count("max_nodes", settings.max_nodes, 1)?)?
                 .with_root(root);
-            let options = match settings.time_limit {
-                // try_from: a huge value (≳ 1.8e19 s) has no Duration and must not panic.
-                Some(seconds) if seconds > 0.0 => match Duration::try_from_secs_f64(seconds) {
-                    Ok(limit) => options.with_time_limit(limit)?,
-                    Err(_) => return Err(time_limit_error(seconds)),
-                },
-                Some(seconds) => return Err(time_limit_error(seconds)),
+            let options = match time_limit(settings.time_limit)? {
+                Some(limit) => options.with_time_limit(limit)?,
                 None => options.without_time_limit(),
             };
             interrupt::detach(py, || branch_bound::solve(&problem, &options))?
@@ -115,6 +111,18 @@ pub fn assign_2d<'py>(
         to_numpy(py, cols, &[n])?,
         solved.cost,
     ))
+}
+
+/// `time_limit` in seconds (None: none) as a `Duration`; both methods honour it.
+fn time_limit(seconds: Option<f64>) -> BindResult<Option<Duration>> {
+    match seconds {
+        None => Ok(None),
+        // try_from: a huge value (≳ 1.8e19 s) has no Duration and must not panic.
+        Some(s) if s > 0.0 => Duration::try_from_secs_f64(s)
+            .map(Some)
+            .map_err(|_| time_limit_error(s)),
+        Some(s) => Err(time_limit_error(s)),
+    }
 }
 
 fn time_limit_error(seconds: f64) -> BindError {

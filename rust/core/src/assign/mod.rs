@@ -79,11 +79,12 @@ pub enum Termination {
     MaxIterations,
     /// The subgradient step parameter shrank below its floor: the dual bound stopped improving.
     Stalled,
-    /// Branch and bound hit a limit; the solution is the best incumbent found, not proven.
+    /// A limit stopped the solver (branch-and-bound nodes or time, the Lagrangian's time); the
+    /// solution is the best found, not proven.
     NotProven(Limit),
 }
 
-/// Which branch-and-bound limit stopped the search.
+/// Which limit stopped the search.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Limit {
     /// `max_nodes` search nodes were expanded.

@@ -32,7 +32,8 @@ use options::MIN_STEP_SCALE;
 use recovery::{polish, Recovery};
 use relaxation::Relaxation;
 
-use crate::assign::{closes_gap, relative_gap, SdProblem, SdSolution, Termination};
+use crate::assign::{closes_gap, relative_gap, Limit, SdProblem, SdSolution, Termination};
+use std::time::Instant;
 
 /// Solves the S-D problem approximately, with a proven lower bound. Deterministic.
 ///
@@ -69,7 +70,12 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
     let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
     let (mut iterations, mut termination) = (0, Termination::MaxIterations);
+    let deadline = options.time_limit().map(|limit| Instant::now() + limit);
     while iterations < options.max_iter() && !crate::parallel::interrupted() {
+        if deadline.is_some_and(|d| Instant::now() >= d) {
+            termination = Termination::NotProven(Limit::Time);
+            break;
+        }
         iterations += 1;
         let (dual, relaxed) = relax.evaluate(&mult);
         if dual > dual_bound {

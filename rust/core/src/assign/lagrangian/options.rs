@@ -1,6 +1,8 @@
 //! The Lagrangian's settings, built with validated `with_*` setters.
 
 use super::order::SensorOrder;
+use std::time::Duration;
+
 use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 
 /// Options of [`solve`], built with validated `with_*` setters.
@@ -20,6 +22,7 @@ pub struct LagrangianOptions {
     warm_start: WarmStart,
     sensor_order: SensorOrder,
     polish: bool,
+    time_limit: Option<Duration>,
 }
 
 /// Whether each iteration's inner 2-D assignment starts from the previous iteration's duals
@@ -74,6 +77,7 @@ impl Default for LagrangianOptions {
             warm_start: WarmStart::Auto,
             sensor_order: SensorOrder::Auto,
             polish: false,
+            time_limit: None,
         }
     }
 }
@@ -155,6 +159,23 @@ impl LagrangianOptions {
 
     pub fn polish(&self) -> bool {
         self.polish
+    }
+
+    /// Wall-clock limit of the subgradient loop (`None`: none; zero is refused). Reaching it
+    /// ends the solve with the best feasible solution found, `NotProven(Limit::Time)`.
+    pub fn with_time_limit(mut self, time_limit: Option<Duration>) -> CoreResult<Self> {
+        if time_limit.is_some_and(|d| d.is_zero()) {
+            return Err(CoreError::out_of_range(
+                "time_limit",
+                "must be > 0 seconds or None",
+            ));
+        }
+        self.time_limit = time_limit;
+        Ok(self)
+    }
+
+    pub fn time_limit(&self) -> Option<Duration> {
+        self.time_limit
     }
 
     pub fn sensor_order(&self) -> SensorOrder {
