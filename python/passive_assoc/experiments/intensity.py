@@ -55,7 +55,8 @@ def score(scan: StaticScan, cands: Candidates, method: Method, solvers: Solvers)
     ``cands`` are the scan's enumerated candidates, to price the truth."""
     # The paper's configuration: the intensity method with its valid-airspace step.
     # max_chains=None: the paper's vote over every point of H (the library caps it at 64).
-    result = associate_static(scan.measurements, scan.sensors, method, n_threads=1, max_chains=None, **solvers.kwargs())
+    settings = solvers.kwargs(method)
+    result = associate_static(scan.measurements, scan.sensors, method, n_threads=1, max_chains=None, **settings)
     found = {tuple(row) for row in result.tuples.tolist()}
     hits = [t in found for t in true_tuples(scan)]
     g = gospa(result.positions, scan.targets[scan.observable()], c=GOSPA_CUTOFF_M)
