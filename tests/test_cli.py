@@ -143,6 +143,9 @@ def test_reproduce_formation_is_listed_and_its_help_says_what_is_printed(capsys:
         (["reproduce", "wavelet", "--seed", "-1"], "--seed: expected an integer >= 0, got -1"),
         (["reproduce", "topology", "--json", ""], "--json: expected a file name"),
         (["reproduce", "intensity", "--plot", "/no/such/dir/x.png"], "does not exist"),
+        (["reproduce", "topology", "--bias", "inf"], "--bias: expected a finite number, got 'inf'"),
+        # refused by the library, not argparse: still a usage error, not a traceback
+        (["reproduce", "fti", "--runs", "1", "--pd", "2"], "pd: must be in [0, 1], got 2.0"),
     ],
 )
 def test_bad_options_are_usage_errors(argv: list[str], message: str, capsys: pytest.CaptureFixture[str]) -> None:

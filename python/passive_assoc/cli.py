@@ -99,7 +99,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
-    return int(args.run(args))
+    try:
+        return int(args.run(args))
+    except ValueError as err:  # a setting the library refused: a usage error, not a traceback
+        parser.exit(2, f"passive-assoc: error: {err}\n")
 
 
 if __name__ == "__main__":

@@ -30,6 +30,18 @@ def positive_int(text: str) -> int:
     return value
 
 
+def finite_float(text: str) -> float:
+    """argparse type: a finite number (``inf``, ``nan`` and ``1e400`` are usage errors, not
+    tracebacks from deep inside a run)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
 def seed_int(text: str) -> int:
     """argparse type: a seed NumPy accepts, an integer ≥ 0."""
     try:

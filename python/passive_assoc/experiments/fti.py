@@ -20,7 +20,7 @@ from scipy.optimize import linear_sum_assignment
 from ..evaluation import perfect_association_fit, target_crlbs
 from ..fti import FuzzyTrackInitiator, InitiationResult
 from ..simulation import Scenario, paper_fti_scenario
-from .common import fmt, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
+from .common import finite_float, fmt, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 
 COMPONENTS = ("x0", "y0", "z0", "vx", "vy", "vz")
 #: Paper Table 2: one run's estimated X0 (all four targets found).
@@ -250,10 +250,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--runs", type=positive_int, default=100, help="Monte-Carlo runs (default 100)")
     parser.add_argument("--seed", type=seed_int, default=2026, help="master seed (default 2026)")
     parser.add_argument("--workers", type=positive_int, default=1, help="runs executed concurrently (default 1)")
-    parser.add_argument("--pd", type=float, default=1.0, help="detection probability (paper: 1)")
+    parser.add_argument("--pd", type=finite_float, default=1.0, help="detection probability (paper: 1)")
     parser.add_argument(
         "--clutter-ratio",
-        type=float,
+        type=finite_float,
         default=2.0,
         help="clutter points per true measurement, per sensor and scan (paper: 2)",
     )

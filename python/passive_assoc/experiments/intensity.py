@@ -18,7 +18,7 @@ from ..evaluation import gospa
 from ..simulation.static_los import SQUARE_X, SQUARE_Y, StaticScan, static_scan
 from ..static_los import associate_static, enumerate_candidates
 from ..static_los.associator import Method
-from .common import fmt, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
+from .common import finite_float, fmt, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 from .intensity_timing import METHODS, Solvers, print_timing, timing_table
 
 PAPER_ACCURACY = {5: {"lagrangian": 35.0, "intensity": 39.0}, 15: {"lagrangian": 58.0, "intensity": 67.0}}
@@ -185,9 +185,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--workers", type=positive_int, default=1, help="runs executed concurrently (default 1)")
     parser.add_argument("--targets", type=int, default=10, help="M for the accuracy table (paper: 10)")
     parser.add_argument(
-        "--ratios", type=float, nargs="+", default=[5, 10, 15, 20], help="R values (default 5 10 15 20)"
+        "--ratios", type=finite_float, nargs="+", default=[5, 10, 15, 20], help="R values (default 5 10 15 20)"
     )
-    parser.add_argument("--time-limit", type=float, default=2.0, help="branch-and-bound limit per scan, s (default 2)")
+    parser.add_argument(
+        "--time-limit", type=finite_float, default=2.0, help="branch-and-bound limit per scan, s (default 2)"
+    )
     parser.add_argument("--no-timing", action="store_true", help="skip Table 1")
     parser.add_argument(
         "--no-airspace",
@@ -204,7 +206,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--gap-tol",
-        type=float,
+        type=finite_float,
         default=1e-3,
         help="Lagrangian relative-gap target (default 1e-3; MATLAB assignsd: 0.01)",
     )

@@ -24,7 +24,7 @@ from ..estimation.kalman import KalmanFilter
 from ..evaluation.track_scores import track_association_scores
 from ..simulation.topology import RadarScenario, paper_topology_scenario
 from ..topology import TopologyAssociator
-from .common import map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
+from .common import finite_float, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 
 #: The paper's precision, recall and F1 (%); its text swaps precision and recall (METHODS §4).
 PAPER = {"precision": 99.9034, "recall": 99.5362, "f1": 99.7195}
@@ -175,14 +175,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=seed_int, default=1, help="base seed (default 1)")
     parser.add_argument("--workers", type=positive_int, default=1, help="worker processes (default 1)")
     parser.add_argument(
-        "--bias", type=float, nargs="+", default=[0.0, 1.0, 3.0, 5.0], help="bias levels B, degrees (0 1 3 5)"
+        "--bias", type=finite_float, nargs="+", default=[0.0, 1.0, 3.0, 5.0], help="bias levels B, degrees (0 1 3 5)"
     )
     parser.add_argument("--coverage", choices=["full", "partial", "both"], default="full", help="radar coverage")
     parser.add_argument("--window", type=int, default=6, help="scans averaged (default 6)")
-    parser.add_argument("--threshold", type=float, default=0.7, help="λ as a fraction of M·N (default 0.7)")
-    parser.add_argument("--gate", type=float, default=None, help="position gate of the topology method, metres")
+    parser.add_argument("--threshold", type=finite_float, default=0.7, help="λ as a fraction of M·N (default 0.7)")
+    parser.add_argument("--gate", type=finite_float, default=None, help="position gate of the topology method, metres")
     parser.add_argument(
-        "--process-noise", type=float, default=PROCESS_NOISE, help=f"local trackers' q, m²/s³ ({PROCESS_NOISE:g})"
+        "--process-noise",
+        type=finite_float,
+        default=PROCESS_NOISE,
+        help=f"local trackers' q, m²/s³ ({PROCESS_NOISE:g})",
     )
     parser.add_argument(
         "--plot", metavar="FILE", type=output_file, help="save the pictures and F1 against bias (PNG/PDF)"

@@ -35,7 +35,7 @@ from ..radar_esm import (
     filter_reports,
 )
 from ..simulation.radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, paper_wavelet_scenario
-from .common import map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
+from .common import finite_float, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 
 #: The paper's correct-association probabilities (its §5), as ranges over scans.
 PAPER = {"wavelet": (0.88, 0.93), "nearest": (0.72, 0.85)}
@@ -256,7 +256,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--process-noise",
-        type=float,
+        type=finite_float,
         default=PROCESS_NOISE,
         help=f"trackers' white-jerk density q, m²/s⁵ (default {PROCESS_NOISE:.0f}: the targets' maneuver power)",
     )
@@ -264,7 +264,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--window", type=int, default=None, help="coarse window, scans (default: all so far, at most 32)"
     )
     parser.add_argument(
-        "--gate-probability", type=float, default=0.99, help="wavelet-fuzzy coarse gate probability (default 0.99)"
+        "--gate-probability",
+        type=finite_float,
+        default=0.99,
+        help="wavelet-fuzzy coarse gate probability (default 0.99)",
     )
     parser.add_argument(
         "--demo-runs", type=int, default=100, help="runs of the 2-D radar + passive demo (100; 0: none)"
