@@ -368,3 +368,27 @@ def test_candidates_outgrowing_memory_raise_memory_error_not_abort() -> None:
     done = subprocess.run([sys.executable, "-c", _OOM_SCRIPT], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.startswith("MemoryError fitted candidates: could not allocate"), done.stdout
+
+
+_DECLARED_SIZES_SCRIPT = """
+import resource
+import numpy as np
+import passive_assoc as pa
+
+resource.setrlimit(resource.RLIMIT_AS, (3 << 29, 3 << 29))  # 1.5 GB of address space
+tuples = np.zeros((3, 40), dtype=np.int64)
+tuples[0, :2] = 1
+tuples[1, 2:4] = 1
+tuples[2, [0, 5]] = [2, 1]
+for method in ("lagrangian", "exact"):
+    print(pa.assign_sd(tuples, [-1.0, -2.0, -3.0], [10**7] * 40, method=method).primal_cost)
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_AS is how the test bounds memory")
+def test_declared_sizes_do_not_size_the_solvers_memory() -> None:
+    """S = 40 sensors declaring 10⁷ reports each for three tuples once needed 3.2 GB of
+    multipliers; the solvers now size them by the reports the tuples use."""
+    done = subprocess.run([sys.executable, "-c", _DECLARED_SIZES_SCRIPT], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split() == ["-6.0", "-6.0"], done.stdout

@@ -160,6 +160,7 @@ def assign_sd(
         raise ValueError(f"tuples: S-D assignment needs at least 2 sensors (columns), got {t.shape[1]}")
     c = as_float_array("costs", costs, shape=(t.shape[0],))
     n = as_int_array("sizes", sizes, shape=(t.shape[1],))
+    n = _solver_sizes(t, n)
     empty = np.flatnonzero((t == 0).all(axis=1))
     if len(empty):  # uses no report, so no constraint binds it: its cost would count silently
         raise ValueError(f"tuples: row {empty[0]} has no report (all zeros); every tuple must use at least one")
@@ -212,6 +213,25 @@ def _exact_with_highs(
     gap = max(0.0, primal - dual) / max(1.0, abs(primal))
     termination: SdTermination = "optimal" if proven else "time_limit"
     return SdAssignment(chosen, primal, dual, gap, iterations, termination, proven)
+
+
+#: Declared reports (all sensors) above which the solvers size their per-report arrays by the
+#: reports the tuples use instead (8 bytes each per multiplier set).
+MAX_DECLARED_REPORTS = 10_000_000
+
+
+def _solver_sizes(t: NDArray[np.int64], n: NDArray[np.int64]) -> NDArray[np.int64]:
+    """``sizes``, or — when they declare more than :data:`MAX_DECLARED_REPORTS` reports — each
+    sensor's largest report the tuples use. A report no tuple uses cannot change the answer,
+    but the solvers allocate per declared report: S = 40 sensors declaring 10⁷ reports each
+    once took gigabytes for a handful of tuples. Below the threshold nothing changes (the
+    S = 3 sensor order and the 2-D problems' sizes depend on the declared sizes)."""
+    if len(n) == 0 or int(np.clip(n, 0, None).sum()) <= MAX_DECLARED_REPORTS:
+        return n
+    if int(n.max()) > MAX_DECLARED_REPORTS:
+        return n  # one sensor beyond the core's per-sensor cap: its error names it
+    used = t.max(axis=0) if len(t) else np.zeros_like(n)
+    return np.where(used <= n, used, n)  # an index beyond its size stays, for the core's error
 
 
 def _from_core(out: _core.SdResult) -> SdAssignment:
