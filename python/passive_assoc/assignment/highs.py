@@ -2,9 +2,9 @@
 
 The S-D problem is a set packing: one binary per candidate tuple, one "used at most once"
 row per report. Its LP relaxation is often integral or nearly so, which HiGHS's bounds exploit
-and the depth-first branch-and-bound of the core does not: on random S = 3 problems with 25
-reports per sensor (K ≈ 1 400) the branch-and-bound stopped at its 10⁷-node cap after 4–5 s
-without a proof where HiGHS proved the optimum in 0.3–0.9 s (``python benches/bench_exact_sd.py``).
+and the depth-first branch-and-bound of the core does not: on random problems of a thousand
+tuples and more HiGHS proves what the branch-and-bound cannot within its caps
+(``python benches/bench_exact_sd.py``; the figures are in docs/performance.md).
 SciPy is already a dependency, so no solver is hand-written here.
 """
 

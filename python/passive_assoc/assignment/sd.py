@@ -126,12 +126,10 @@ def assign_sd(
     polish : bool
         Lagrangian: give the best solution, once at the end, compound moves the per-iteration
         search cannot make (bring in a tuple, evict what it conflicts with, refill the freed
-        reports). On by default, by measurement: on random S = 5 problems it took the answer
-        from 0.92 % to 0.18 % above the optimum on average (exact on 18 of 20 instead of 13)
-        for 1.8 → 2.2 ms, on S = 3 from 0.59 % to 0.34 % at the same time
-        (``python benches/bench_polish.py``); on paper scans it cut the primal's distance from
-        the LP bound by 38-59 % from M = 18 to 100, at 1.25-1.7 times the solve's time
-        (``python benches/bench_sensor_order.py``). ``polish=False`` for speed. It runs only
+        reports). On by default, by measurement: on random problems it brings the answer
+        markedly nearer the optimum for little time (``python benches/bench_polish.py``), and
+        on paper scans nearer the LP bound for more (``python benches/bench_sensor_order.py``;
+        both in docs/performance.md). ``polish=False`` for speed. It runs only
         when the solve ended on ``max_iter`` or a stalled step, and ``time_limit`` does not
         bound it.
 
@@ -139,8 +137,8 @@ def assign_sd(
         The exact method's solver: the core's depth-first branch-and-bound, HiGHS's MILP
         solver (:func:`scipy.optimize.milp`, whose LP bounds prove in seconds what the
         branch-and-bound does not prove in minutes on problems of a thousand tuples and more),
-        or "auto": branch-and-bound for up to 50 000 nodes (≈ 20 ms; it proves small problems
-        faster than HiGHS starts), then HiGHS for the rest of ``time_limit``
+        or "auto": branch-and-bound for up to 50 000 nodes (it proves small problems faster
+        than HiGHS starts), then HiGHS for the rest of ``time_limit``
         (``python benches/bench_exact_sd.py``). ``iterations`` counts the nodes of the solver
         that answered.
 
@@ -189,7 +187,7 @@ def assign_sd(
     return _from_core(_core.assign_sd(t, c, n, settings))
 
 
-#: Branch-and-bound nodes the "auto" exact backend tries before HiGHS (≈ 20 ms here).
+#: Branch-and-bound nodes the "auto" exact backend tries before HiGHS (a few milliseconds).
 AUTO_BRANCH_BOUND_NODES = 50_000
 
 

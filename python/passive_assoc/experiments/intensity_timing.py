@@ -40,7 +40,7 @@ class Solvers:
     def kwargs(self, method: str) -> dict[str, Any]:
         """The settings as keyword arguments of :func:`associate_static` (one per field).
         ``time_limit`` binds the exact method only: the documented figures were measured when
-        the Lagrangian ignored it (M = 500 takes it 3.5 s against a 2 s limit)."""
+        the Lagrangian ignored it, and the largest scans take it longer than the limit."""
         settings = asdict(self)
         if method != "exact":
             settings["time_limit"] = None

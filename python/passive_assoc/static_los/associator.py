@@ -114,9 +114,9 @@ class StaticAssociator:
         Intensity method: start at most this many chains (the first of the set H of points
         with the most exclusive rays). Default 64. None is the paper's rule, one chain per
         point of H: where ghosts are dense every point has 0 exclusive rays, H is the whole
-        level, and the vote grows quadratically in the number of candidates (M = 300 targets
-        took 1.5–2 minutes, M = 500 over 4). ``reproduce intensity`` runs the paper's rule up
-        to M = 18 and 64 beyond (docs/experiments.md).
+        level, and the vote grows quadratically in the number of candidates (minutes at a few
+        hundred targets, issue 17). ``reproduce intensity`` runs the paper's rule up to M = 18
+        and 64 beyond (docs/experiments.md).
     max_iter, gap_tol, time_limit, sensor_order, polish, exact_backend
         Solver settings, as in :func:`passive_assoc.assign_sd`.
     max_candidates : int

@@ -136,7 +136,7 @@ mod tests {
 #[cfg(test)]
 mod isolation {
     /// A one-thread call must not leave the calling thread inside a one-thread pool: a pool
-    /// built with rayon's `use_current_thread` (tried, to save the ~70 µs handoff) does, and
+    /// built with rayon's `use_current_thread` (tried, to save the pool handoff) does, and
     /// every later all-cores call on that thread then ran on one thread.
     #[test]
     fn a_one_thread_call_leaves_later_calls_on_all_cores() {

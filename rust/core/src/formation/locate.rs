@@ -49,7 +49,8 @@ type Decided = (Vec<Vec<Meeting>>, Option<Choice>, PruneCounts);
 /// Below this many (report × baseline report) pairs a scene is decided on the calling thread.
 const SEQUENTIAL_WORK: usize = 2048;
 
-/// Below this many chosen sets the ML fits run on the calling thread (one fit is ~1 µs).
+/// Below this many chosen sets the ML fits run on the calling thread (a fit is a few
+/// Gauss-Newton steps on M lines: cheaper than the handoff).
 const SEQUENTIAL_FITS: usize = 32;
 
 /// Locates the formation from one snapshot of 2-D bearings (METHODS §3). `gate` carries the
@@ -80,8 +81,8 @@ pub fn locate(
         };
         (kept, choice, counts)
     };
-    // Handing a small scene to the thread pool costs more than deciding it (the paper's
-    // 3 × 6 scene: 28 µs through the pool, 13 µs here); both paths give the same output.
+    // Handing a small scene to the thread pool costs more than deciding it (criterion
+    // `formation/paper_scene`, docs/performance.md); both paths give the same output.
     let decided: Vec<Decided> = match measurements.len() * bases.len() < SEQUENTIAL_WORK {
         true => (0..bases.len()).map(decide).collect(),
         false => (0..bases.len()).into_par_iter().map(decide).collect(),
@@ -173,11 +174,9 @@ fn one_to_one(
         let Some(choice) = pending[b].take() else {
             continue;
         };
-        if scene.rows_of(&choice).iter().all(|&row| !used[row]) {
-            scene
-                .rows_of(&choice)
-                .iter()
-                .for_each(|&row| used[row] = true);
+        let rows = scene.rows_of(&choice);
+        if rows.iter().all(|&row| !used[row]) {
+            rows.iter().for_each(|&row| used[row] = true);
             accepted[b] = Some(choice);
             continue;
         }
