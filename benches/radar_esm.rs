@@ -4,7 +4,9 @@
 //!   pass flags of 500 radar × 500 ESM tracks, x axis only, a 30-scan window and 6
 //!   approximation coefficients per track (what sym2 at 3 levels gives 30 scans in
 //!   PyWavelets' symmetric mode), on all threads; `..._1_thread` on one; `..._unwhitened`
-//!   the paper's scalar statistic.
+//!   the paper's scalar statistic; `..._full_covariance` the same pairs when each track brings
+//!   its coefficients' full 6 × 6 covariance (Σ with cross-time terms, the wavelet-fuzzy
+//!   associator's default when given the filter's q).
 //!
 //! The operator is a random 6 × 30 matrix: the work depends only on its shape, and the core
 //! never sees PyWavelets (`benches/bench_coarse_gate.py` times the same gate with the real
@@ -14,7 +16,9 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use passive_assoc_core::parallel::with_threads;
-use passive_assoc_core::radar_esm::{coarse_gate, CoarseOptions, CoarseTracks, Operator, Side};
+use passive_assoc_core::radar_esm::{
+    coarse_gate, coarse_gate_coupled, CoarseOptions, CoarseTracks, CoupledTracks, Operator, Side,
+};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -39,10 +43,11 @@ fn bench_coarse(c: &mut Criterion) {
     let operator: Vec<f64> = (0..COEFFICIENTS * WINDOW)
         .map(|_| rng.random_range(-0.5..0.5))
         .collect();
-    let (radar, esm) = (side(&mut rng, 500), side(&mut rng, 500));
+    let (radar_data, esm_data) = (side(&mut rng, 500), side(&mut rng, 500));
     let op = Operator::new(&operator, COEFFICIENTS, WINDOW).expect("valid operator");
-    let radar = CoarseTracks::new(Side::Radar, &radar.0, &radar.1, 1, &op).expect("valid");
-    let esm = CoarseTracks::new(Side::Esm, &esm.0, &esm.1, 1, &op).expect("valid");
+    let radar =
+        CoarseTracks::new(Side::Radar, &radar_data.0, &radar_data.1, 1, &op).expect("valid");
+    let esm = CoarseTracks::new(Side::Esm, &esm_data.0, &esm_data.1, 1, &op).expect("valid");
     let whitened = CoarseOptions::new(THRESHOLD).expect("valid threshold");
     let unwhitened = whitened.with_whitened(false);
     let gate = coarse_gate(&op, &radar, &esm, &whitened).expect("runs");
@@ -69,6 +74,48 @@ fn bench_coarse(c: &mut Criterion) {
             })
         });
     }
+    // Full covariances: C = W diag(v) Wᵀ plus a rank-one cross-time term, symmetric positive
+    // definite, row-major (n, 6, 6).
+    let full = |a: &[f64], v: &[f64]| -> Vec<f64> {
+        let n = a.len() / COEFFICIENTS;
+        let mut out = vec![0.0; n * COEFFICIENTS * COEFFICIENTS];
+        for (k, cov) in out
+            .chunks_exact_mut(COEFFICIENTS * COEFFICIENTS)
+            .enumerate()
+        {
+            for x in 0..COEFFICIENTS {
+                for y in 0..COEFFICIENTS {
+                    let diagonal: f64 = (0..WINDOW)
+                        .map(|t| {
+                            operator[x * WINDOW + t] * v[k * WINDOW + t] * operator[y * WINDOW + t]
+                        })
+                        .sum();
+                    cov[x * COEFFICIENTS + y] = diagonal + 0.3e6;
+                }
+            }
+        }
+        out
+    };
+    let (radar_full, esm_full) = (
+        full(radar_data.0.as_slice(), &radar_data.1),
+        full(&esm_data.0, &esm_data.1),
+    );
+    let radar_coupled =
+        CoupledTracks::new(Side::Radar, &radar_data.0, &radar_full, COEFFICIENTS).expect("valid");
+    let esm_coupled =
+        CoupledTracks::new(Side::Esm, &esm_data.0, &esm_full, COEFFICIENTS).expect("valid");
+    group.bench_function("500x500_full_covariance", |b| {
+        b.iter(|| {
+            coarse_gate_coupled(
+                black_box(&radar_coupled),
+                black_box(&esm_coupled),
+                &whitened,
+            )
+            .expect("runs")
+            .statistic
+            .len()
+        })
+    });
     group.finish();
 }
 

@@ -266,6 +266,18 @@ def wavelet_coarse_gate(
     esm: tuple[NDArray[np.float64], NDArray[np.float64]],
     settings: CoarseGateSettings,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]: ...
+def repeated_maximum(
+    score: NDArray[np.float64],
+    allowed: NDArray[np.bool_],
+    tie: NDArray[np.float64],
+    threshold: float,
+    n_threads: int | None = None,
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]: ...
+def wavelet_coarse_gate_coupled(
+    radar: tuple[NDArray[np.float64], NDArray[np.float64]],
+    esm: tuple[NDArray[np.float64], NDArray[np.float64]],
+    settings: CoarseGateSettings,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]: ...
 
 from ._settings import AttributeEvidence, FormationSettings
 

@@ -79,8 +79,30 @@ pub fn with_threads<R: Send>(
     threads: Option<usize>,
     work: impl FnOnce() -> R + Send,
 ) -> CoreResult<R> {
+    check_threads(threads)?;
     match threads {
         None => Ok(work()),
+        Some(n) => Ok(pool(n)?.install(work)),
+    }
+}
+
+/// As [`with_threads`], but `work` runs on the calling thread when it is `sequential` (it
+/// starts no parallel iterator, so a pool would add only its handoff, tens of microseconds,
+/// to a call whose work may take less). The thread count is validated either way.
+pub fn with_threads_unless_sequential<R: Send>(
+    sequential: bool,
+    threads: Option<usize>,
+    work: impl FnOnce() -> R + Send,
+) -> CoreResult<R> {
+    if sequential {
+        check_threads(threads).map(|()| work())
+    } else {
+        with_threads(threads, work)
+    }
+}
+
+fn check_threads(threads: Option<usize>) -> CoreResult<()> {
+    match threads {
         Some(0) => Err(CoreError::out_of_range(
             "n_threads",
             "must be at least 1 (or None for all cores)",
@@ -89,13 +111,24 @@ pub fn with_threads<R: Send>(
             "n_threads",
             format!("{n} exceeds the maximum of {MAX_THREADS}"),
         )),
-        Some(n) => Ok(pool(n)?.install(work)),
+        _ => Ok(()),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sequential_work_stays_on_the_calling_thread_and_counts_are_still_checked() {
+        let caller = std::thread::current().id();
+        let ran_on = with_threads_unless_sequential(true, Some(1), || std::thread::current().id());
+        assert_eq!(ran_on.unwrap(), caller);
+        let pooled = with_threads_unless_sequential(false, Some(1), || std::thread::current().id());
+        assert_ne!(pooled.unwrap(), caller);
+        assert!(with_threads_unless_sequential(true, Some(0), || ()).is_err());
+        assert!(with_threads_unless_sequential(true, Some(MAX_THREADS + 1), || ()).is_err());
+    }
 
     #[test]
     fn pools_are_reused_and_sized_as_asked() {

@@ -34,6 +34,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kalman::kalman_filter, m)?)?;
     m.add_function(wrap_pyfunction!(topology::topology_vectors, m)?)?;
     m.add_function(wrap_pyfunction!(radar_esm::wavelet_coarse_gate, m)?)?;
+    m.add_function(wrap_pyfunction!(radar_esm::wavelet_coarse_gate_coupled, m)?)?;
+    m.add_function(wrap_pyfunction!(radar_esm::repeated_maximum, m)?)?;
     m.add_class::<topology::AssociatorState>()?;
     m.add_class::<topology::ScanPairs>()?;
     m.add_class::<topology::Bias>()?;

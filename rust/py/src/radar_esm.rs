@@ -5,10 +5,13 @@
 use numpy::{PyArrayDyn, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use super::convert::{row_major, slice2, threads, to_numpy, F64Array};
+use super::convert::{row_major, slice2, threads, to_numpy, F64Array, I64Array};
 use super::errors::{value_error, BindResult};
-use passive_assoc_core::parallel::with_threads;
-use passive_assoc_core::radar_esm::{coarse_gate, CoarseOptions, CoarseTracks, Operator, Side};
+use passive_assoc_core::parallel::with_threads_unless_sequential;
+use passive_assoc_core::radar_esm::{
+    coarse_gate, coarse_gate_coupled, repeated_maximum as repeated_maximum_core, runs_sequentially,
+    CoarseOptions, CoarseTracks, CoupledTracks, Operator, Side,
+};
 
 /// `passive_assoc._settings.CoarseGateSettings`, read by attribute.
 #[derive(FromPyObject)]
@@ -96,11 +99,115 @@ pub fn wavelet_coarse_gate<'py>(
     let operator = Operator::new(slice2("operator", &operator, window)?, c, window)?;
     let radar = side(Side::Radar, &RADAR, &radar, &operator)?;
     let esm = side(Side::Esm, &ESM, &esm, &operator)?;
-    let gate =
-        py.detach(|| with_threads(n_threads, || coarse_gate(&operator, &radar, &esm, &options)))??;
+    let sequential = runs_sequentially(radar.len(), esm.len());
+    let gate = py.detach(|| {
+        with_threads_unless_sequential(sequential, n_threads, || {
+            coarse_gate(&operator, &radar, &esm, &options)
+        })
+    })??;
     let shape = [gate.radar, gate.esm];
     Ok((
         to_numpy(py, gate.statistic, &shape)?,
         to_numpy(py, gate.passed, &shape)?,
     ))
+}
+
+/// One sensor's tracks with their coefficients' full covariance: coefficients `(n, m)` and
+/// covariances `(n, m, m)`, m = ndim · c, coordinate-major.
+type CoupledArrays<'py> = (PyReadonlyArray2<'py, f64>, PyReadonlyArray3<'py, f64>);
+
+fn coupled<'a>(
+    which: Side,
+    (coefficients, covariances): (&'static str, &'static str),
+    tracks: &'a CoupledArrays<'_>,
+) -> BindResult<CoupledTracks<'a>> {
+    let (a, c) = (tracks.0.shape(), tracks.1.shape());
+    if c != [a[0], a[1], a[1]] {
+        return Err(value_error(
+            covariances,
+            format!(
+                "expected shape ({}, {m}, {m}) (the coefficients' tracks, m × m), got {c:?}",
+                a[0],
+                m = a[1]
+            ),
+        ));
+    }
+    let values = slice2(coefficients, &tracks.0, a[1])?;
+    let cov = slice3(covariances, &tracks.1)?;
+    Ok(CoupledTracks::new(which, values, cov, a[1])?)
+}
+
+/// The whitened coarse gate of every (radar, ESM) pair when each track brings its
+/// coefficients' full covariance: each side `(coefficients (n, m), covariances (n, m, m))`.
+/// Returns (statistic `(n_radar, n_esm)`, passed `(n_radar, n_esm)` bool).
+#[pyfunction]
+#[pyo3(signature = (radar, esm, settings))]
+pub fn wavelet_coarse_gate_coupled<'py>(
+    py: Python<'py>,
+    radar: CoupledArrays<'py>,
+    esm: CoupledArrays<'py>,
+    settings: CoarseGateSettings,
+) -> BindResult<(F64Array<'py>, Bound<'py, PyArrayDyn<bool>>)> {
+    let options = CoarseOptions::new(settings.threshold)?.with_whitened(settings.whitened);
+    let n_threads = threads(settings.n_threads)?;
+    let radar = coupled(
+        Side::Radar,
+        ("radar_coefficients", "radar_covariances"),
+        &radar,
+    )?;
+    let esm = coupled(Side::Esm, ("esm_coefficients", "esm_covariances"), &esm)?;
+    let sequential = runs_sequentially(radar.len(), esm.len());
+    let gate = py.detach(|| {
+        with_threads_unless_sequential(sequential, n_threads, || {
+            coarse_gate_coupled(&radar, &esm, &options)
+        })
+    })??;
+    let shape = [gate.radar, gate.esm];
+    Ok((
+        to_numpy(py, gate.statistic, &shape)?,
+        to_numpy(py, gate.passed, &shape)?,
+    ))
+}
+
+/// The one-to-one decision of every scan by repeated maximum: `score`, `allowed` and `tie`
+/// `(scans, n_radar, n_esm)`; a pair needs `allowed` and `score > threshold`. Returns the
+/// picks' (scan, radar row, ESM row) as three int64 arrays, scan by scan in the order made.
+#[pyfunction]
+#[pyo3(signature = (score, allowed, tie, threshold, n_threads=None))]
+pub fn repeated_maximum<'py>(
+    py: Python<'py>,
+    score: PyReadonlyArray3<'py, f64>,
+    allowed: PyReadonlyArray3<'py, bool>,
+    tie: PyReadonlyArray3<'py, f64>,
+    threshold: f64,
+    n_threads: Option<i64>,
+) -> BindResult<(I64Array<'py>, I64Array<'py>, I64Array<'py>)> {
+    let shape = score.shape().to_vec();
+    for (name, other) in [("allowed", allowed.shape()), ("tie", tie.shape())] {
+        if other != shape.as_slice() {
+            return Err(value_error(
+                name,
+                format!("expected the score's shape {shape:?}, got {other:?}"),
+            ));
+        }
+    }
+    let n_threads = threads(n_threads)?;
+    let (score, allowed, tie) = (
+        row_major("score", &score)?,
+        row_major("allowed", &allowed)?,
+        row_major("tie", &tie)?,
+    );
+    let dims = (shape[0], shape[1], shape[2]);
+    // Per scan the work is a sort of its candidates: worth the pool only for many of them.
+    let sequential = dims.0.saturating_mul(dims.1).saturating_mul(dims.2) < 1 << 16;
+    let picks = py.detach(|| {
+        with_threads_unless_sequential(sequential, n_threads, || {
+            repeated_maximum_core(score, allowed, tie, dims, threshold)
+        })
+    })??;
+    let column = |f: fn(&(usize, usize, usize)) -> usize| -> BindResult<I64Array<'py>> {
+        let values = picks.iter().map(|p| f(p) as i64).collect();
+        to_numpy(py, values, &[picks.len()])
+    };
+    Ok((column(|p| p.0)?, column(|p| p.1)?, column(|p| p.2)?))
 }

@@ -80,6 +80,15 @@ pub fn coarse_gate(
         ));
     }
     let (n_radar, n_esm) = (radar.len(), esm.len());
+    let pairs = checked_pairs(n_radar, n_esm)?;
+    let parallel = is_parallel(pairs);
+    let sides = Sides::new(operator, (radar, esm), options.whitened(), parallel);
+    run_pairs(&sides, (n_radar, n_esm), options.threshold(), parallel)
+        .map_err(|(i, j, k)| not_positive(i, j, k, options.whitened()))
+}
+
+/// `n_radar × n_esm`, or the cap's error.
+pub(super) fn checked_pairs(n_radar: usize, n_esm: usize) -> CoreResult<usize> {
     let pairs = n_radar.saturating_mul(n_esm);
     if pairs > MAX_PAIRS {
         return Err(CoreError::CapExceeded {
@@ -89,15 +98,35 @@ pub fn coarse_gate(
             hint: "gate the tracks in blocks of radar tracks",
         });
     }
-    let mut statistic = vec![0.0; pairs];
-    let parallel = pairs >= PARALLEL_PAIRS;
-    if pairs > 0 {
-        let sides = Sides::new(operator, (radar, esm), options.whitened(), parallel);
+    Ok(pairs)
+}
+
+/// Whether `pairs` pairs are worth the thread pool.
+pub(super) fn is_parallel(pairs: usize) -> bool {
+    pairs >= PARALLEL_PAIRS
+}
+
+/// Whether a gate of `n_radar × n_esm` pairs runs on the calling thread alone (so a caller
+/// can skip handing it to a thread pool).
+pub fn runs_sequentially(n_radar: usize, n_esm: usize) -> bool {
+    !is_parallel(n_radar.saturating_mul(n_esm))
+}
+
+/// The statistic and pass flags of every pair of prepared `sides`; on failure the
+/// (radar, ESM, coordinate) of the first pair in row order whose summed covariance is not
+/// positive, whichever thread found it.
+pub(super) fn run_pairs(
+    sides: &Sides<'_>,
+    (n_radar, n_esm): (usize, usize),
+    threshold: f64,
+    parallel: bool,
+) -> Result<CoarseGate, (usize, usize, usize)> {
+    let mut statistic = vec![0.0; n_radar * n_esm];
+    if !statistic.is_empty() {
         let row = sides.row_kernel();
         let failed = |(i, out): (usize, &mut [f64])| -> Option<(usize, usize, usize)> {
-            row(&sides, i, out).err().map(|(j, k)| (i, j, k))
+            row(sides, i, out).err().map(|(j, k)| (i, j, k))
         };
-        // The first failing pair in row order, whichever thread found it.
         let failure = if parallel {
             let rows_per_task = (PAIRS_PER_TASK / n_esm).max(1);
             statistic
@@ -109,11 +138,10 @@ pub fn coarse_gate(
         } else {
             statistic.chunks_mut(n_esm).enumerate().find_map(failed)
         };
-        if let Some((i, j, k)) = failure {
-            return Err(not_positive(i, j, k, options.whitened()));
+        if let Some(first) = failure {
+            return Err(first);
         }
     }
-    let threshold = options.threshold();
     let passes = |&s: &f64| s <= threshold;
     let passed = if parallel {
         statistic.par_iter().map(passes).collect()

@@ -8,6 +8,7 @@
 use rayon::prelude::*;
 
 use super::cholesky::quadratic_forms;
+use super::full::CoupledTracks;
 use super::inputs::{CoarseTracks, Operator};
 
 /// ESM tracks per call of the lane kernel.
@@ -84,34 +85,65 @@ impl<'a> Sides<'a> {
     ) -> Self {
         let spread = |variances| spreads(operator, variances, whitened, parallel);
         let (ndim, c) = (radar.ndim(), operator.coefficients());
-        let esm_spread = spread(esm.variances);
-        let (groups, rest) = if whitened {
-            let per_track = (ndim * c * c, ndim * c);
-            let first_rest = esm.len() / LANES * LANES;
-            let (values, coefficients) = (&esm_spread[..], esm.coefficients);
-            (
-                Lanes::new(values, coefficients, (0, first_rest / LANES), per_track),
-                Lanes::new(
-                    values,
-                    coefficients,
-                    (first_rest, esm.len() - first_rest),
-                    per_track,
-                ),
-            )
+        let (radar_side, esm_side) = (
+            (radar.coefficients, spread(radar.variances)),
+            (esm.coefficients, spread(esm.variances)),
+        );
+        if whitened {
+            Self::whitened(radar_side, esm_side, ndim, c)
         } else {
-            (Lanes::empty(), Lanes::empty())
-        };
+            Self {
+                radar: radar_side.0,
+                esm: esm_side.0,
+                radar_spread: radar_side.1,
+                esm_spread: esm_side.1,
+                groups: Lanes::empty(),
+                rest: Lanes::empty(),
+                ndim,
+                c,
+                whitened,
+            }
+        }
+    }
+
+    /// Sides whose tracks carry their coefficients' full covariance already (coordinates
+    /// coupled): one block of `m` coefficients and an `m × m` C per track.
+    pub(super) fn coupled(radar: &CoupledTracks<'a>, esm: &CoupledTracks<'a>) -> Self {
+        Self::whitened(
+            (radar.coefficients, radar.covariances.to_vec()),
+            (esm.coefficients, esm.covariances.to_vec()),
+            1,
+            radar.width(),
+        )
+    }
+
+    /// Whitened sides from each side's coefficients and per (track, coordinate) c × c C; the
+    /// ESM side laid out lane-innermost for the lane kernel.
+    fn whitened(
+        (radar, radar_spread): (&'a [f64], Vec<f64>),
+        (esm, esm_spread): (&'a [f64], Vec<f64>),
+        ndim: usize,
+        c: usize,
+    ) -> Self {
+        let per_track = (ndim * c * c, ndim * c);
+        let n_esm = esm.len() / per_track.1;
+        let first_rest = n_esm / LANES * LANES;
         Self {
-            radar: radar.coefficients,
-            esm: esm.coefficients,
-            radar_spread: spread(radar.variances),
-            // Whitened, the kernels read the ESM side from `groups` and `rest` only.
-            esm_spread: if whitened { Vec::new() } else { esm_spread },
-            groups,
-            rest,
+            radar,
+            esm,
+            radar_spread,
+            // The kernels read the ESM side from `groups` and `rest` only.
+            esm_spread: Vec::new(),
+            groups: Lanes::new(&esm_spread, esm, (0, first_rest / LANES), per_track),
+            rest: Lanes::new(
+                &esm_spread,
+                esm,
+                (first_rest, n_esm - first_rest),
+                per_track,
+            ),
             ndim,
             c,
-            whitened,
+            whitened: true,
         }
     }
 
@@ -130,6 +162,9 @@ impl<'a> Sides<'a> {
             6 => whitened_row_fixed::<6>,
             7 => whitened_row_fixed::<7>,
             8 => whitened_row_fixed::<8>,
+            // Coupled 2-D tracks: two coordinates of 5 or 6 coefficients.
+            10 => whitened_row_fixed::<10>,
+            12 => whitened_row_fixed::<12>,
             _ => whitened_row_any,
         }
     }
