@@ -13,12 +13,14 @@ from passive_assoc.experiments.wavelet import PROCESS_NOISE, score
 from passive_assoc.experiments.wavelet_passive import demo_tracks
 from passive_assoc.radar_esm import RadarEsmAssociation, coarse_gate, filter_reports
 from passive_assoc.radar_esm.fuzzy import _heading, membership
+from passive_assoc.radar_esm.scan_gate import gate_diagonal
 from passive_assoc.simulation import paper_wavelet_scenario
 
 METHODS: dict[
     str, Callable[[], pa.WaveletFuzzyAssociator | pa.NearestNeighbourTrackAssociator | pa.Chi2TrackAssociator]
 ] = {
     "wavelet": pa.WaveletFuzzyAssociator,
+    "wavelet_cross_time": lambda: pa.WaveletFuzzyAssociator(process_noise=PROCESS_NOISE),
     "nearest": pa.NearestNeighbourTrackAssociator,
     "chi2": pa.Chi2TrackAssociator,
 }
@@ -90,11 +92,13 @@ def test_noiseless_distinct_targets_are_all_paired_correctly(method: str) -> Non
     assert correct[2:].tolist() == [1.0] * 28
 
 
-def test_two_and_three_dimensional_tracks() -> None:
-    """Far above chance (0.1) in 2-D and in 3-D (the coarse gate's miscalibration on filtered
-    tracks, docs/experiments.md, keeps it well below 1)."""
+@pytest.mark.parametrize("process_noise", [None, PROCESS_NOISE])
+def test_two_and_three_dimensional_tracks(process_noise: float | None) -> None:
+    """Far above chance (0.1) in 2-D and in 3-D, with Σ per scan and with the cross-time
+    covariance."""
     radar, esm, times = sensor_tracks(4, ndim=2)
-    correct, _ = score(pa.WaveletFuzzyAssociator().associate(radar, esm), radar, esm, times)
+    associator = pa.WaveletFuzzyAssociator(process_noise=process_noise)
+    correct, _ = score(associator.associate(radar, esm), radar, esm, times)
     assert np.nanmean(correct[5:]) > 0.5
     # 3-D: the same tracks at a common altitude of 5 km, with a z variance like x's.
     lifted = []
@@ -119,7 +123,7 @@ def test_two_and_three_dimensional_tracks() -> None:
                 table.truth,
             )
         )
-    correct_3d, _ = score(pa.WaveletFuzzyAssociator().associate(*lifted), lifted[0], lifted[1], times)
+    correct_3d, _ = score(associator.associate(*lifted), lifted[0], lifted[1], times)
     assert np.nanmean(correct_3d[5:]) > 0.5
 
 
@@ -165,6 +169,10 @@ def test_empty_sensor_leaves_everything_unpaired() -> None:
         (dict(tau=0.0), ValueError, "tau"),
         (dict(epsilon=1.5), ValueError, "epsilon"),
         (dict(whitened=1), TypeError, "whitened"),
+        (dict(process_noise=-1.0), ValueError, "process_noise"),
+        (dict(process_noise=float("nan")), ValueError, "process_noise"),
+        (dict(process_noise=True), TypeError, "process_noise"),
+        (dict(process_noise=10.0, whitened=False), ValueError, "process_noise"),
     ],
 )
 def test_bad_parameters(kwargs: dict[str, object], exc: type[Exception], message: str) -> None:
@@ -225,7 +233,7 @@ def test_the_associators_gate_is_coarse_gate(whitened: bool) -> None:
     associator = pa.WaveletFuzzyAssociator(whitened=whitened, mode="periodization")
     expected = coarse_gate(radar_x, var_r, esm_x, var_e, whitened=whitened, mode="periodization").passed
     assert expected.any() and not expected.all()
-    assert np.array_equal(associator._gate(radar_x, var_r, esm_x, var_e), expected)
+    assert np.array_equal(gate_diagonal(associator.config, radar_x, var_r, esm_x, var_e), expected)
 
 
 def test_sensors_of_different_dimension_are_refused() -> None:

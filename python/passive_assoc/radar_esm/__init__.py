@@ -3,9 +3,10 @@
 
 from __future__ import annotations
 
-from .associator import WINDOW_CAP, WaveletFuzzyAssociator
+from .associator import WaveletFuzzyAssociator
 from .baselines import Chi2TrackAssociator, NearestNeighbourTrackAssociator
 from .coarse import CoarseGate, approximation_operator, coarse_gate, coefficients
+from .scan_gate import WINDOW_CAP
 from .scans import RadarEsmAssociation
 from .tracks import filter_reports
 

@@ -7,13 +7,14 @@ A (radar i, ESM j) pair passes when ``d = a_i − a_j`` satisfies
 
     dᵀ (C_i + C_j)⁻¹ d ≤ χ²_{ndim·c}(gate_probability),    C = W Σ Wᵀ,
 
-Σ the track's position covariance over the window (diagonal in time: the filter's per-scan
-variances), coordinates independent. On a true pair with Gaussian noise the statistic is χ²
-with ndim·c degrees of freedom, so the gate rejects the nominal 1 − gate_probability of true
-pairs. ``whitened=False`` is the paper's literal statistic ``|d|² / (σ_i² + σ_j²)`` (σ² the
-mean per-scan variance, per coordinate) against the same threshold, kept as an ablation: the
-boundary coefficients of white noise have variances up to 4× the interior ones, so it rejects
-far more true pairs than nominal (METHODS §5). The per-pair whitening and test run in the
+Σ the track's position covariance over the window: the filter's per-scan variances (diagonal
+in time, coordinates independent), or the window's full covariance. On a true pair with
+Gaussian noise the statistic is χ² with ndim·c degrees of freedom, so the gate rejects the
+nominal 1 − gate_probability of true pairs. ``whitened=False`` is the paper's literal
+statistic ``|d|² / (σ_i² + σ_j²)`` (σ² the mean per-scan variance, per coordinate) against the
+same threshold, kept as an ablation: the boundary coefficients of white noise have variances
+up to 4× the interior ones, so it rejects far more true pairs than nominal (METHODS §5). The
+per-pair whitening and test run in the
 Rust core, in parallel, with the GIL released.
 """
 
@@ -32,6 +33,7 @@ from .. import _core
 from .._params import Boolean, Constraint, Interval, Options, validate
 from .._settings import CoarseGateSettings
 from .._validation import as_float_array, readonly, require_finite, require_nonnegative
+from .window import coefficient_covariance
 
 __all__ = ["MODES", "CoarseGate", "approximation_operator", "coefficients", "coarse_gate"]
 
@@ -199,14 +201,33 @@ def coefficients(positions: ArrayLike, operator: ArrayLike) -> NDArray[np.float6
 def _side(
     name: str, positions: ArrayLike, variances: ArrayLike, shape: tuple[int | None, ...]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Positions ``(n, ndim, T)`` and either per-scan variances of the same shape or a full
+    window covariance ``(n, ndim, T, ndim, T)`` (the core checks its symmetry)."""
     x = as_float_array(f"{name}_positions", positions, shape=shape)
     if x.shape[1] < 1:
         raise ValueError(f"{name}_positions: needs at least one coordinate, got shape {x.shape}")
     require_finite(f"{name}_positions", x)
-    v = as_float_array(f"{name}_variances", variances, shape=x.shape)
+    v = as_float_array(f"{name}_variances", variances)
+    if v.shape not in (x.shape, (*x.shape, *x.shape[1:])):
+        n, ndim, window = x.shape
+        raise ValueError(
+            f"{name}_variances: expected shape {x.shape} (per-scan variances) or "
+            f"{(n, ndim, window, ndim, window)} (the window's full covariance), got {v.shape}"
+        )
     require_finite(f"{name}_variances", v)
-    require_nonnegative(f"{name}_variances", v)
+    if v.ndim == 3:
+        require_nonnegative(f"{name}_variances", v)
     return x, v
+
+
+def _full(variances: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Per-scan variances ``(n, d, T)`` as the diagonal full covariance ``(n, d, T, d, T)``."""
+    if variances.ndim == 5:
+        return variances
+    n, d, window = variances.shape
+    out = np.zeros((n, d * window, d * window))
+    out[:, np.arange(d * window), np.arange(d * window)] = variances.reshape(n, d * window)
+    return out.reshape(n, d, window, d, window)
 
 
 def coarse_gate(
@@ -230,8 +251,11 @@ def coarse_gate(
         ``(n_radar, ndim, T)`` and ``(n_esm, ndim, T)``: each track's filtered positions over
         the same T scans, per coordinate.
     radar_variances, esm_variances : array_like
-        The filters' per-scan position variances, same shapes, ≥ 0 (a pair needs some
-        variance on at least one side).
+        Σ over the window: the filters' per-scan position variances, same shapes as the
+        positions, ≥ 0 (Σ diagonal in time); or the window's full covariance ``(n, ndim, T,
+        ndim, T)`` (coordinate, scan), symmetric — a filtered track's errors are correlated from
+        scan to scan (:mod:`.window` builds it from a constant-acceleration filter's
+        covariances). A pair needs some variance on at least one side.
     wavelet, level, mode
         As :func:`approximation_operator` (the level is reduced for a short window; the one
         used is ``CoarseGate.level``).
@@ -290,10 +314,16 @@ def coarse_gate(
     dof = ndim * operator.shape[0]
     threshold = float(chi2.ppf(params["gate_probability"], dof))
     settings = CoarseGateSettings(threshold, params["whitened"], params["n_threads"])
-    statistic, passed = _core.wavelet_coarse_gate(
-        operator,
-        (_coefficients("radar_positions", radar_x, operator), radar_v),
-        (_coefficients("esm_positions", esm_x, operator), esm_v),
-        settings,
-    )
+    radar_a = _coefficients("radar_positions", radar_x, operator)
+    esm_a = _coefficients("esm_positions", esm_x, operator)
+    if radar_v.ndim == 3 and esm_v.ndim == 3:
+        statistic, passed = _core.wavelet_coarse_gate(operator, (radar_a, radar_v), (esm_a, esm_v), settings)
+    elif not params["whitened"]:
+        raise ValueError("whitened: the literal statistic reads per-scan variances, not a full covariance")
+    else:
+        statistic, passed = _core.wavelet_coarse_gate_coupled(
+            (radar_a.reshape(len(radar_a), -1), coefficient_covariance(_full(radar_v), operator)),
+            (esm_a.reshape(len(esm_a), -1), coefficient_covariance(_full(esm_v), operator)),
+            settings,
+        )
     return CoarseGate(readonly(statistic), readonly(passed), dof, threshold, used)

@@ -3,8 +3,7 @@
 *Repeated maximum*: take the largest score among the pairs allowed; if it exceeds the
 threshold, pair its two tracks and strike both; repeat until no allowed score is left above
 it. Exact ties go to the pair whose positions are closer (``tie``, smaller wins), then to the
-first in the rows' id-free order (:mod:`.scans`). The scans are independent, so the loop runs
-over pairs made (at most ``min(n_radar, n_esm)`` rounds), each round vectorised over scans.
+first in the rows' id-free order (:mod:`.scans`). In the Rust core, scans in parallel.
 
 *Optimal assignment* (the nearest-neighbour baseline): the gated minimum-cost assignment per
 scan, on the project's 2-D solver.
@@ -15,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import _core
 from ..assignment import linear_assignment
 
 __all__ = ["repeated_maximum", "gated_assignment"]
@@ -23,34 +23,26 @@ Pairs = tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]
 
 
 def repeated_maximum(
-    score: NDArray[np.float64], allowed: NDArray[np.bool_], threshold: float, tie: NDArray[np.float64]
+    score: NDArray[np.float64],
+    allowed: NDArray[np.bool_],
+    threshold: float,
+    tie: NDArray[np.float64],
+    n_threads: int | None = None,
 ) -> Pairs:
     """Pairs ``(scan, radar row, esm row)`` chosen by repeated maximum of ``score`` (K, n_r, n_e)
-    over the ``allowed`` entries with ``score > threshold``."""
-    k, n_r, n_e = score.shape
-    live = np.where(allowed & (score > threshold), score, -np.inf).reshape(k, n_r * n_e)
-    ties = np.where(np.isfinite(tie), tie, np.inf).reshape(k, n_r * n_e)
-    chosen: list[tuple[NDArray[np.intp], NDArray[np.intp]]] = []
-    for _ in range(min(n_r, n_e)):
-        best = live.max(axis=1) if n_r * n_e else np.full(k, -np.inf)
-        scans = np.flatnonzero(best > -np.inf)
-        if len(scans) == 0:
-            break
-        at_best = live[scans] == best[scans, None]
-        flat = np.argmin(np.where(at_best, ties[scans], np.inf), axis=1)
-        # A tie key of inf everywhere (no position) still picks a maximum: argmin of all-inf is 0.
-        flat = np.where(at_best[np.arange(len(scans)), flat], flat, np.argmax(at_best, axis=1))
-        chosen.append((scans, flat))
-        rows, cols = np.divmod(flat, n_e)
-        grid = live.reshape(k, n_r, n_e)
-        grid[scans, rows, :] = -np.inf
-        grid[scans, :, cols] = -np.inf
-    if not chosen:
-        empty = np.empty(0, np.intp)
-        return empty, empty, empty
-    scans = np.concatenate([s for s, _ in chosen])
-    rows, cols = np.divmod(np.concatenate([f for _, f in chosen]), n_e)
-    return scans, rows, cols
+    over the ``allowed`` entries with ``score > threshold``, ties by ``tie`` then order.
+
+    The Rust core does it as one sort per scan and a greedy sweep — the same picks as
+    re-taking the maximum after each strike, without a pass over every pair per pick — with
+    the scans in parallel."""
+    scans, rows, cols = _core.repeated_maximum(
+        np.ascontiguousarray(score, dtype=np.float64),
+        np.ascontiguousarray(allowed, dtype=np.bool_),
+        np.ascontiguousarray(tie, dtype=np.float64),
+        float(threshold),
+        n_threads,
+    )
+    return scans.astype(np.intp), rows.astype(np.intp), cols.astype(np.intp)
 
 
 def gated_assignment(cost: NDArray[np.float64], allowed: NDArray[np.bool_]) -> Pairs:
