@@ -5,12 +5,20 @@ TypeError, or a valid result. A PanicException (a BaseException) or an abort fai
 The suite runs a small budget; a large one on demand:
 
     FUZZ_EXAMPLES=2000 python3 -m pytest -q tests/test_fuzz.py
+
+Each call is bounded: a Hypothesis deadline of 10 s per example (a hang detector — the calls
+take milliseconds — not a benchmark), and on Linux the address space is capped at 3 GB above
+what the process holds when the module starts, so a call that tried to take the machine's
+memory raises MemoryError (or, from an unchecked allocation, aborts the run) instead of
+swapping.
 """
 
 from __future__ import annotations
 
 import contextlib
+import datetime
 import os
+import sys
 from collections.abc import Callable
 from typing import Any
 
@@ -22,7 +30,36 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 EXAMPLES = int(os.environ.get("FUZZ_EXAMPLES", "40"))
-FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
+FUZZ = settings(
+    max_examples=EXAMPLES,
+    deadline=datetime.timedelta(seconds=10),
+    suppress_health_check=[HealthCheck.too_slow],
+    derandomize=True,
+)
+#: Address space each call may add to what the process holds when the module starts.
+MEMORY_HEADROOM = 3 << 30
+
+
+@pytest.fixture(autouse=True, scope="module")
+def bounded_memory() -> Any:
+    """Caps the soft RLIMIT_AS for this module's tests and restores it after (Linux)."""
+    if not sys.platform.startswith("linux"):
+        yield
+        return
+    import resource
+
+    with open("/proc/self/status") as status:
+        held = next(int(line.split()[1]) * 1024 for line in status if line.startswith("VmSize:"))
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    cap = held + MEMORY_HEADROOM
+    if hard != resource.RLIM_INFINITY:
+        cap = min(cap, hard)
+    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+
 
 #: Values that break arithmetic, and plain ones.
 SPECIAL = st.sampled_from([0.0, -0.0, 1.0, -1.0, 1e-300, 1e300, -1e300, np.nan, np.inf, -np.inf, 2.0**63])
@@ -122,3 +159,11 @@ def test_closeness(states: Any, t0: Any, spread: Any) -> None:
 def test_budget_is_positive(budget: int) -> None:
     """FUZZ_EXAMPLES must be a positive count, or the tests above would check nothing."""
     assert budget > 0
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS is capped on Linux")
+def test_the_memory_cap_is_in_force() -> None:
+    """Without the cap a 2·headroom allocation would succeed lazily (untouched pages); under it
+    it is refused, so the fuzzed calls above ran bounded."""
+    with pytest.raises(MemoryError):
+        np.empty(2 * MEMORY_HEADROOM // 8)

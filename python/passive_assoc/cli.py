@@ -16,6 +16,7 @@ import numpy as np
 from . import __version__
 from .evaluation import perfect_association_fit, target_crlbs
 from .experiments import formation, fti, intensity, topology, wavelet
+from .experiments.common import seed_int
 from .simulation import paper_fti_scenario
 
 #: (name, module with add_arguments/main, one-line summary) of every `reproduce` experiment.
@@ -74,7 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Simulate the fuzzy-track-initiation paper's scenario (METHODS §1) and print, per "
         "target, the Gauss-Newton ML estimate of X0 from its true measurements, the truth and the CRLB.",
     )
-    demo.add_argument("--seed", type=int, default=0, help="simulation seed (default 0)")
+    demo.add_argument("--seed", type=seed_int, default=0, help="simulation seed (default 0)")
     demo.set_defaults(run=_demo)
     _add_reproduce(commands)
     return parser

@@ -18,16 +18,29 @@ from tqdm import tqdm
 R = TypeVar("R")
 
 
-def positive_int(text: str) -> int:
-    """argparse type: an integer ≥ 1 (``--runs``, ``--workers``), so ``--workers 0`` is a usage
-    error rather than a traceback or a silent fallback."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {value}")
-    return value
+def int_at_least(minimum: int) -> Callable[[str], int]:
+    """argparse type: an integer ≥ ``minimum``, so ``--workers 0`` or ``--window 3`` is a usage
+    error naming the option rather than a traceback or a silent fallback. The returned
+    function carries ``minimum`` (the CLI's option test reads it)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {value}")
+        return value
+
+    parse.minimum = minimum  # type: ignore[attr-defined]
+    parse.__name__ = f"integer >= {minimum}"
+    return parse
+
+
+#: argparse type: an integer ≥ 1 (``--runs``, ``--workers``).
+positive_int = int_at_least(1)
+#: argparse type: an integer ≥ 0 (counts that may be zero: ``--demo-runs``, ``--clutter``).
+nonnegative_int = int_at_least(0)
 
 
 def finite_float(text: str) -> float:
@@ -42,15 +55,8 @@ def finite_float(text: str) -> float:
     return value
 
 
-def seed_int(text: str) -> int:
-    """argparse type: a seed NumPy accepts, an integer ≥ 0."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
-    return value
+#: argparse type: a seed NumPy accepts, an integer ≥ 0.
+seed_int = int_at_least(0)
 
 
 def output_file(text: str) -> str:

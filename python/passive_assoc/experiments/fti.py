@@ -20,7 +20,18 @@ from scipy.optimize import linear_sum_assignment
 from ..evaluation import perfect_association_fit, target_crlbs
 from ..fti import FuzzyTrackInitiator, InitiationResult
 from ..simulation import Scenario, paper_fti_scenario
-from .common import finite_float, fmt, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
+from .common import (
+    finite_float,
+    fmt,
+    map_runs,
+    nonnegative_int,
+    output_file,
+    positive_int,
+    print_rows,
+    run_seeds,
+    seed_int,
+    write_json,
+)
 
 COMPONENTS = ("x0", "y0", "z0", "vx", "vy", "vz")
 #: Paper Table 2: one run's estimated X0 (all four targets found).
@@ -259,7 +270,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--refine-passes",
-        type=int,
+        type=nonnegative_int,
         default=2,
         help="classify-and-refit passes after the final fit (default 2; 0 = the paper's pipeline)",
     )

@@ -183,7 +183,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--runs", type=positive_int, default=200, help="Monte-Carlo runs per R (default 200)")
     parser.add_argument("--seed", type=seed_int, default=2026, help="master seed (default 2026)")
     parser.add_argument("--workers", type=positive_int, default=1, help="runs executed concurrently (default 1)")
-    parser.add_argument("--targets", type=int, default=10, help="M for the accuracy table (paper: 10)")
+    parser.add_argument("--targets", type=positive_int, default=10, help="M for the accuracy table (paper: 10)")
     parser.add_argument(
         "--ratios", type=finite_float, nargs="+", default=[5, 10, 15, 20], help="R values (default 5 10 15 20)"
     )
@@ -202,7 +202,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="also solve each scan exactly under the scenario's true prior: what any method can expect",
     )
     parser.add_argument(
-        "--max-iter", type=int, default=200, help="Lagrangian iteration cap (default 200; MATLAB assignsd: 100)"
+        "--max-iter",
+        type=positive_int,
+        default=200,
+        help="Lagrangian iteration cap (default 200; MATLAB assignsd: 100)",
     )
     parser.add_argument(
         "--gap-tol",
@@ -223,9 +226,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="end the Lagrangian (and the exact solver's root) with the compound-move polish",
     )
     parser.add_argument(
-        "--timing-scans", type=int, default=5, help="scans per Table 1 row, median reported (default 5)"
+        "--timing-scans", type=positive_int, default=5, help="scans per Table 1 row, median reported (default 5)"
     )
-    parser.add_argument("--max-m", type=int, default=500, help="largest M in Table 1 (default 500)")
+    parser.add_argument("--max-m", type=positive_int, default=500, help="largest M in Table 1 (default 500)")
     parser.add_argument(
         "--plot",
         metavar="FILE",

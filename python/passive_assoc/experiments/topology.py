@@ -178,7 +178,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--bias", type=finite_float, nargs="+", default=[0.0, 1.0, 3.0, 5.0], help="bias levels B, degrees (0 1 3 5)"
     )
     parser.add_argument("--coverage", choices=["full", "partial", "both"], default="full", help="radar coverage")
-    parser.add_argument("--window", type=int, default=6, help="scans averaged (default 6)")
+    parser.add_argument("--window", type=positive_int, default=6, help="scans averaged (default 6)")
     parser.add_argument("--threshold", type=finite_float, default=0.7, help="λ as a fraction of M·N (default 0.7)")
     parser.add_argument("--gate", type=finite_float, default=None, help="position gate of the topology method, metres")
     parser.add_argument(

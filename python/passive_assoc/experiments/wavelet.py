@@ -35,7 +35,17 @@ from ..radar_esm import (
     filter_reports,
 )
 from ..simulation.radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, paper_wavelet_scenario
-from .common import finite_float, map_runs, output_file, positive_int, run_seeds, seed_int, write_json
+from .common import (
+    finite_float,
+    int_at_least,
+    map_runs,
+    nonnegative_int,
+    output_file,
+    positive_int,
+    run_seeds,
+    seed_int,
+    write_json,
+)
 
 #: The paper's correct-association probabilities (its §5), as ranges over scans.
 PAPER = {"wavelet": (0.88, 0.93), "nearest": (0.72, 0.85)}
@@ -287,7 +297,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=seed_int, default=1, help="base seed (default 1)")
     parser.add_argument("--workers", type=positive_int, default=1, help="worker processes (default 1)")
     parser.add_argument(
-        "--clutter", type=int, nargs="+", default=[0, 1, 2, 5], help="false tracks per sensor (0 1 2 5)"
+        "--clutter", type=nonnegative_int, nargs="+", default=[0, 1, 2, 5], help="false tracks per sensor (0 1 2 5)"
     )
     parser.add_argument(
         "--process-noise",
@@ -296,7 +306,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"trackers' white-jerk density q, m²/s⁵ (default {PROCESS_NOISE:.0f}: the targets' maneuver power)",
     )
     parser.add_argument(
-        "--window", type=int, default=None, help="coarse window, scans (default: all so far, at most 32)"
+        "--window", type=int_at_least(6), default=None, help="coarse window, scans (default: all so far, at most 32)"
     )
     parser.add_argument(
         "--gate-probability",
@@ -305,7 +315,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="wavelet-fuzzy coarse gate probability (default 0.99)",
     )
     parser.add_argument(
-        "--demo-runs", type=int, default=100, help="runs of the 2-D radar + passive demo (100; 0: none)"
+        "--demo-runs", type=nonnegative_int, default=100, help="runs of the 2-D radar + passive demo (100; 0: none)"
     )
     parser.add_argument(
         "--plot", metavar="FILE", type=output_file, help="save the tracks of one run and P(correct) against scan"
@@ -314,14 +324,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.runs < 1 or args.demo_runs < 0:
-        raise SystemExit("--runs must be at least 1 and --demo-runs at least 0")
-    if any(c < 0 for c in args.clutter) or args.process_noise < 0:
-        raise SystemExit("--clutter and --process-noise must be >= 0")
+    # The counts and the window are checked by their argparse types.
+    if args.process_noise < 0:
+        raise SystemExit("--process-noise must be >= 0")
     if not 0.0 < args.gate_probability < 1.0:
         raise SystemExit("--gate-probability must be in (0, 1)")
-    if args.window is not None and args.window < 6:
-        raise SystemExit("--window must be at least 6 scans (one sym2 level)")
     print(
         f"wavelet (METHODS §5): {args.runs} runs per level, seed {args.seed}, 10 targets, 30 scans, x axis, "
         f"noise variance 0.5 km², CA trackers q = {args.process_noise:g} m²/s⁵"

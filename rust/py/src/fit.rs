@@ -8,6 +8,7 @@ use super::convert::{
     count, layout, row_major, slice1, threads, to_numpy, F64Array, MeasurementsArg, SensorsArg,
 };
 use super::errors::BindResult;
+use super::interrupt;
 use passive_assoc_core::estimation::fisher;
 use passive_assoc_core::estimation::fit::batch::{fit_batch as core_fit_batch, Problems};
 use passive_assoc_core::estimation::fit::FitOptions;
@@ -71,11 +72,11 @@ pub fn fit_batch<'py>(
         initial,
     };
     let n_threads = threads(settings.n_threads)?;
-    let outcome = py.detach(|| {
+    let outcome = interrupt::detach(py, || {
         with_threads(n_threads, || {
             core_fit_batch(&table, &network, &layout, &problems, &options)
         })
-    })??;
+    })???;
     let (p, d) = (outcome.chi2.len(), outcome.dim);
     Ok((
         to_numpy(py, outcome.estimates, &[p, d])?,

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 
 use super::convert::{parse, row_major, slice1, slice2, threads, to_numpy, F64Array};
 use super::errors::{value_error, BindResult};
+use super::interrupt;
 use passive_assoc_core::estimation::kalman::{
     kalman_filter as core_kalman_filter, Init, KalmanInput, KalmanOptions, MeasurementModel,
     MotionModel, Noise, Tracks,
@@ -94,8 +95,9 @@ pub fn kalman_filter<'py>(
         offsets: slice1("offsets", &groups.1)?,
     };
     let n_threads = threads(settings.n_threads)?;
-    let outcome =
-        py.detach(|| with_threads(n_threads, || core_kalman_filter(&input, &tracks, &options)))??;
+    let outcome = interrupt::detach(py, || {
+        with_threads(n_threads, || core_kalman_filter(&input, &tracks, &options))
+    })???;
     let d = outcome.state_dim;
     Ok((
         to_numpy(py, outcome.states, &[rows, d])?,

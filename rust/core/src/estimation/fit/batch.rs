@@ -11,6 +11,7 @@ use crate::data::{check_offsets, Measurements, Sensors};
 use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::geometry::los::pseudo_linear_state;
 use crate::geometry::model::{Observation, StateLayout};
+use crate::parallel::interrupted;
 
 /// Problems as CSR row groups plus optional initial states (row-major `P × dim`).
 #[derive(Clone, Copy, Debug)]
@@ -119,6 +120,13 @@ pub fn fit_batch(
         .map_init(
             Vec::new,
             |obs: &mut Vec<Observation>, (p, (estimate, covariance))| {
+                if interrupted() {
+                    // Ctrl-C: skip the rest; the batch returns Interrupted below.
+                    return singular(FitSlots {
+                        estimate,
+                        covariance,
+                    });
+                }
                 obs.clear();
                 obs.extend(
                     problems
@@ -146,6 +154,9 @@ pub fn fit_batch(
             },
         )
         .collect();
+    if interrupted() {
+        return Err(CoreError::Interrupted);
+    }
     Ok(BatchOutcome {
         dim,
         estimates,

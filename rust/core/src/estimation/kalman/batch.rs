@@ -14,6 +14,7 @@ use super::input::{KalmanInput, Tracks, UNUSED};
 use super::options::KalmanOptions;
 use super::track::{filter_track, TrackOutput};
 use crate::error::{CoreError, CoreResult};
+use crate::parallel::interrupted;
 
 /// The filtered tracks, aligned to the input rows: `states` is `n × state_dim`,
 /// `covariances` `n × state_dim × state_dim` (row-major), `nis` `n` — the normalised
@@ -56,12 +57,12 @@ pub fn kalman_filter(
     let dims = input.validate(options.measurement())?;
     let position = tracks.validate(input.times, options.init().points(options.motion()))?;
     match (options.motion().order(), dims) {
-        (2, 1) => Ok(run::<1, 2>(input, tracks, options, &position)),
-        (3, 1) => Ok(run::<1, 3>(input, tracks, options, &position)),
-        (2, 2) => Ok(run::<2, 4>(input, tracks, options, &position)),
-        (3, 2) => Ok(run::<2, 6>(input, tracks, options, &position)),
-        (2, 3) => Ok(run::<3, 6>(input, tracks, options, &position)),
-        (3, 3) => Ok(run::<3, 9>(input, tracks, options, &position)),
+        (2, 1) => run::<1, 2>(input, tracks, options, &position),
+        (3, 1) => run::<1, 3>(input, tracks, options, &position),
+        (2, 2) => run::<2, 4>(input, tracks, options, &position),
+        (3, 2) => run::<2, 6>(input, tracks, options, &position),
+        (2, 3) => run::<3, 6>(input, tracks, options, &position),
+        (3, 3) => run::<3, 9>(input, tracks, options, &position),
         (order, dims) => Err(CoreError::shape(
             "measurements",
             format!("no state layout for {dims} axes of order {order}"),
@@ -74,7 +75,7 @@ fn run<const D: usize, const N: usize>(
     tracks: &Tracks<'_>,
     options: &KalmanOptions,
     position: &[usize],
-) -> KalmanOutcome {
+) -> CoreResult<KalmanOutcome> {
     let used = tracks.indices.len();
     let mut states = vec![0.0; used * N];
     let mut covariances = vec![0.0; used * N * N];
@@ -90,18 +91,24 @@ fn run<const D: usize, const N: usize>(
         })
         .collect::<Vec<_>>();
     parts.into_par_iter().enumerate().for_each(|(p, out)| {
-        filter_track::<D, N>(input, options, tracks.rows(p), out);
+        // Ctrl-C: skip the remaining tracks; the call returns Interrupted below.
+        if !interrupted() {
+            filter_track::<D, N>(input, options, tracks.rows(p), out);
+        }
     });
+    if interrupted() {
+        return Err(CoreError::Interrupted);
+    }
     let identity = used == position.len() && position.iter().enumerate().all(|(r, &k)| k == r);
     if identity {
-        return KalmanOutcome {
+        return Ok(KalmanOutcome {
             state_dim: N,
             states,
             covariances,
             nis,
-        };
+        });
     }
-    reorder::<N>(position, &states, &covariances, &nis)
+    Ok(reorder::<N>(position, &states, &covariances, &nis))
 }
 
 /// The track-ordered buffers back in row order (NaN for rows of no track), each output row

@@ -1,0 +1,67 @@
+"""Every option of every command is validated by argparse: a bad value ends in a usage error
+naming the option (exit 2), never a traceback or a silently accepted value. The options are
+read from the parser itself, so a new option without a validating type fails here."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Iterator
+
+import pytest
+from passive_assoc.cli import build_parser
+from passive_assoc.experiments.common import finite_float, output_file
+
+#: Values each validating type must refuse (integer types: see :func:`bad_values`).
+BAD = {
+    finite_float: ["nan", "inf", "-inf", "abc", "1e400"],
+    output_file: ["", "/nonexistent-directory/out.json"],
+}
+
+
+def bad_values(kind: object) -> list[str] | None:
+    """What an option's type must refuse; None if the type validates nothing."""
+    minimum = getattr(kind, "minimum", None)
+    if minimum is not None:  # experiments.common.int_at_least
+        return [str(minimum - 1), str(minimum - 5), "abc", "1.5", ""]
+    return BAD.get(kind)  # type: ignore[call-overload]
+
+
+def options() -> Iterator[tuple[list[str], argparse.Action]]:
+    """(command path, action) of every option that takes a value."""
+
+    def walk(parser: argparse.ArgumentParser, path: list[str]) -> Iterator[tuple[list[str], argparse.Action]]:
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sub in action.choices.items():
+                    yield from walk(sub, [*path, name])
+            elif action.option_strings and action.nargs != 0:
+                yield path, action
+
+    yield from walk(build_parser(), [])
+
+
+CASES = [
+    pytest.param(path, action, id=" ".join([*path, action.option_strings[-1]]))
+    for path, action in options()
+    if action.choices is None
+]
+
+
+@pytest.mark.parametrize("path,action", CASES)
+def test_every_option_refuses_bad_values(
+    path: list[str], action: argparse.Action, capsys: pytest.CaptureFixture[str]
+) -> None:
+    values = bad_values(action.type)
+    assert values is not None, f"{action.option_strings[-1]} has type {action.type!r}, which checks nothing"
+    option = action.option_strings[-1]
+    for value in values:
+        with pytest.raises(SystemExit) as stopped:
+            build_parser().parse_args([*path, option, value])
+        assert stopped.value.code == 2, (option, value)
+        assert option in capsys.readouterr().err, (option, value)
+
+
+def test_the_walk_finds_the_options() -> None:
+    found = {" ".join([*path, action.option_strings[-1]]) for path, action in options()}
+    assert {"reproduce fti --runs", "reproduce wavelet --workers", "demo --seed"} <= found
+    assert len(found) > 40
