@@ -204,6 +204,9 @@ def assign_sd(
     settings: SdSettings,
 ) -> SdResult: ...
 def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
+def assign_2d_sparse(
+    shape: tuple[int, int], indptr: NDArray[np.int64], indices: NDArray[np.int64], data: NDArray[np.float64]
+) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
 def enumerate_static(
     measurements: MeasurementTable,
     sensors: SensorNetwork,

@@ -113,6 +113,36 @@ pub fn assign_2d<'py>(
     ))
 }
 
+/// Sparse complete min-cost 2-D assignment of a CSR matrix (`indptr`, `indices`, `data`, shape
+/// `(n_rows, n_cols)`), absent entries forbidden; returns what [`assign_2d`] returns.
+#[pyfunction]
+pub fn assign_2d_sparse<'py>(
+    py: Python<'py>,
+    shape: (i64, i64),
+    indptr: PyReadonlyArray1<'py, i64>,
+    indices: PyReadonlyArray1<'py, i64>,
+    data: PyReadonlyArray1<'py, f64>,
+) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
+    let (n_rows, n_cols) = (count("shape", shape.0, 0)?, count("shape", shape.1, 0)?);
+    let offsets = to_usize("indptr", row_major("indptr", &indptr)?)?;
+    let columns = to_usize("indices", row_major("indices", &indices)?)?;
+    let values = row_major("data", &data)?.to_vec();
+    let costs = lap::SparseCosts::new(n_rows, n_cols, offsets, columns, values)?;
+    let solved = py.detach(|| lap::solve_sparse_complete(&costs))?;
+    let (rows, cols): (Vec<i64>, Vec<i64>) = solved
+        .row_to_col
+        .iter()
+        .enumerate()
+        .filter_map(|(r, c)| c.map(|c| (r as i64, c as i64)))
+        .unzip();
+    let n = rows.len();
+    Ok((
+        to_numpy(py, rows, &[n])?,
+        to_numpy(py, cols, &[n])?,
+        solved.cost,
+    ))
+}
+
 /// `time_limit` in seconds (None: none) as a `Duration`; both methods honour it.
 fn time_limit(seconds: Option<f64>) -> BindResult<Option<Duration>> {
     match seconds {

@@ -25,6 +25,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::crlb, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_sd, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_2d, m)?)?;
+    m.add_function(wrap_pyfunction!(assign::assign_2d_sparse, m)?)?;
     m.add_function(wrap_pyfunction!(fti::initiate, m)?)?;
     m.add_function(wrap_pyfunction!(fti::closeness, m)?)?;
     m.add_function(wrap_pyfunction!(fti::maximize_closeness, m)?)?;

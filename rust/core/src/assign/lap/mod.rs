@@ -53,6 +53,9 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
         });
     }
     super::check_cost_range("costs", costs)?;
+    if let Some(sparse) = as_sparse(n_rows, n_cols, costs) {
+        return solve_sparse_complete(&sparse);
+    }
     let mut row_to_col = vec![None; n_rows];
     if n_rows <= n_cols {
         let col4row = sap::dense(n_rows, n_cols, costs)?;
@@ -74,6 +77,92 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
         .filter_map(|(i, j)| j.map(|j| costs[i * n_cols + j]))
         .sum();
     Ok(DenseAssignment { row_to_col, cost })
+}
+
+/// Matrices at least this large (entries) are checked for the sparse path.
+const SPARSE_MIN_ENTRIES: usize = 64 * 64;
+/// At most this share of allowed (finite) entries, a dense matrix is solved sparse: the sparse
+/// search touches only allowed entries, the dense one every entry of every row it scans. At
+/// 1000² the sparse solve was still faster at half the entries allowed (15 ms against 20 ms,
+/// `benches/bench_lap.py --densities`, docs/performance.md).
+const SPARSE_MAX_SHARE: f64 = 0.5;
+
+/// The finite entries of a large, mostly forbidden dense matrix as a sparse one (else None).
+fn as_sparse(n_rows: usize, n_cols: usize, costs: &[f64]) -> Option<SparseCosts> {
+    if costs.len() < SPARSE_MIN_ENTRIES {
+        return None;
+    }
+    let allowed = costs.iter().filter(|c| c.is_finite()).count();
+    if allowed as f64 > SPARSE_MAX_SHARE * costs.len() as f64 {
+        return None;
+    }
+    let mut row_offsets = Vec::with_capacity(n_rows + 1);
+    let (mut col_indices, mut values) = (Vec::with_capacity(allowed), Vec::with_capacity(allowed));
+    row_offsets.push(0);
+    for row in costs.chunks_exact(n_cols.max(1)).take(n_rows) {
+        for (j, &c) in row.iter().enumerate().filter(|(_, c)| c.is_finite()) {
+            col_indices.push(j);
+            values.push(c);
+        }
+        row_offsets.push(values.len());
+    }
+    Some(SparseCosts::from_csr_unchecked(
+        n_rows,
+        n_cols,
+        row_offsets,
+        col_indices,
+        values,
+    ))
+}
+
+/// Solves the complete assignment of a sparse matrix, where an absent entry is a forbidden
+/// pair: [`solve_dense`]'s contract (every row assigned when `n_rows <= n_cols`, every column
+/// otherwise) over the stored entries only, so the work follows the entries, not
+/// `n_rows × n_cols`. Duplicate entries: the cheapest counts.
+///
+/// Errors: `OutOfRange` for entries beyond ±[`MAX_ABS_COST`](super::MAX_ABS_COST), `IllPosed`
+/// if the stored entries admit no complete assignment (naming the first row, or column, that
+/// cannot be assigned).
+///
+/// ```
+/// use passive_assoc_core::assign::lap::{solve_sparse_complete, SparseCosts};
+/// // Row 0 may take only column 1, so row 1 takes column 0 although column 1 is cheaper.
+/// let c = SparseCosts::from_triplets(2, 2, &[(0, 1, 5.0), (1, 0, 4.0), (1, 1, 1.0)]).unwrap();
+/// let a = solve_sparse_complete(&c).unwrap();
+/// assert_eq!(a.row_to_col, vec![Some(1), Some(0)]);
+/// assert_eq!(a.cost, 9.0);
+/// ```
+pub fn solve_sparse_complete(costs: &SparseCosts) -> CoreResult<DenseAssignment> {
+    super::check_cost_range("costs", costs.values())?;
+    let (nr, nc) = (costs.n_rows(), costs.n_cols());
+    let mut work = sap::SparseWork::default();
+    let mut row_to_col = vec![None; nr];
+    if nr <= nc {
+        let col4row = sap::sparse_full(&mut work, costs).map_err(|row| unassignable("row", row))?;
+        for (i, &j) in col4row.iter().enumerate() {
+            row_to_col[i] = Some(j);
+        }
+    } else {
+        let transposed = costs.transposed();
+        let row4col =
+            sap::sparse_full(&mut work, &transposed).map_err(|col| unassignable("column", col))?;
+        for (j, &i) in row4col.iter().enumerate() {
+            row_to_col[i] = Some(j);
+        }
+    }
+    let cost = (row_to_col.iter().enumerate())
+        .filter_map(|(i, j)| j.map(|j| costs.cheapest(i, j)))
+        .sum();
+    Ok(DenseAssignment { row_to_col, cost })
+}
+
+fn unassignable(what: &str, index: usize) -> CoreError {
+    CoreError::ill_posed(
+        "costs",
+        format!(
+            "{what} {index} cannot be assigned: the stored entries admit no complete assignment"
+        ),
+    )
 }
 
 /// A sparse assignment: each row has its column or `None` (left unassigned), each column its

@@ -11,8 +11,11 @@
 
 use super::SparseCosts;
 
+mod full;
+mod init;
 mod warm;
 use crate::error::{CoreError, CoreResult};
+pub(super) use full::sparse_full;
 pub(super) use warm::{sparse_warm, WarmState};
 
 use std::cmp::Reverse;
@@ -24,7 +27,15 @@ const NONE: usize = usize::MAX;
 /// `-inf` (checked by the caller); `+inf` entries are forbidden pairs.
 pub(super) fn dense(nr: usize, nc: usize, cost: &[f64]) -> CoreResult<Vec<usize>> {
     let mut w = DenseWork::new(nr, nc);
-    for cur in 0..nr {
+    // Square and finite: Jonker & Volgenant's start assigns most rows cheaply, and the
+    // augmenting paths below run only for the rest. `+inf` entries would make its prices
+    // infinite, and a rectangular problem needs its free columns' prices at 0.
+    let rows = if nr == nc && nr > 1 && cost.iter().all(|c| c.is_finite()) {
+        w.seed(init::jv_init(nr, cost), cost)
+    } else {
+        (0..nr).collect()
+    };
+    for cur in rows {
         let Some((sink, min_val)) = w.shortest_path(cur, cost) else {
             return Err(CoreError::ill_posed(
                 "costs",
@@ -50,8 +61,6 @@ struct DenseWork {
     row4col: Vec<usize>,
     in_sr: Vec<bool>,
     in_sc: Vec<bool>,
-    /// Columns not yet scanned by the current search, in `remaining[..n_rem]`.
-    remaining: Vec<usize>,
 }
 
 impl DenseWork {
@@ -66,30 +75,36 @@ impl DenseWork {
             row4col: vec![NONE; nc],
             in_sr: vec![false; nr],
             in_sc: vec![false; nc],
-            remaining: vec![0; nc],
         }
+    }
+
+    /// Starts from `init`'s prices and partial matching, with each assigned row's dual at its
+    /// reduced cost (feasible: `init` keeps every assigned row at its cheapest column); returns
+    /// the rows still free.
+    fn seed(&mut self, init: init::Init, cost: &[f64]) -> Vec<usize> {
+        let nc = self.nc;
+        for (i, &j) in init.col4row.iter().enumerate() {
+            if j != NONE {
+                self.u[i] = cost[i * nc + j] - init.v[j];
+            }
+        }
+        (self.v, self.col4row, self.row4col) = (init.v, init.col4row, init.row4col);
+        init.free
     }
 
     /// Dijkstra from row `cur` to the nearest free column over reduced costs; `None` if every
     /// reachable column is forbidden. The O(nc) scan per step beats a heap on dense rows.
     fn shortest_path(&mut self, cur: usize, cost: &[f64]) -> Option<(usize, f64)> {
         let nc = self.nc;
-        // Reversed order, as scipy, so ties resolve to the same columns.
-        for (it, r) in self.remaining.iter_mut().enumerate() {
-            *r = nc - it - 1;
-        }
         self.in_sr.fill(false);
         self.in_sc.fill(false);
         self.dist.fill(f64::INFINITY);
-        let (mut i, mut n_rem, mut min_val) = (cur, nc, 0.0);
+        let (mut i, mut min_val) = (cur, 0.0);
         loop {
             self.in_sr[i] = true;
-            let index;
-            (index, min_val) = self.relax_row(i, &cost[i * nc..(i + 1) * nc], n_rem, min_val)?;
-            let j = self.remaining[index];
+            let j;
+            (j, min_val) = self.relax_row(i, &cost[i * nc..(i + 1) * nc], min_val)?;
             self.in_sc[j] = true;
-            n_rem -= 1;
-            self.remaining[index] = self.remaining[n_rem];
             if self.row4col[j] == NONE {
                 return Some((j, min_val));
             }
@@ -98,21 +113,23 @@ impl DenseWork {
     }
 
     /// Relaxes every unscanned column through row `i`, reached at distance `reached`; returns
-    /// the position in `remaining` of the nearest column and its distance. This loop is the
-    /// whole cost of a dense solve, so it reads only flat slices.
-    fn relax_row(
-        &mut self,
-        i: usize,
-        row: &[f64],
-        n_rem: usize,
-        reached: f64,
-    ) -> Option<(usize, f64)> {
+    /// the nearest unscanned column and its distance. This loop is the whole cost of a dense
+    /// solve, so it walks the row and the per-column arrays in order (no gather through a list
+    /// of remaining columns: sequential reads let the prefetcher keep up), on plain slices.
+    fn relax_row(&mut self, i: usize, row: &[f64], reached: f64) -> Option<(usize, f64)> {
         let base = reached - self.u[i];
         // Split borrows into plain slices so the optimiser sees they do not alias.
-        let (dist, path, v) = (&mut self.dist[..], &mut self.path[..], &self.v[..]);
-        let (remaining, row4col) = (&self.remaining[..n_rem], &self.row4col[..]);
+        let nc = self.nc;
+        let (dist, path) = (&mut self.dist[..nc], &mut self.path[..nc]);
+        let (v, row4col, scanned) = (&self.v[..nc], &self.row4col[..nc], &self.in_sc[..nc]);
+        let row = &row[..nc];
         let (mut lowest, mut index) = (f64::INFINITY, NONE);
-        for (it, &j) in remaining.iter().enumerate() {
+        // Columns from the last, as scipy's first search scans them, so that ties resolve to
+        // the same columns on simple problems.
+        for j in (0..nc).rev() {
+            if scanned[j] {
+                continue;
+            }
             let r = base + row[j] - v[j];
             if r < dist[j] {
                 path[j] = i;
@@ -122,7 +139,7 @@ impl DenseWork {
             // On ties prefer a free column: the search can stop there.
             if d < lowest || (d == lowest && row4col[j] == NONE) {
                 lowest = d;
-                index = it;
+                index = j;
             }
         }
         (lowest < f64::INFINITY).then_some((index, lowest))
@@ -274,25 +291,26 @@ impl SparseWork {
             if self.col4row[cur] != NONE {
                 continue;
             }
-            let (sink, min_val) = self.shortest_path(cur);
+            // Row `cur`'s dummy column is reachable only from `cur` and free until `cur` is
+            // assigned, so the search always ends at a free column.
+            let Some((sink, min_val)) = self.shortest_path(cur) else {
+                unreachable!("sparse LAP: row {cur} lost its dummy column")
+            };
             self.update_duals(cur, min_val);
             augment(sink, cur, &self.path, &mut self.row4col, &mut self.col4row);
             self.reset();
         }
     }
 
-    /// Dijkstra from row `cur` to the nearest free column; returns it and its distance.
-    fn shortest_path(&mut self, cur: usize) -> (usize, f64) {
+    /// Dijkstra from row `cur` to the nearest free column; returns it and its distance, or
+    /// `None` if no free column is reachable.
+    fn shortest_path(&mut self, cur: usize) -> Option<(usize, f64)> {
         let (mut i, mut min_val) = (cur, 0.0);
         loop {
             self.sr.push(i);
             self.relax(i, min_val);
             let j = loop {
-                // The dummy column of `cur` is reachable only from `cur` and free until `cur`
-                // is assigned, so it was pushed above and the heap cannot run dry first.
-                let Some(Reverse(k)) = self.heap.pop() else {
-                    unreachable!("sparse LAP: row {cur} lost its dummy column")
-                };
+                let Reverse(k) = self.heap.pop()?;
                 let (d, j) = unkey(k);
                 if !self.scanned[j] && d == self.dist[j] {
                     min_val = d;
@@ -302,7 +320,7 @@ impl SparseWork {
             self.scanned[j] = true;
             self.sc.push(j);
             if self.row4col[j] == NONE {
-                return (j, min_val);
+                return Some((j, min_val));
             }
             i = self.row4col[j];
         }

@@ -147,6 +147,32 @@ impl SparseCosts {
         self.n_cols
     }
 
+    /// The stored costs, row by row.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// The transpose (columns become rows), valid by construction.
+    pub(super) fn transposed(&self) -> Self {
+        let entries = (0..self.n_rows).flat_map(|i| {
+            let span = self.row_offsets[i]..self.row_offsets[i + 1];
+            (self.col_indices[span.clone()].iter())
+                .zip(&self.values[span])
+                .map(move |(&j, &c)| (j, (i, c)))
+        });
+        let (row_offsets, entries) = csr(self.n_cols, entries);
+        let (col_indices, values) = entries.into_iter().unzip();
+        Self::from_csr_unchecked(self.n_cols, self.n_rows, row_offsets, col_indices, values)
+    }
+
+    /// The cheapest stored entry at (i, j) (`+inf` if none).
+    pub(super) fn cheapest(&self, i: usize, j: usize) -> f64 {
+        self.row(i)
+            .filter(|e| e.0 == j)
+            .map(|e| e.1)
+            .fold(f64::INFINITY, f64::min)
+    }
+
     pub(super) fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let span = self.row_offsets[i]..self.row_offsets[i + 1];
         self.col_indices[span.clone()]

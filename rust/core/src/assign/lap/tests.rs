@@ -215,3 +215,89 @@ fn sparse_rejects_bad_input() {
     );
     assert!(SparseCosts::from_triplets(1, 1, &[(3, 0, 1.0)]).is_err());
 }
+
+/// Square finite matrices take Jonker & Volgenant's initialisation: against brute force on
+/// small ones full of ties, and on larger ones against the same matrix with an extra
+/// all-forbidden column (rectangular, so solved without the initialisation).
+#[test]
+fn the_initialised_square_solve_is_optimal() {
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    for case in 0..400 {
+        let n = rng.random_range(2..7usize);
+        let c: Vec<f64> = (0..n * n)
+            .map(|_| rng.random_range(-3..4i32) as f64)
+            .collect();
+        let a = solve_dense(n, n, &c).unwrap();
+        assert_eq!(Some(a.cost), brute_dense(n, n, &c), "case {case}: {c:?}");
+    }
+    for (case, n) in [40usize, 97, 150].into_iter().enumerate() {
+        for spread in [3.0, 1e6] {
+            let c: Vec<f64> = (0..n * n)
+                .map(|_| rng.random_range(0.0f64..spread).floor())
+                .collect();
+            let mut wide = Vec::with_capacity(n * (n + 1));
+            for row in c.chunks_exact(n) {
+                wide.extend_from_slice(row);
+                wide.push(f64::INFINITY);
+            }
+            let square = solve_dense(n, n, &c).unwrap();
+            let plain = solve_dense(n, n + 1, &wide).unwrap();
+            assert_eq!(
+                square.cost, plain.cost,
+                "case {case}, n {n}, spread {spread}"
+            );
+            let mut cols: Vec<usize> = square.row_to_col.iter().flatten().copied().collect();
+            cols.sort_unstable();
+            cols.dedup();
+            assert_eq!(cols.len(), n);
+        }
+    }
+}
+
+/// The complete sparse solve equals the dense solve with `+inf` at the absent entries: random
+/// rectangular problems both ways, feasible and not, with ties and duplicate entries.
+#[test]
+fn the_complete_sparse_solve_equals_the_dense_one() {
+    let mut rng = ChaCha8Rng::seed_from_u64(33);
+    let mut infeasible = 0;
+    for case in 0..600 {
+        let (nr, nc) = (rng.random_range(0..9usize), rng.random_range(0..9usize));
+        let density = rng.random_range(0.15..1.0);
+        let mut dense = vec![f64::INFINITY; nr * nc];
+        let mut triplets = Vec::new();
+        for i in 0..nr {
+            for j in 0..nc {
+                if rng.random_bool(density) {
+                    let c = rng.random_range(-4..5i32) as f64;
+                    dense[i * nc + j] = c;
+                    triplets.push((i, j, c));
+                    if rng.random_bool(0.1) {
+                        triplets.push((i, j, c + 2.0)); // a dearer duplicate never counts
+                    }
+                }
+            }
+        }
+        let sparse = SparseCosts::from_triplets(nr, nc, &triplets).unwrap();
+        match (solve_sparse_complete(&sparse), solve_dense(nr, nc, &dense)) {
+            (Ok(s), Ok(d)) => {
+                assert_eq!(s.cost, d.cost, "case {case}: {nr}x{nc}");
+                let mut cols: Vec<usize> = s.row_to_col.iter().flatten().copied().collect();
+                assert_eq!(cols.len(), nr.min(nc), "case {case}");
+                assert!(s
+                    .row_to_col
+                    .iter()
+                    .enumerate()
+                    .all(|(i, j)| j.is_none_or(|j| dense[i * nc + j].is_finite())));
+                cols.sort_unstable();
+                cols.dedup();
+                assert_eq!(cols.len(), nr.min(nc), "case {case}: column reused");
+            }
+            (Err(CoreError::IllPosed { .. }), Err(CoreError::IllPosed { .. })) => infeasible += 1,
+            (s, d) => panic!("case {case}: sparse {s:?}, dense {d:?}"),
+        }
+    }
+    assert!(
+        infeasible > 20,
+        "the infeasible branch was exercised ({infeasible})"
+    );
+}

@@ -1,0 +1,135 @@
+"""``linear_assignment`` against the assignment solvers a Python user would otherwise reach for,
+in one run, on the same matrices: ``scipy.optimize.linear_sum_assignment``, ``lap.lapjv`` and
+``lapjv.lapjv`` (dense), ``lap.lapmod`` (sparse). ``lap`` and ``lapjv`` are benchmark-only
+dependencies (``pip install lap lapjv``); a solver that is missing is skipped.
+
+Cases (uniform random costs in [0, 1), seeds fixed): dense 10², 100², 1000², 3000²; gated
+1000² and 3000² with 2 % of the entries allowed (plus the diagonal, so a complete assignment
+exists) — ours on the SciPy sparse matrix and on the dense matrix with +inf. Prints the best
+time of each over the repeats and ours ÷ the fastest competitor; checks that every solver
+found the same optimum.
+
+    python3 benches/bench_lap.py [--repeats 5] [--sizes 10 100 1000 3000]
+    python3 benches/bench_lap.py --densities     # where the sparse path starts to pay
+
+``--densities`` times, at 1000², our sparse solve on the allowed entries against our dense
+solve of the same matrix with the forbidden entries priced at 10⁶ instead of +inf (what the
+dense path costs), for a range of allowed shares: the crossover sets the share below which a
+dense matrix with +inf is solved sparse.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import passive_assoc as pa
+import scipy.sparse as sp
+from scipy.optimize import linear_sum_assignment
+
+try:
+    import lap
+except ImportError:  # benchmark-only dependency
+    lap = None
+try:
+    import lapjv
+except ImportError:
+    lapjv = None
+
+
+def best(solve: Callable[[], Any], repeats: int) -> tuple[float, Any]:
+    out, times = None, []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        out = solve()
+        times.append(time.perf_counter() - start)
+    return min(times), out
+
+
+def dense_solvers(c: np.ndarray) -> dict[str, Callable[[], float]]:
+    def total(rows: np.ndarray, cols: np.ndarray) -> float:
+        return float(c[rows, cols].sum())
+
+    solvers: dict[str, Callable[[], float]] = {
+        "ours": lambda: pa.linear_assignment(c)[2],
+        "scipy": lambda: total(*linear_sum_assignment(c)),
+    }
+    if lap is not None:
+        solvers["lap.lapjv"] = lambda: float(lap.lapjv(c, extend_cost=True)[0])
+    if lapjv is not None:
+        solvers["lapjv"] = lambda: total(np.arange(len(c)), lapjv.lapjv(c)[0])
+    return solvers
+
+
+def gated_solvers(c: np.ndarray, allowed: np.ndarray) -> dict[str, Callable[[], float]]:
+    n = len(c)
+    gated = np.where(allowed, c, np.inf)
+    csr = sp.csr_array(np.where(allowed, c, 0.0))
+    csr.eliminate_zeros()  # uniform costs are never exactly 0, so only the gated-out go
+    rows, cols = np.nonzero(allowed)
+    solvers: dict[str, Callable[[], float]] = {
+        "ours (sparse)": lambda: pa.linear_assignment(csr)[2],
+        "ours (dense +inf)": lambda: pa.linear_assignment(gated)[2],
+        "scipy": lambda: float(gated[linear_sum_assignment(gated)].sum()),
+    }
+    if lap is not None:
+        first = np.searchsorted(rows, np.arange(n + 1)).astype(np.int32)
+        values, kk = np.ascontiguousarray(c[rows, cols]), cols.astype(np.int32)
+        solvers["lap.lapmod"] = lambda: float(lap.lapmod(n, values, first, kk)[0])
+    return solvers
+
+
+def report(label: str, solvers: dict[str, Callable[[], float]], repeats: int) -> None:
+    times, totals = {}, {}
+    for name, solve in solvers.items():
+        times[name], totals[name] = best(solve, repeats)
+    reference = totals["scipy"]
+    for name, value in totals.items():
+        assert abs(value - reference) <= 1e-9 * max(1.0, abs(reference)), (label, name, value, reference)
+    ours = [k for k in times if k.startswith("ours")]
+    rivals = {k: v for k, v in times.items() if not k.startswith("ours")}
+    fastest = min(rivals, key=rivals.__getitem__)
+    cells = "  ".join(f"{k} {v * 1e3:.3f} ms" for k, v in times.items())
+    ratios = ", ".join(f"{k} ÷ {fastest} = {times[k] / rivals[fastest]:.2f}" for k in ours)
+    print(f"{label:<14} {cells}\n{'':<14} {ratios}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[10, 100, 1000, 3000])
+    parser.add_argument("--densities", action="store_true", help="the sparse path's crossover instead")
+    args = parser.parse_args()
+    rng = np.random.default_rng(0)
+    if args.densities:
+        crossover(rng, args.repeats)
+        return
+    for n in args.sizes:
+        c = rng.random((n, n))
+        repeats = args.repeats * (200 if n <= 10 else 20 if n <= 100 else 1)
+        report(f"dense {n}²", dense_solvers(c), repeats)
+    for n in (s for s in args.sizes if s >= 1000):
+        c = rng.random((n, n))
+        allowed = rng.random((n, n)) < 0.02
+        np.fill_diagonal(allowed, True)
+        report(f"gated {n}²", gated_solvers(c, allowed), args.repeats)
+
+
+def crossover(rng: np.random.Generator, repeats: int, n: int = 1000) -> None:
+    c = rng.random((n, n))
+    print(f"{'allowed':>8} {'sparse':>10} {'dense':>10}")
+    for share in (0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.5):
+        allowed = rng.random((n, n)) < share
+        np.fill_diagonal(allowed, True)
+        csr = sp.csr_array(np.where(allowed, c, 0.0))
+        priced = np.where(allowed, c, 1e6)
+        sparse, _ = best(lambda csr=csr: pa.linear_assignment(csr), repeats)
+        dense, _ = best(lambda priced=priced: pa.linear_assignment(priced), repeats)
+        print(f"{share:>8.2f} {sparse * 1e3:>8.2f} ms {dense * 1e3:>8.2f} ms")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,176 @@
+//! Jonker & Volgenant's initialisation of a square dense problem (column reduction, reduction
+//! transfer, two passes of augmenting row reduction), the start that makes LAPJV fast: on
+//! typical matrices it assigns most rows with cheap row scans, and the shortest-augmenting-path
+//! phase then runs only for the rows left free.
+//!
+//! It leaves column duals `v` and a partial matching in which every assigned row `i → j` has
+//! `c_ij − v_j = min_k (c_ik − v_k)`: the duals are feasible on the assigned rows, which is
+//! the invariant the shortest-augmenting-path phase keeps (with `u_i = c_ij − v_j`). Duals only
+//! decrease after the column reduction, so no assigned row loses that property when another
+//! row's column is repriced. Square only: for a rectangular problem the free columns' duals
+//! must stay 0, which the column reduction would break.
+
+use super::NONE;
+
+/// Duals and a partial matching from [`jv_init`]; `free` lists the unassigned rows.
+pub(super) struct Init {
+    pub v: Vec<f64>,
+    pub col4row: Vec<usize>,
+    pub row4col: Vec<usize>,
+    pub free: Vec<usize>,
+}
+
+/// Repricing steps per free row allowed in one pass of augmenting row reduction. LAPJV's own
+/// bound (current · n) let the first pass run until no row was free: at 1000² and 3000² it
+/// scanned 37 000 and 328 000 rows, most of the solve. Past a few steps per row the shortest
+/// augmenting paths finish the remaining rows for less. A sweep of 1 to 64 (uniform costs,
+/// 100² to 3000², three seeds, made with a temporary build knob) put the best between 8 and 16;
+/// 8 is the better of the two below 1000². The resulting times are in docs/performance.md
+/// (`benches/bench_lap.py`).
+const ARR_STEPS_PER_ROW: usize = 8;
+
+/// The initialisation of an `n × n` row-major matrix with every entry finite.
+pub(super) fn jv_init(n: usize, cost: &[f64]) -> Init {
+    let mut init = column_reduction(n, cost);
+    for _ in 0..2 {
+        if init.free.is_empty() {
+            break;
+        }
+        augmenting_row_reduction(n, cost, &mut init);
+    }
+    init
+}
+
+/// Each column priced at its cheapest row and given to it if that row has no column yet
+/// (columns in reverse order, as LAPJV); then each row that won exactly one column transfers
+/// its slack to that column's price.
+fn column_reduction(n: usize, cost: &[f64]) -> Init {
+    let mut v = vec![f64::INFINITY; n];
+    let mut cheapest = vec![NONE; n];
+    for i in 0..n {
+        for (j, &c) in cost[i * n..(i + 1) * n].iter().enumerate() {
+            if c < v[j] {
+                v[j] = c;
+                cheapest[j] = i;
+            }
+        }
+    }
+    let (mut col4row, mut row4col) = (vec![NONE; n], vec![NONE; n]);
+    let mut unique = vec![true; n];
+    for j in (0..n).rev() {
+        let i = cheapest[j];
+        if col4row[i] == NONE {
+            col4row[i] = j;
+            row4col[j] = i;
+        } else {
+            unique[i] = false;
+        }
+    }
+    let mut free = Vec::new();
+    for i in 0..n {
+        let j = col4row[i];
+        if j == NONE {
+            free.push(i);
+        } else if unique[i] {
+            let row = &cost[i * n..(i + 1) * n];
+            let slack = (0..n)
+                .filter(|&k| k != j)
+                .map(|k| row[k] - v[k])
+                .fold(f64::INFINITY, f64::min);
+            if slack.is_finite() {
+                v[j] -= slack;
+            }
+        }
+    }
+    Init {
+        v,
+        col4row,
+        row4col,
+        free,
+    }
+}
+
+/// One pass over the free rows: each takes its cheapest column, repriced down to its second
+/// cheapest so that the two tie, and the row it displaces is processed next (while that keeps
+/// lowering a price) or left for the next pass. Leaves `init.free` the rows still free.
+fn augmenting_row_reduction(n: usize, cost: &[f64], init: &mut Init) {
+    let mut free = std::mem::take(&mut init.free);
+    let n_free = free.len();
+    let (mut current, mut next_free, mut steps) = (0, 0, 0usize);
+    while current < n_free {
+        steps += 1;
+        let i = free[current];
+        current += 1;
+        let row = &cost[i * n..(i + 1) * n];
+        let (mut j1, u1, u2) = two_cheapest(row, &init.v);
+        let mut i0 = init.row4col[j1];
+        let lowered = init.v[j1] - (u2 - u1);
+        // A one-column row has no second price (u2 = ∞): nothing to lower.
+        let lowers = u2.is_finite() && lowered < init.v[j1];
+        // LAPJV bounds the repricing steps of a pass by current · n; we also stop at
+        // ARR_STEPS_PER_ROW per row that entered the pass, past which rows are only moved on.
+        if steps
+            < current
+                .saturating_mul(n)
+                .min(ARR_STEPS_PER_ROW.saturating_mul(n_free))
+        {
+            if lowers {
+                init.v[j1] = lowered;
+            } else if i0 != NONE && u2.is_finite() {
+                let j2 = second_column(row, &init.v, j1, u2);
+                j1 = j2;
+                i0 = init.row4col[j2];
+            }
+            if i0 != NONE {
+                if lowers {
+                    current -= 1;
+                    free[current] = i0;
+                } else {
+                    free[next_free] = i0;
+                    next_free += 1;
+                }
+            }
+        } else if i0 != NONE {
+            free[next_free] = i0;
+            next_free += 1;
+        }
+        init.col4row[i] = j1;
+        init.row4col[j1] = i;
+        if i0 != NONE && init.col4row[i0] == j1 {
+            init.col4row[i0] = NONE;
+        }
+    }
+    free.truncate(next_free);
+    init.free = free;
+}
+
+/// The cheapest and second-cheapest reduced costs `c_j − v_j` of a row, with the first column
+/// of the cheapest (a duplicated minimum is also the second value; a one-column row has
+/// `u2 = ∞`). Almost every entry fails the first comparison, so the branch predicts well.
+fn two_cheapest(row: &[f64], v: &[f64]) -> (usize, f64, f64) {
+    let (mut j1, mut u1, mut u2) = (NONE, f64::INFINITY, f64::INFINITY);
+    for (j, (&c, &vj)) in row.iter().zip(v).enumerate() {
+        let h = c - vj;
+        if h < u2 {
+            if h >= u1 {
+                u2 = h;
+            } else {
+                (u2, u1, j1) = (u1, h, j);
+            }
+        }
+    }
+    (j1, u1, u2)
+}
+
+/// A column other than `j1` whose reduced cost is `u2` (the one [`two_cheapest`] saw last on
+/// a tie is not tracked; this scan runs only when the row moves instead of repricing).
+fn second_column(row: &[f64], v: &[f64], j1: usize, u2: f64) -> usize {
+    (0..row.len())
+        .filter(|&j| j != j1)
+        .min_by(|&a, &b| {
+            (row[a] - v[a] - u2)
+                .abs()
+                .total_cmp(&(row[b] - v[b] - u2).abs())
+        })
+        .unwrap_or(NONE)
+}
