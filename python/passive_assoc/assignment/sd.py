@@ -71,6 +71,10 @@ class SdAssignment:
         return SD_MESSAGES[self.termination]
 
 
+#: ``assign_sd``'s default branch-and-bound node cap (the static associator uses it too).
+ASSIGN_SD_MAX_NODES = 10_000_000
+
+
 def assign_sd(
     tuples: ArrayLike,
     costs: ArrayLike,
@@ -79,7 +83,7 @@ def assign_sd(
     method: Literal["lagrangian", "exact"] = "lagrangian",
     max_iter: int = 200,
     gap_tol: float = 1e-3,
-    max_nodes: int = 10_000_000,
+    max_nodes: int = ASSIGN_SD_MAX_NODES,
     time_limit: float | None = 10.0,
     warm_start: Literal["auto", "always", "never"] = "auto",
     sensor_order: Literal["auto", "given"] = "auto",
@@ -182,7 +186,17 @@ def assign_sd(
         sensor_order=sensor_order,
         polish=bool(polish),
     )
-    if method == "exact" and exact_backend != "branch_bound":
+    return solve_validated(t, c, n, settings, exact_backend)
+
+
+def solve_validated(
+    t: NDArray[np.int64], c: NDArray[np.float64], n: NDArray[np.int64], settings: SdSettings, exact_backend: str
+) -> SdAssignment:
+    """:func:`assign_sd` on arrays and settings already checked: C-contiguous int64 tuples
+    without an all-zero row, float64 costs, int64 sizes — the static associator's candidates,
+    whose per-scan checks would otherwise cost more than a small scan's solve. The core still
+    validates every index against the sizes."""
+    if settings.method == "exact" and exact_backend != "branch_bound":
         return _exact_with_highs(t, c, n, settings, exact_backend == "auto")
     return _from_core(_core.assign_sd(t, c, n, settings))
 

@@ -10,6 +10,7 @@ Lagrangian relaxation, or exact branch-and-bound.
 
 from __future__ import annotations
 
+import functools
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -21,11 +22,11 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._core import Candidates
 from .._params import Boolean, Constraint, Interval, Options, validate
-from .._settings import IntensitySettings
-from ..assignment import assign_sd
+from .._settings import EnumerationSettings, IntensitySettings, SdSettings
+from ..assignment.sd import ASSIGN_SD_MAX_NODES, _solver_sizes, solve_validated
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import ATTRIBUTE_CONSTRAINTS, AttributeStd
-from .candidates import CHI2_1DOF_99, ENUMERATION_CONSTRAINTS, enumerate_candidates, stage_counts
+from .candidates import CHI2_1DOF_99, ENUMERATION_CONSTRAINTS, enumerate_validated, stage_counts
 
 __all__ = ["Method", "StaticAssociation", "StaticAssociator", "associate_static"]
 
@@ -156,8 +157,8 @@ class StaticAssociator:
     combination: Literal["simple", "two_outcome"] = "simple"
 
     #: Declared constraints of the scalar parameters (``pd`` and ``false_alarm_density`` are
-    #: per-sensor arrays, checked against the network at :meth:`associate`; the solver
-    #: settings are checked again by :func:`passive_assoc.assign_sd`).
+    #: per-sensor arrays, checked against the network at :meth:`associate`). Checked once,
+    #: here: :meth:`associate` hands them to the enumeration and the solvers as they are.
     _constraints: ClassVar[dict[str, list[Constraint]]] = {
         "method": [Options("intensity", "lagrangian", "exact")],
         **ENUMERATION_CONSTRAINTS,
@@ -179,20 +180,15 @@ class StaticAssociator:
             object.__setattr__(self, name, value)  # normalised: NumPy scalars become int/float
 
     def candidates(self, measurements: MeasurementTable, sensors: SensorNetwork) -> Candidates:
-        """Every gated candidate tuple of the scan (see :func:`enumerate_candidates`)."""
-        return enumerate_candidates(
+        """Every gated candidate tuple of the scan (see :func:`enumerate_candidates`; the
+        settings were validated when the associator was built)."""
+        return enumerate_validated(
             measurements,
             sensors,
             pd=self.pd,
             false_alarm_density=self.false_alarm_density,
-            chi2_gate=self.chi2_gate,
-            min_intensity=self.min_intensity,
-            max_candidates=self.max_candidates,
-            n_threads=self.n_threads,
-            attributes=self.attributes,
-            attribute_std=self.attribute_std,
-            eta=self.eta,
-            combination=self.combination,
+            settings=EnumerationSettings(self.chi2_gate, self.min_intensity, self.max_candidates, self.n_threads),
+            attributes=(self.attributes, self.attribute_std, self.eta, self.combination),
         )
 
     def associate(self, measurements: MeasurementTable, sensors: SensorNetwork) -> StaticAssociation:
@@ -225,18 +221,18 @@ class StaticAssociator:
                 airspace_radius=out.airspace_radius, ghosts_dropped=out.ghosts_dropped, chains=out.chains, levels=levels
             )
         else:
-            solved = assign_sd(
-                cands.tuples,
-                cands.costs,
-                cands.sizes,
+            sd_settings = SdSettings(
                 method=self.method,
                 max_iter=self.max_iter,
                 gap_tol=self.gap_tol,
+                max_nodes=ASSIGN_SD_MAX_NODES,
                 time_limit=self.time_limit,
+                warm_start="auto",
                 sensor_order=self.sensor_order,
                 polish=self.polish,
-                exact_backend=self.exact_backend,
             )
+            sizes = _solver_sizes(cands.tuples, cands.sizes)
+            solved = solve_validated(cands.tuples, cands.costs, sizes, sd_settings, self.exact_backend)
             chosen = solved.chosen
             report.update(
                 primal_cost=solved.primal_cost,
@@ -267,14 +263,32 @@ def associate_static(
     >>> len(result.clutter) + int((result.tuples >= 0).sum()) == len(scan.measurements)
     True
     """
-    return StaticAssociator(method, **settings).associate(measurements, sensors)
+    return _associator(method, settings).associate(measurements, sensors)
+
+
+def _associator(method: Any, settings: dict[str, Any]) -> StaticAssociator:
+    """A :class:`StaticAssociator` for these settings, reused across calls when they are all
+    hashable: building one validates some twenty parameters, a tenth of a small scan's time.
+    Keys hold each value's type, so ``True`` never reuses the associator built for ``1``."""
+    key = (type(method), method, tuple(sorted((k, type(v), v) for k, v in settings.items())))
+    try:
+        hash(key)
+    except TypeError:  # an array or list among the settings
+        return StaticAssociator(method, **settings)
+    return _cached_associator(key)
+
+
+@functools.lru_cache(maxsize=32)
+def _cached_associator(key: tuple[Any, ...]) -> StaticAssociator:
+    _, method, items = key
+    return StaticAssociator(method, **{k: v for k, _, v in items})
 
 
 def _result(cands: Candidates, chosen: NDArray[np.int64], n_rows: int, report: dict[str, Any]) -> StaticAssociation:
     rows = cands.rows[chosen]
     used = rows >= 0
     flat = rows[used]
-    if len(np.unique(flat)) != len(flat):
+    if len(flat) and np.bincount(flat).max() > 1:
         raise RuntimeError("internal: a report was assigned to two targets")  # solvers guarantee this
     labels = np.full(n_rows, -1, dtype=np.int64)
     labels[flat] = np.nonzero(used)[0]  # row-major: each used entry's target index

@@ -13,7 +13,7 @@ from .. import _core
 from .._core import Candidates
 from .._inputs import check_pair
 from .._params import Constraint, Interval, validate
-from .._settings import EnumerationSettings
+from .._settings import Combination, EnumerationSettings
 from .._validation import as_float_array
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import ATTRIBUTE_CONSTRAINTS, AttributeStd, attribute_evidence
@@ -50,16 +50,27 @@ def default_false_alarm_density(
     """False alarms per radian (per rad² in 3-D) when the caller gives none: a fraction
     ``p_false`` of each sensor's reports, spread over the azimuth (× elevation) sector its
     reports span. The paper's P_FA = 0.05 is the default fraction."""
-    density = np.empty(n_sensors)
-    for s in range(n_sensors):
-        rows = measurements.sensor == s
-        n = max(int(rows.sum()), 1)
-        width = np.ptp(measurements.azimuth[rows]) if rows.any() else np.pi
-        area = max(width, 1e-3)
-        if measurements.ndim == 3 and rows.any():
-            area *= max(np.ptp(measurements.elevation[rows]), 1e-3)
-        density[s] = max(p_false * n / area, 1e-12)
+    # All sensors at once (a per-sensor loop of NumPy calls cost more than the solve on a
+    # small scan).
+    sensor = measurements.sensor
+    ours = sensor < n_sensors
+    sensor = sensor[ours]
+    counts = np.bincount(sensor, minlength=n_sensors)
+    area = np.maximum(_spans(sensor, measurements.azimuth[ours], counts), 1e-3)
+    if measurements.ndim == 3:
+        heights = np.maximum(_spans(sensor, measurements.elevation[ours], counts), 1e-3)
+        area = np.where(counts > 0, area * heights, area)
+    density: NDArray[np.float64] = np.maximum(p_false * np.maximum(counts, 1) / area, 1e-12)
     return density
+
+
+def _spans(sensor: NDArray[np.int64], values: NDArray[np.float64], counts: NDArray[np.int64]) -> NDArray[np.float64]:
+    """Per sensor, max − min of its values; π for a sensor without values."""
+    low, high = np.full(len(counts), np.inf), np.full(len(counts), -np.inf)
+    np.minimum.at(low, sensor, values)
+    np.maximum.at(high, sensor, values)
+    spans: NDArray[np.float64] = np.where(counts > 0, high - low, np.pi)
+    return spans
 
 
 def enumerate_candidates(
@@ -84,6 +95,33 @@ def enumerate_candidates(
     ``rows`` (K, S; table row or −1), ``positions``, ``covariances``, ``costs``,
     ``intensity``, ``chi2``, ``sizes`` and ``stages`` (see :func:`stage_counts`).
     """
+    checked = validate(
+        dict(chi2_gate=chi2_gate, min_intensity=min_intensity, max_candidates=max_candidates, n_threads=n_threads),
+        ENUMERATION_CONSTRAINTS,
+    )
+    gate = validate({"eta": eta, "combination": combination}, ATTRIBUTE_CONSTRAINTS)
+    return enumerate_validated(
+        measurements,
+        sensors,
+        pd=pd,
+        false_alarm_density=false_alarm_density,
+        settings=EnumerationSettings(**checked),
+        attributes=(attributes, attribute_std, gate["eta"], gate["combination"]),
+    )
+
+
+def enumerate_validated(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    *,
+    pd: ArrayLike,
+    false_alarm_density: ArrayLike | None,
+    settings: EnumerationSettings,
+    attributes: tuple[Sequence[str] | None, AttributeStd | None, float, Combination],
+) -> Candidates:
+    """:func:`enumerate_candidates` with its scalar settings already validated (by
+    :class:`StaticAssociator`, which would otherwise check them twice a scan); the tables and
+    the per-sensor arrays are checked here."""
     table, network = check_pair(measurements, sensors)
     if network.n_sensors < 2:
         raise ValueError(f"sensors: static association needs at least 2 sensors, got {network.n_sensors}")
@@ -93,13 +131,8 @@ def enumerate_candidates(
         if false_alarm_density is None
         else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf)
     )
-    checked = validate(
-        dict(chi2_gate=chi2_gate, min_intensity=min_intensity, max_candidates=max_candidates, n_threads=n_threads),
-        ENUMERATION_CONSTRAINTS,
-    )
-    settings = EnumerationSettings(**checked)
-    gate = validate({"eta": eta, "combination": combination}, ATTRIBUTE_CONSTRAINTS)
-    evidence = attribute_evidence(table, network, attributes, attribute_std, gate["eta"], gate["combination"])
+    names, stds, eta, combination = attributes
+    evidence = attribute_evidence(table, network, names, stds, eta, combination)
     return _core.enumerate_static(table, network, _per_sensor("pd", pd, n, 0.0, 1.0), density, settings, evidence)
 
 

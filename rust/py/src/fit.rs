@@ -10,9 +10,11 @@ use super::convert::{
 use super::errors::BindResult;
 use super::interrupt;
 use passive_assoc_core::estimation::fisher;
-use passive_assoc_core::estimation::fit::batch::{fit_batch as core_fit_batch, Problems};
+use passive_assoc_core::estimation::fit::batch::{
+    fit_batch as core_fit_batch, fits_sequentially, Problems,
+};
 use passive_assoc_core::estimation::fit::FitOptions;
-use passive_assoc_core::parallel::with_threads;
+use passive_assoc_core::parallel::with_threads_unless_sequential;
 
 /// `passive_assoc._settings.FitSettings`, read by attribute.
 #[derive(FromPyObject)]
@@ -72,8 +74,9 @@ pub fn fit_batch<'py>(
         initial,
     };
     let n_threads = threads(settings.n_threads)?;
+    let sequential = fits_sequentially(problems.len());
     let outcome = interrupt::detach(py, || {
-        with_threads(n_threads, || {
+        with_threads_unless_sequential(sequential, n_threads, || {
             core_fit_batch(&table, &network, &layout, &problems, &options)
         })
     })???;

@@ -8,10 +8,10 @@ use super::convert::{parse, row_major, slice1, slice2, threads, to_numpy, F64Arr
 use super::errors::{value_error, BindResult};
 use super::interrupt;
 use passive_assoc_core::estimation::kalman::{
-    kalman_filter as core_kalman_filter, Init, KalmanInput, KalmanOptions, MeasurementModel,
-    MotionModel, Noise, Tracks,
+    filters_sequentially, kalman_filter as core_kalman_filter, Init, KalmanInput, KalmanOptions,
+    MeasurementModel, MotionModel, Noise, Tracks,
 };
-use passive_assoc_core::parallel::with_threads;
+use passive_assoc_core::parallel::with_threads_unless_sequential;
 
 /// `passive_assoc._settings.KalmanSettings`, read by attribute.
 #[derive(FromPyObject)]
@@ -95,8 +95,11 @@ pub fn kalman_filter<'py>(
         offsets: slice1("offsets", &groups.1)?,
     };
     let n_threads = threads(settings.n_threads)?;
+    let sequential = filters_sequentially(tracks.offsets.len().saturating_sub(1));
     let outcome = interrupt::detach(py, || {
-        with_threads(n_threads, || core_kalman_filter(&input, &tracks, &options))
+        with_threads_unless_sequential(sequential, n_threads, || {
+            core_kalman_filter(&input, &tracks, &options)
+        })
     })???;
     let d = outcome.state_dim;
     Ok((

@@ -12,11 +12,11 @@ use super::errors::{value_error, BindResult};
 use super::formation::AttributesArg;
 use super::interrupt;
 use passive_assoc_core::assign::CandidateSet;
-use passive_assoc_core::parallel::with_threads;
+use passive_assoc_core::parallel::with_threads_unless_sequential;
 use passive_assoc_core::static_los::{
-    enumerate_with_attributes, intensity_search as core_intensity_search,
-    Candidates as CoreCandidates, DetectionModel, EnumerateOptions, IntensityInput,
-    IntensityOptions,
+    enumerate_with_attributes, enumerates_sequentially, intensity_search as core_intensity_search,
+    searches_sequentially, Candidates as CoreCandidates, DetectionModel, EnumerateOptions,
+    IntensityInput, IntensityOptions,
 };
 
 /// `passive_assoc._settings.EnumerationSettings`, read by attribute.
@@ -89,8 +89,15 @@ pub fn enumerate_static(
         Some(a) => Some(a.gate(table.len())?),
         None => None,
     };
+    let mut reports = vec![0usize; network.len()];
+    for m in 0..table.len() {
+        if let Some(count) = reports.get_mut(table.sensor(m)) {
+            *count += 1;
+        }
+    }
+    let sequential = enumerates_sequentially(&reports);
     let found = interrupt::detach(py, || {
-        with_threads(n_threads, || {
+        with_threads_unless_sequential(sequential, n_threads, || {
             enumerate_with_attributes(&network, &table, &detection, &options, gate)
         })
     })???;
@@ -186,8 +193,11 @@ pub fn intensity_search(
         .with_vote_fraction(settings.vote_fraction)?
         .with_valid_airspace(settings.valid_airspace)
         .with_max_chains(max_chains)?;
+    let sequential = searches_sequentially(costs.len());
     let outcome = interrupt::detach(py, || {
-        with_threads(n_threads, || core_intensity_search(&input, &options))
+        with_threads_unless_sequential(sequential, n_threads, || {
+            core_intensity_search(&input, &options)
+        })
     })???;
     let chosen = outcome.chosen.iter().map(|&c| c as i64).collect();
     let levels = outcome

@@ -116,27 +116,14 @@ impl Level {
             if crate::parallel::interrupted() {
                 break; // the binding raises KeyboardInterrupt; the partial vote is discarded
             }
-            // Summed as the blocks finish, not collected: a full vote may run thousands of
-            // blocks, each with a count per candidate. Integer sums do not depend on the order.
-            let counts = chunk
-                .par_chunks(LANES)
-                .fold(
-                    || vec![0usize; self.len()],
-                    |mut sum, block| {
-                        let votes = self.chain.run_block(block);
-                        sum.iter_mut()
-                            .zip(votes)
-                            .for_each(|(t, v)| *t += v as usize);
-                        sum
-                    },
-                )
-                .reduce(
-                    || vec![0usize; self.len()],
-                    |mut a, b| {
-                        add(&mut a, &b);
-                        a
-                    },
-                );
+            // One block (a small scan's vote) runs here: from outside a pool a parallel
+            // iterator would hand it to rayon's pool and wait, which costs more than the block.
+            let counts: Vec<usize> = if chunk.len() <= LANES {
+                let votes = self.chain.run_block(chunk);
+                votes.into_iter().map(|v| v as usize).collect()
+            } else {
+                self.vote_blocks(chunk)
+            };
             add(&mut by_rank, &counts);
             run += chunk.len();
             let left = (starts.len() - run) as f64;
@@ -150,6 +137,31 @@ impl Level {
         }
         let votes = self.rank.iter().map(|&r| by_rank[r as usize]).collect();
         (votes, run)
+    }
+
+    /// The votes of `chunk`'s chains, its blocks of [`LANES`] in parallel. Summed as the
+    /// blocks finish, not collected: a full vote may run thousands of blocks, each with a
+    /// count per candidate. Integer sums do not depend on the order.
+    fn vote_blocks(&self, chunk: &[u32]) -> Vec<usize> {
+        chunk
+            .par_chunks(LANES)
+            .fold(
+                || vec![0usize; self.len()],
+                |mut sum, block| {
+                    let votes = self.chain.run_block(block);
+                    sum.iter_mut()
+                        .zip(votes)
+                        .for_each(|(t, v)| *t += v as usize);
+                    sum
+                },
+            )
+            .reduce(
+                || vec![0usize; self.len()],
+                |mut a, b| {
+                    add(&mut a, &b);
+                    a
+                },
+            )
     }
 }
 

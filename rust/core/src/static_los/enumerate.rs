@@ -280,6 +280,14 @@ pub fn enumerate_with_attributes(
     enumerate_prepared(&prepared)
 }
 
+/// Whether the enumeration of a scan whose sensors have `reports` reports each runs on the
+/// calling thread alone: it does when its task pairs (reports of the first two sensors, each
+/// plus "missed") fit in one chunk, whichever two sensors go first.
+pub fn enumerates_sequentially(reports: &[usize]) -> bool {
+    let most = reports.iter().copied().max().unwrap_or(0);
+    (most + 1).saturating_mul(most + 1) <= TASKS_PER_CHUNK
+}
+
 pub(crate) fn enumerate_prepared(p: &Prepared<'_>) -> CoreResult<Candidates> {
     let s_count = p.n_sensors;
     let sizes: Vec<usize> = p.rays.iter().map(Vec::len).collect();
@@ -290,10 +298,16 @@ pub(crate) fn enumerate_prepared(p: &Prepared<'_>) -> CoreResult<Candidates> {
         count: AtomicUsize::new(0),
         abort: AtomicBool::new(false),
     };
-    let parts: Vec<Output> = (0..n_tasks.div_ceil(chunk))
-        .into_par_iter()
-        .map(|c| p.run_tasks(c * chunk..((c + 1) * chunk).min(n_tasks), second, &shared))
-        .collect();
+    let run_chunk =
+        |c: usize| p.run_tasks(c * chunk..((c + 1) * chunk).min(n_tasks), second, &shared);
+    let n_chunks = n_tasks.div_ceil(chunk);
+    // One chunk (a small scan) runs here: from outside a pool a parallel iterator would hand
+    // it to rayon's pool and wait, which costs more than the chunk.
+    let parts: Vec<Output> = if n_chunks <= 1 {
+        (0..n_chunks).map(run_chunk).collect()
+    } else {
+        (0..n_chunks).into_par_iter().map(run_chunk).collect()
+    };
     if crate::parallel::interrupted() {
         return Err(CoreError::Interrupted); // before concatenating what was found so far
     }

@@ -75,6 +75,12 @@ pub struct IntensityOutcome {
 }
 
 /// Runs the intensity-ordered search on enumerated candidates.
+/// Whether the search over `candidates` candidate tuples runs on the calling thread alone:
+/// every level's vote is then at most one block of chains (so a caller can skip the pool).
+pub fn searches_sequentially(candidates: usize) -> bool {
+    candidates <= super::chain_block::LANES
+}
+
 pub fn intensity_search(
     input: &IntensityInput,
     options: &IntensityOptions,

@@ -66,8 +66,8 @@ mod window;
 mod tests;
 
 pub use cost::DetectionModel;
-pub use enumerate::{enumerate, enumerate_with_attributes};
-pub use intensity::{intensity_search, IntensityInput, IntensityOutcome};
+pub use enumerate::{enumerate, enumerate_with_attributes, enumerates_sequentially};
+pub use intensity::{intensity_search, searches_sequentially, IntensityInput, IntensityOutcome};
 pub use options::{
     enumeration_fit_options, EnumerateOptions, IntensityOptions, DEFAULT_GATE,
     DEFAULT_MAX_CANDIDATES, DEFAULT_MIN_INTENSITY,

@@ -98,6 +98,16 @@ impl Problems<'_> {
     }
 }
 
+/// Fewer problems than this are fitted on the calling thread: a fit takes microseconds, less
+/// than handing the batch to a thread pool and waking it (`benches/bench_call_overhead.py`).
+pub const PARALLEL_PROBLEMS: usize = 8;
+
+/// Whether a batch of `problems` fits runs on the calling thread alone (so a caller can skip
+/// the thread pool).
+pub fn fits_sequentially(problems: usize) -> bool {
+    problems < PARALLEL_PROBLEMS
+}
+
 /// Fits every problem; fails only on invalid input (a degenerate problem gets a
 /// [`Termination`] code instead, so one bad problem does not sink a batch).
 pub fn fit_batch(
@@ -113,47 +123,55 @@ pub fn fit_batch(
     let mut estimates = vec![0.0; n * dim];
     let mut covariances = vec![0.0; n * dim * dim];
     // Each problem writes only its own output chunks, so no result depends on scheduling.
-    let summaries: Vec<FitSummary> = estimates
-        .par_chunks_mut(dim)
-        .zip(covariances.par_chunks_mut(dim * dim))
-        .enumerate()
-        .map_init(
-            Vec::new,
-            |obs: &mut Vec<Observation>, (p, (estimate, covariance))| {
-                if interrupted() {
-                    // Ctrl-C: skip the rest; the batch returns Interrupted below.
-                    return singular(FitSlots {
-                        estimate,
-                        covariance,
-                    });
-                }
-                obs.clear();
-                obs.extend(
-                    problems
-                        .rows(p)
-                        .iter()
-                        .map(|&m| measurements.observation(sensors, m as usize)),
-                );
-                let slots = FitSlots {
+    let fit_one =
+        |obs: &mut Vec<Observation>,
+         (p, (estimate, covariance)): (usize, (&mut [f64], &mut [f64]))| {
+            if interrupted() {
+                // Ctrl-C: skip the rest; the batch returns Interrupted below.
+                return singular(FitSlots {
                     estimate,
                     covariance,
-                };
-                match problems.initial {
-                    Some(initial) => fit_into(
-                        layout,
-                        obs,
-                        &initial[p * dim..(p + 1) * dim],
-                        options,
-                        slots,
-                    ),
-                    None => match pseudo_linear_state(layout, obs) {
-                        Some(start) => fit_into(layout, obs, &start[..dim], options, slots),
-                        None => singular(slots),
-                    },
-                }
-            },
-        )
-        .collect();
+                });
+            }
+            obs.clear();
+            obs.extend(
+                problems
+                    .rows(p)
+                    .iter()
+                    .map(|&m| measurements.observation(sensors, m as usize)),
+            );
+            let slots = FitSlots {
+                estimate,
+                covariance,
+            };
+            match problems.initial {
+                Some(initial) => fit_into(
+                    layout,
+                    obs,
+                    &initial[p * dim..(p + 1) * dim],
+                    options,
+                    slots,
+                ),
+                None => match pseudo_linear_state(layout, obs) {
+                    Some(start) => fit_into(layout, obs, &start[..dim], options, slots),
+                    None => singular(slots),
+                },
+            }
+        };
+    let summaries: Vec<FitSummary> = if fits_sequentially(n) {
+        let mut obs = Vec::new();
+        (estimates.chunks_mut(dim))
+            .zip(covariances.chunks_mut(dim * dim))
+            .enumerate()
+            .map(|item| fit_one(&mut obs, item))
+            .collect()
+    } else {
+        (estimates.par_chunks_mut(dim))
+            .zip(covariances.par_chunks_mut(dim * dim))
+            .enumerate()
+            .map_init(Vec::new, fit_one)
+            .collect()
+    };
     if interrupted() {
         return Err(CoreError::Interrupted);
     }

@@ -70,6 +70,17 @@ pub fn kalman_filter(
     }
 }
 
+/// Fewer tracks than this are filtered on the calling thread: a short track takes
+/// microseconds, less than handing the batch to a thread pool and waking it
+/// (`benches/bench_call_overhead.py`).
+pub const PARALLEL_TRACKS: usize = 32;
+
+/// Whether `tracks` tracks are filtered on the calling thread alone (so a caller can skip the
+/// thread pool).
+pub fn filters_sequentially(tracks: usize) -> bool {
+    tracks < PARALLEL_TRACKS
+}
+
 fn run<const D: usize, const N: usize>(
     input: &KalmanInput<'_>,
     tracks: &Tracks<'_>,
@@ -90,12 +101,17 @@ fn run<const D: usize, const N: usize>(
             nis,
         })
         .collect::<Vec<_>>();
-    parts.into_par_iter().enumerate().for_each(|(p, out)| {
+    let filter_one = |(p, out): (usize, TrackOutput<'_>)| {
         // Ctrl-C: skip the remaining tracks; the call returns Interrupted below.
         if !interrupted() {
             filter_track::<D, N>(input, options, tracks.rows(p), out);
         }
-    });
+    };
+    if filters_sequentially(parts.len()) {
+        parts.into_iter().enumerate().for_each(filter_one);
+    } else {
+        parts.into_par_iter().enumerate().for_each(filter_one);
+    }
     if interrupted() {
         return Err(CoreError::Interrupted);
     }

@@ -38,7 +38,7 @@ pub mod track;
 #[cfg(test)]
 mod tests;
 
-pub use batch::{kalman_filter, KalmanOutcome};
+pub use batch::{filters_sequentially, kalman_filter, KalmanOutcome, PARALLEL_TRACKS};
 pub use init::Init;
 pub use input::{KalmanInput, Noise, Tracks};
 pub use measurement::MeasurementModel;
