@@ -108,15 +108,39 @@ def test_from_csv_reports_bad_content(tmp_path: Path) -> None:
     path.write_text("sensor,time,azimuth,elevation\n0,1.0,x,0.1\n")
     with pytest.raises(ValueError, match=r"^azimuth: line 2 has 'x', not a number"):
         MeasurementTable.from_csv(path)
-    path.write_text("sensor,time,azimuth,bogus\n0,1.0,0.5,0.1\n")
-    with pytest.raises(ValueError, match=r"^columns: unknown column 'bogus'"):
+    path.write_text("sensor,time,azimuth,elevation\n0,1.0,0.5,\n")
+    with pytest.raises(ValueError, match=r"^elevation: line 2 has '', not a number \(file '.*bad.csv'\)"):
         MeasurementTable.from_csv(path)
+    path.write_text("sensor,time,azimuth,azimuth\n0,1.0,0.5,0.1\n")
+    with pytest.raises(ValueError, match=r"repeats a column name"):
+        MeasurementTable.from_csv(path)
+    with pytest.raises(ValueError, match=r"angle_unit"):
+        MeasurementTable.from_csv(path, angle_unit="grad")  # type: ignore[arg-type]
     path.write_text("sensor,azimuth\n0,0.5\n")
     with pytest.raises(ValueError, match=r"^columns: missing required column 'time'"):
         MeasurementTable.from_csv(path)
     path.write_text("sensor,time,azimuth\n0,1.0\n")
     with pytest.raises(ValueError, match=r"^path: line 2 has 2 fields"):
         MeasurementTable.from_csv(path)
+
+
+def test_from_csv_reads_other_tools_files(tmp_path: Path) -> None:
+    """Spaces around names, a byte-order mark, degrees, extra columns: numeric ones become
+    attributes, text ones are dropped with a warning that names them."""
+    path = tmp_path / "scan.csv"
+    path.write_text(
+        "\ufeff sensor , time , azimuth , elevation , snr , label \n0, 1.0, 90, 10, 12.5, a\n1, 1.0, -45, 5, 9.0, b\n",
+        encoding="utf-8",
+    )
+    with pytest.warns(UserWarning, match=r"ignoring non-numeric column\(s\) \['label'\]"):
+        table = MeasurementTable.from_csv(path, angle_unit="deg")
+    np.testing.assert_allclose(table.azimuth, np.radians([90.0, -45.0]))
+    np.testing.assert_allclose(table.elevation, np.radians([10.0, 5.0]))
+    assert table.sensor.tolist() == [0, 1] and table.attributes["snr"].tolist() == [12.5, 9.0]
+    assert set(table.attributes) == {"snr"}
+    # Written back, it reads again without the unit switch or the warning.
+    table.to_csv(tmp_path / "back.csv")
+    assert MeasurementTable.from_csv(tmp_path / "back.csv") == table
 
 
 def test_pandas_round_trip() -> None:

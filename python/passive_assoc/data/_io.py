@@ -15,7 +15,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["PANDAS_HINT", "import_pandas", "read_csv", "write_csv"]
+__all__ = [
+    "PANDAS_HINT",
+    "import_pandas",
+    "is_numeric",
+    "parse_column",
+    "read_csv",
+    "read_csv_text",
+    "write_csv",
+    "zip_columns",
+]
 
 PANDAS_HINT = "pandas is required for this; install it with `pip install passive-assoc[pandas]`"
 
@@ -39,7 +48,21 @@ def read_csv(path: str | os.PathLike[str], integer_columns: Collection[str]) -> 
     ------
     ValueError
         If the file is empty, a line has the wrong number of fields (``path: line L ...``) or
-        a field is not a number (``<column>: line L has ...``).
+        a field is not a number (``<column>: line L has ... (file ...)``).
+    """
+    header, rows = read_csv_text(path)
+    return {
+        name: parse_column(path, name, column, name in integer_columns) for name, column in zip_columns(header, rows)
+    }
+
+
+def read_csv_text(path: str | os.PathLike[str]) -> tuple[list[str], list[list[str]]]:
+    """The header (names stripped of surrounding spaces) and the rows of a CSV file, as text.
+
+    Raises
+    ------
+    ValueError
+        If the file is not readable CSV, is empty, or a line has the wrong number of fields.
     """
     # utf-8-sig: a file saved by Excel starts with a byte-order mark, which would otherwise
     # become part of the first column's name.
@@ -53,20 +76,38 @@ def read_csv(path: str | os.PathLike[str], integer_columns: Collection[str]) -> 
     header, body = [name.strip() for name in rows[0]], rows[1:]
     for r, row in enumerate(body):
         if len(row) != len(header):
-            raise ValueError(f"path: line {r + 2} has {len(row)} fields, header has {len(header)}")
-    columns: dict[str, NDArray[Any]] = {}
-    for j, name in enumerate(header):
-        integer = name in integer_columns
-        values = []
-        for r, row in enumerate(body):
-            try:
-                values.append(int(row[j]) if integer else float(row[j]))
-            except ValueError:
-                raise ValueError(
-                    f"{name}: line {r + 2} has {row[j]!r}, not {'an integer' if integer else 'a number'}"
-                ) from None
-        columns[name] = np.array(values, dtype=np.int64 if integer else np.float64)
-    return columns
+            raise ValueError(
+                f"path: line {r + 2} has {len(row)} fields, header has {len(header)} (file {os.fspath(path)!r})"
+            )
+    return header, body
+
+
+def zip_columns(header: list[str], rows: list[list[str]]) -> list[tuple[str, list[str]]]:
+    """``(name, values)`` per column of :func:`read_csv_text`'s rows."""
+    return [(name, [row[j] for row in rows]) for j, name in enumerate(header)]
+
+
+def parse_column(path: str | os.PathLike[str], name: str, values: list[str], integer: bool) -> NDArray[Any]:
+    """One column's text as int64 or float64 (surrounding spaces allowed), or a ValueError
+    naming the column, the line and the file."""
+    out = []
+    for r, text in enumerate(values):
+        try:
+            out.append(int(text) if integer else float(text))
+        except ValueError:
+            kind = "an integer" if integer else "a number"
+            raise ValueError(f"{name}: line {r + 2} has {text!r}, not {kind} (file {os.fspath(path)!r})") from None
+    return np.array(out, dtype=np.int64 if integer else np.float64)
+
+
+def is_numeric(values: list[str]) -> bool:
+    """Whether every value of a text column parses as a number (an empty column does)."""
+    try:
+        for text in values:
+            float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def import_pandas() -> Any:

@@ -18,7 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._validation import as_float_array, as_int_array, readonly, require_finite
-from ._io import import_pandas, read_csv, write_csv
+from ._io import import_pandas, write_csv
+from .measurement_files import AngleUnit, read_measurement_columns
 from .sensors import SensorNetwork
 
 __all__ = ["MeasurementTable", "ATTRIBUTE_PREFIX"]
@@ -283,9 +284,31 @@ class MeasurementTable:
         write_csv(path, self.to_arrays())
 
     @classmethod
-    def from_csv(cls, path: str | os.PathLike[str]) -> MeasurementTable:
-        """Read a table written by :meth:`to_csv` (or any CSV with the same header)."""
-        return cls.from_columns(read_csv(path, integer_columns=("sensor", "truth")))
+    def from_csv(cls, path: str | os.PathLike[str], *, angle_unit: AngleUnit = "rad") -> MeasurementTable:
+        r"""Read a table written by :meth:`to_csv`, or a measurement file from another tool.
+
+        Required columns: ``sensor`` (the sensor file's id), ``time`` (s), ``azimuth``;
+        optional ``elevation`` (3-D), ``truth``, ``attr_<name>``. Column names may have spaces
+        around them. Any other column is kept as an attribute when every cell is a number, and
+        ignored with a warning otherwise (:mod:`passive_assoc.data.measurement_files`).
+
+        Parameters
+        ----------
+        path : str or path-like
+        angle_unit : {"rad", "deg"}
+            The unit of ``azimuth`` and ``elevation`` in the file (azimuth counter-clockwise
+            from +x, elevation up; not a compass bearing). Stored in radians.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "scan.csv"
+        >>> _ = path.write_text("sensor, time, azimuth, snr\n0, 0.0, 90.0, 12.5\n1, 0.0, 45.0, 9.0\n")
+        >>> table = MeasurementTable.from_csv(path, angle_unit="deg")
+        >>> table.azimuth.round(4).tolist(), table.attributes["snr"].tolist()
+        ([1.5708, 0.7854], [12.5, 9.0])
+        """
+        return cls.from_columns(read_measurement_columns(path, (*_CORE, "truth"), ATTRIBUTE_PREFIX, angle_unit))
 
     def to_pandas(self) -> Any:
         """Return a :class:`pandas.DataFrame` with the columns of :meth:`to_arrays`.

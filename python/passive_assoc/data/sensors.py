@@ -8,7 +8,9 @@ Conventions (METHODS §0): x east, y north, z up, metres; angles in radians. A 2
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -242,6 +244,47 @@ class SensorNetwork:
         return self.positions[idx].copy()
 
     # ------------------------------------------------------------------ dunder
+    # ------------------------------------------------------------------ files
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str]) -> SensorNetwork:
+        r"""Read a sensor file: one row per sensor, columns ``sensor`` (optional id), ``x``,
+        ``y``, ``z`` (3-D), ``sigma_azimuth`` and, in 3-D, ``sigma_elevation`` — radians, or
+        degrees with a ``_deg`` suffix (:mod:`passive_assoc.data.sensor_files`).
+
+        >>> import tempfile, pathlib
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "sensors.csv"
+        >>> _ = path.write_text("sensor,x,y,sigma_azimuth_deg\n1,20000,0,0.3\n0,-20000,0,0.3\n")
+        >>> net = SensorNetwork.from_csv(path)
+        >>> net.ndim, net.positions[:, 0].tolist(), round(float(net.sigma_azimuth[0]), 6)
+        (2, [-20000.0, 20000.0], 0.005236)
+        """
+        from .sensor_files import read_sensor_csv
+
+        return read_sensor_csv(path)
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write the network in :meth:`from_csv`'s format (radians), which reads back exactly."""
+        from .sensor_files import write_sensor_csv
+
+        write_sensor_csv(self, path)
+
+    @classmethod
+    def from_pandas(cls, df: Any) -> SensorNetwork:
+        """A network from a DataFrame with :meth:`from_csv`'s columns."""
+        from ._io import import_pandas
+        from .sensor_files import network_from_columns
+
+        if not isinstance(df, import_pandas().DataFrame):
+            raise TypeError(f"df: expected a pandas.DataFrame, got {type(df).__name__}")
+        return network_from_columns({str(c): df[c].to_numpy() for c in df.columns}, source="df")
+
+    def to_pandas(self) -> Any:
+        """The network as a DataFrame in :meth:`from_csv`'s columns (radians)."""
+        from ._io import import_pandas
+        from .sensor_files import network_columns
+
+        return import_pandas().DataFrame(network_columns(self))
+
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, SensorNetwork):
             return NotImplemented

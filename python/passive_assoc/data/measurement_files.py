@@ -1,0 +1,63 @@
+"""Measurement files from other tools: what :meth:`MeasurementTable.from_csv` accepts beyond
+the columns it writes.
+
+* Column names may carry surrounding spaces and the file a UTF-8 byte-order mark.
+* ``sensor``, ``time`` and ``azimuth`` are required; ``elevation`` (3-D), ``truth`` and
+  ``attr_<name>`` columns are optional.
+* Any other column is *kept as an attribute* under its own name when every cell is a number
+  (an SNR, a frequency: usable by the attribute gates), and *ignored with a warning* that
+  names it otherwise (a text label).
+* ``angle_unit="deg"`` reads ``azimuth`` and ``elevation`` in degrees (azimuth
+  counter-clockwise from +x, elevation up from the horizontal plane — METHODS §0; not a
+  compass bearing).
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._io import is_numeric, parse_column, read_csv_text, zip_columns
+
+__all__ = ["AngleUnit", "read_measurement_columns"]
+
+AngleUnit = Literal["rad", "deg"]
+_INTEGER = ("sensor", "truth")
+_ANGLES = ("azimuth", "elevation")
+
+
+def read_measurement_columns(
+    path: str | os.PathLike[str], known: tuple[str, ...], prefix: str, angle_unit: AngleUnit
+) -> dict[str, NDArray[Any]]:
+    """The columns of a measurement CSV file, unknown numeric ones renamed ``prefix + name``
+    (attributes), unknown text ones dropped with a warning, angles in radians."""
+    if angle_unit not in ("rad", "deg"):
+        raise ValueError(f"angle_unit: must be 'rad' or 'deg', got {angle_unit!r}")
+    header, rows = read_csv_text(path)
+    if len(set(header)) != len(header):
+        raise ValueError(f"path: {os.fspath(path)!r} repeats a column name ({header})")
+    columns: dict[str, NDArray[Any]] = {}
+    ignored = []
+    for name, values in zip_columns(header, rows):
+        if name in known or name.startswith(prefix):
+            columns[name] = parse_column(path, name, values, integer=name in _INTEGER)
+        elif is_numeric(values):
+            columns[prefix + name] = parse_column(path, name, values, integer=False)
+        else:
+            ignored.append(name)
+    if ignored:
+        warnings.warn(
+            f"{os.fspath(path)!r}: ignoring non-numeric column(s) {ignored}; numeric extra columns are kept as "
+            "attributes",
+            UserWarning,
+            stacklevel=3,
+        )
+    if angle_unit == "deg":
+        for name in _ANGLES:
+            if name in columns:
+                columns[name] = np.radians(columns[name])
+    return columns
