@@ -23,6 +23,9 @@ def bad_values(kind: object) -> list[str] | None:
     minimum = getattr(kind, "minimum", None)
     if minimum is not None:  # experiments.common.int_at_least
         return [str(minimum - 1), str(minimum - 5), "abc", "1.5", ""]
+    declared: list[str] | None = getattr(kind, "bad_values", None)  # the file commands' types
+    if declared is not None:
+        return declared
     return BAD.get(kind)  # type: ignore[call-overload]
 
 

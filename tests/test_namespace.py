@@ -92,7 +92,9 @@ LAYERS = [
     ["simulation"],
     ["evaluation"],
     ["plots"],
+    ["plots_data"],
     ["experiments"],
+    ["commands"],
     ["cli"],
 ]
 

@@ -1,8 +1,9 @@
 """The ``passive-assoc`` command line.
 
 ``passive-assoc demo`` simulates the paper-000 scenario and prints, per target, the ML
-estimate with perfect association beside the truth and the CRLB. ``passive-assoc --help``
-lists every command.
+estimate with perfect association beside the truth and the CRLB; ``initiate`` and
+``associate`` run a method on the user's own files; ``reproduce`` runs a paper's experiment.
+``passive-assoc --help`` lists every command.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import __version__
+from .commands import associate, initiate
 from .evaluation import perfect_association_fit, target_crlbs
 from .experiments import formation, fti, intensity, topology, wavelet
 from .experiments.common import seed_int
@@ -26,6 +28,12 @@ _EXPERIMENTS = [
     ("topology", topology, "paper 002: track-to-track association under azimuth bias (P, R, F1 vs nearest neighbour)"),
     ("wavelet", wavelet, "paper 003: radar/ESM association of maneuvering targets (P(correct) per scan, 3 methods)"),
     ("formation", formation, "paper 004: formation targets with emitter attributes, Tables 2-3 and the §2 methods"),
+]
+
+#: (name, module with add_arguments/main, one-line summary) of the commands on the user's files.
+_FILE_COMMANDS = [
+    ("initiate", initiate, "initiate tracks from your sensors' measurement file (fuzzy track initiation)"),
+    ("associate", associate, "associate your measurement file scan by scan (static LOS association)"),
 ]
 
 _COMPONENTS = ("x0 m", "y0 m", "z0 m", "vx m/s", "vy m/s", "vz m/s")
@@ -77,6 +85,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     demo.add_argument("--seed", type=seed_int, default=0, help="simulation seed (default 0)")
     demo.set_defaults(run=_demo)
+    for name, module, summary in _FILE_COMMANDS:
+        sub = commands.add_parser(name, help=summary)
+        module.add_arguments(sub)
+        sub.set_defaults(run=module.main)
     _add_reproduce(commands)
     return parser
 

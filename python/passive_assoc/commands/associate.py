@@ -1,0 +1,143 @@
+"""``passive-assoc associate MEAS --sensors SENS``: static association (METHODS §2) of every
+scan of the user's measurement file.
+
+Rows are grouped into scans by ``--scan-column`` (default ``time``: rows with the same time
+form a scan; or any attribute column of the file, e.g. a scan number). Each scan is
+associated on its own. Writes, in ``--out``:
+
+* ``associate_measurements.csv`` — every input row once: row, sensor, time, angles, ``scan``
+  (its index) and ``target`` (the located target's index over the whole file, or −1 for a
+  false alarm);
+* ``associate_targets.json`` — per target: its scan, position, covariance, cost and rows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import sys
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from tqdm import tqdm
+
+from ..data import MeasurementTable
+from ..data._io import write_csv
+from ..experiments.common import _jsonable
+from ..static_los import StaticAssociator
+from .common import (
+    EXAMPLE_FORMATS,
+    add_file_arguments,
+    add_parameter_options,
+    given_parameters,
+    output_path,
+    prepare,
+    read_inputs,
+    row_columns,
+    write_atomically,
+    write_json,
+)
+
+__all__ = ["add_arguments", "main", "scan_groups"]
+
+DESCRIPTION = (
+    "Associate the bearings (and elevations) of several passive sensors scan by scan: which "
+    "reports are the same target, where it is, and which are false alarms (METHODS §2: the "
+    "intensity search, or S-D assignment by Lagrangian relaxation or exactly)."
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.description = DESCRIPTION
+    parser.epilog = (
+        EXAMPLE_FORMATS
+        + "\nexample:\n  passive-assoc associate examples/associate_measurements.csv "
+        + ("--sensors examples/sensors.csv --method lagrangian --out out/")
+    )
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    add_file_arguments(parser)
+    parser.add_argument(
+        "--scan-column",
+        metavar="NAME",
+        type=column_name,
+        default="time",
+        help="rows with equal values in this column form one scan: 'time' (default) or an attribute column",
+    )
+    parser.add_argument(
+        "--plot", metavar="FILE", type=output_path, help="save a figure of the sensors, lines of sight and targets"
+    )
+    defaults = {f.name: f.default for f in dataclasses.fields(StaticAssociator)}
+    # "method" is a parameter of the associator like any other: --method.
+    names = add_parameter_options(parser, StaticAssociator._constraints, defaults)
+    parser.set_defaults(parameter_names=names)
+
+
+def column_name(text: str) -> str:
+    """argparse type: a column name (checked against the file once it is read)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a column name, got an empty string")
+    return text.strip()
+
+
+column_name.bad_values = ["", "  "]  # type: ignore[attr-defined]
+
+
+def scan_groups(table: MeasurementTable, column: str) -> tuple[NDArray[np.int64], list[NDArray[np.int64]]]:
+    """Per row its scan index, and per scan its rows (scans in increasing column value)."""
+    if column == "time":
+        values = table.time
+    elif column in table.attributes:
+        values = table.attributes[column]
+    else:
+        raise ValueError(
+            f"--scan-column: {column!r} is not a column of the measurements (time, or one of "
+            f"{sorted(table.attributes)})"
+        )
+    keys, scan = np.unique(values, return_inverse=True)
+    order = np.argsort(scan, kind="stable")
+    bounds = np.searchsorted(scan[order], np.arange(len(keys) + 1))
+    return scan.astype(np.int64), [order[bounds[k] : bounds[k + 1]].astype(np.int64) for k in range(len(keys))]
+
+
+def main(args: argparse.Namespace) -> int:
+    table, sensors = read_inputs(args)
+    scan, groups = scan_groups(table, args.scan_column)
+    associator = StaticAssociator(**given_parameters(args, args.parameter_names))
+    target = np.full(len(table), -1, dtype=np.int64)
+    targets: list[dict[str, Any]] = []
+    for k, rows in enumerate(tqdm(groups, desc="associate", unit="scan", file=sys.stderr, disable=None, leave=False)):
+        found = associator.associate(table.select(rows), sensors)
+        for t in range(len(found.positions)):
+            used = found.tuples[t] >= 0
+            targets.append(
+                {
+                    "target": len(targets),
+                    "scan": k,
+                    "position": found.positions[t],
+                    "covariance": found.covariances[t],
+                    "cost": found.costs[t],
+                    "rows": rows[found.tuples[t][used]],
+                }
+            )
+        inside = found.labels >= 0
+        target[rows[inside]] = found.labels[inside] + (len(targets) - len(found.positions))
+    folder = prepare(args.out)
+    columns = row_columns(table, target, label_name="target", scan=scan)
+    write_atomically(folder / "associate_measurements.csv", lambda p: write_csv(p, columns))
+    summary = {"method": associator.method, "scans": len(groups), "targets": targets}
+    write_json(folder / "associate_targets.json", summary)
+    false_alarms = int(np.sum(target < 0))
+    print(
+        f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms; "
+        f"wrote {folder / 'associate_measurements.csv'} and {folder / 'associate_targets.json'}"
+    )
+    if args.json:
+        json.dump(_jsonable(summary), sys.stdout, indent=2)
+        print()
+    if args.plot:
+        from ..plots_data import plot_association
+
+        write_atomically(args.plot, lambda p: plot_association(table, sensors, target, targets, p))
+    return 0

@@ -1,0 +1,224 @@
+"""What the file commands (``passive-assoc initiate`` / ``associate``) share: reading the
+user's two files, the method's parameters as options (from the class's declared
+constraints, so every parameter has an option with the library's default), and writing
+outputs so that nothing is half-written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import tempfile
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+from .._params import Boolean, Constraint, Interval, Options
+from ..data import MeasurementTable, SensorNetwork
+from ..experiments.common import _jsonable
+
+__all__ = [
+    "add_file_arguments",
+    "add_parameter_options",
+    "output_path",
+    "given_parameters",
+    "prepare",
+    "read_inputs",
+    "row_columns",
+    "write_atomically",
+    "write_json",
+]
+
+EXAMPLE_FORMATS = """input files (CSV with a header row; spaces around names are fine):
+  sensors: one row per sensor
+    sensor,x,y,sigma_azimuth_deg            (2-D; add z and sigma_elevation[_deg] in 3-D)
+    0,-20000,0,0.3
+  measurements: one row per report
+    sensor,time,azimuth                     (add elevation in 3-D; other numeric columns
+    0,0.0,45.0                               are kept as attributes)
+angles are counter-clockwise from +x (east), elevation up; radians unless --degrees.
+"""
+
+
+def add_file_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("measurements", metavar="MEAS", type=input_file, help="measurements CSV file")
+    parser.add_argument("--sensors", metavar="SENS", type=input_file, required=True, help="sensors CSV file")
+    parser.add_argument("--degrees", action="store_true", help="azimuth and elevation in MEAS are in degrees")
+    parser.add_argument(
+        "--out",
+        metavar="DIR",
+        type=output_folder,
+        default=".",
+        help="folder for the output files (created if missing; default: .)",
+    )
+    parser.add_argument("--json", action="store_true", help="also print the per-target summary as JSON")
+
+
+def input_file(text: str) -> str:
+    """argparse type: an existing file."""
+    if not text.strip() or not Path(text).expanduser().is_file():
+        raise argparse.ArgumentTypeError(f"no such file: {text!r}")
+    return text
+
+
+input_file.bad_values = ["", "/nonexistent-directory/in.csv"]  # type: ignore[attr-defined]
+
+
+def read_inputs(args: argparse.Namespace) -> tuple[MeasurementTable, SensorNetwork]:
+    sensors = SensorNetwork.from_csv(args.sensors)
+    table = MeasurementTable.from_csv(args.measurements, angle_unit="deg" if args.degrees else "rad")
+    table.validate_against(sensors)
+    return table, sensors
+
+
+def output_folder(text: str) -> Path:
+    """argparse type: the output folder, or one that can be created (its nearest existing
+    ancestor a writable folder) — checked before any work starts; created by :func:`prepare`."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a folder name, got an empty string")
+    folder = Path(text).expanduser().resolve()
+    existing = next(p for p in (folder, *folder.parents) if p.exists())
+    if not existing.is_dir() or not os.access(existing, os.W_OK):
+        raise argparse.ArgumentTypeError(f"cannot write into {str(existing)!r}")
+    return folder
+
+
+output_folder.bad_values = ["", "/dev/null/out"]  # type: ignore[attr-defined]
+
+
+def output_path(text: str) -> Path:
+    """argparse type: a file to write, whose folder exists or can be created (created when the
+    file is written)."""
+    if not text.strip() or text.endswith(("/", os.sep)):
+        raise argparse.ArgumentTypeError(f"expected a file name, got {text!r}")
+    path = Path(text).expanduser().resolve()
+    output_folder(str(path.parent))
+    return path
+
+
+output_path.bad_values = ["", "/dev/null/figure.png", "somewhere/"]  # type: ignore[attr-defined]
+
+
+def prepare(folder: Path) -> Path:
+    """Creates the output folder (after the inputs were read)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def write_atomically(path: Path, write: Callable[[Path], None]) -> None:
+    """``write(temporary path)`` then rename over ``path``: a failure leaves no half file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # Same folder (so the rename is atomic), same suffix (matplotlib reads the format off it).
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+    os.close(handle)
+    try:
+        write(Path(temporary))
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def row_columns(table: MeasurementTable, labels: Any, label_name: str = "track", **extra: Any) -> dict[str, Any]:
+    """The per-measurement output: every input row once, with its row number, sensor, time,
+    angles, any ``extra`` columns, and its label (−1: clutter) as ``label_name``."""
+    import numpy as np
+
+    columns: dict[str, Any] = {
+        "row": np.arange(len(table), dtype=np.int64),
+        "sensor": table.sensor,
+        "time": table.time,
+        "azimuth": table.azimuth,
+    }
+    if table.ndim == 3:
+        columns["elevation"] = table.elevation
+    columns.update(extra)
+    columns[label_name] = np.asarray(labels, dtype=np.int64)
+    return columns
+
+
+def write_json(path: Path, record: Mapping[str, Any]) -> None:
+    text = json.dumps(_jsonable(record), indent=2) + "\n"
+
+    def write(temporary: Path) -> None:
+        temporary.write_text(text, encoding="utf-8")
+
+    write_atomically(path, write)
+
+
+def add_parameter_options(
+    parser: argparse.ArgumentParser, constraints: Mapping[str, list[Constraint]], defaults: Mapping[str, Any]
+) -> list[str]:
+    """One ``--name`` option per scalar parameter the class declares (its default shown,
+    unset = the library's default); returns the parameter names added."""
+    group = parser.add_argument_group("method parameters (default: the library's)")
+    added = []
+    for name, allowed in constraints.items():
+        kinds = [c for c in allowed if c is not None]
+        if not kinds or name == "n_threads":
+            continue
+        flag = "--" + name.replace("_", "-")
+        default = defaults.get(name)
+        first = kinds[0]
+        if isinstance(first, Boolean):
+            group.add_argument(flag, type=_boolean, metavar="{true,false}", help=f"(default {default})")
+        elif isinstance(first, Options):
+            group.add_argument(flag, choices=first.choices, help=f"(default {default})")
+        elif isinstance(first, Interval):
+            text = "none" if None in allowed else None
+            group.add_argument(
+                flag,
+                type=_number(first, text),
+                metavar="INT" if first.kind is int else "X",
+                help=f"{first.describe()}{' or none' if text else ''} (default {default})",
+            )
+        else:
+            continue
+        added.append(name)
+    return added
+
+
+def given_parameters(args: argparse.Namespace, names: list[str]) -> dict[str, Any]:
+    """The parameters the user set (None = not given; the "none" value is passed as None)."""
+    out = {}
+    for name in names:
+        value = getattr(args, name)
+        if value is not None:
+            out[name] = None if value is _NONE else value
+    return out
+
+
+_NONE = object()
+
+
+def _boolean(text: str) -> bool:
+    lowered = text.strip().lower()
+    if lowered in ("true", "yes", "1"):
+        return True
+    if lowered in ("false", "no", "0"):
+        return False
+    raise argparse.ArgumentTypeError(f"expected true or false, got {text!r}")
+
+
+_boolean.bad_values = ["maybe", "", "2"]  # type: ignore[attr-defined]
+
+
+def _number(interval: Interval, none_text: str | None) -> Callable[[str], Any]:
+    """argparse type: a number the interval accepts, or ``none_text`` for None."""
+
+    def parse(text: str) -> Any:
+        if none_text is not None and text.strip().lower() == none_text:
+            return _NONE
+        try:
+            value = int(text) if interval.kind is int else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {interval.describe()}, got {text!r}") from None
+        if not interval.contains(value):
+            raise argparse.ArgumentTypeError(f"expected {interval.describe()}, got {text!r}")
+        return value
+
+    parse.__name__ = interval.describe()
+    bad = ["abc"] + ([] if interval.low is None else [repr(interval.low - 1)])
+    parse.bad_values = bad + (["nan"] if interval.kind is float else ["1.5"])  # type: ignore[attr-defined]
+    return parse

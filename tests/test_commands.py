@@ -1,0 +1,112 @@
+"""``passive-assoc initiate`` and ``associate`` on the example files: every input row appears
+exactly once in the per-measurement output, the JSON agrees with it, bad files end in a usage
+error naming the file, and a failed run writes nothing."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from passive_assoc.cli import main as cli_main
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def read_rows(path: Path) -> dict[str, np.ndarray]:
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    return {name: np.array([float(r[name]) for r in rows]) for name in rows[0]}
+
+
+def test_initiate_writes_every_row_once(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "out"
+    meas, sensors = EXAMPLES / "initiate_measurements.csv", EXAMPLES / "initiate_sensors.csv"
+    assert cli_main(["initiate", str(meas), "--sensors", str(sensors), "--out", str(out), "--json"]) == 0
+    printed = capsys.readouterr().out
+    rows = read_rows(out / "initiate_measurements.csv")
+    n = len(read_rows(meas)["sensor"])
+    assert rows["row"].tolist() == list(range(n))
+    summary = json.loads((out / "initiate_tracks.json").read_text())
+    assert len(summary["tracks"]) == 4 and "4 track(s)" in printed and '"tracks"' in printed
+    for track in summary["tracks"]:
+        assert sorted(track["rows"]) == np.flatnonzero(rows["track"] == track["track"]).tolist()
+        assert len(track["state"]) == 6 and np.shape(track["covariance"]) == (6, 6)
+    assert sorted(summary["clutter_rows"]) == np.flatnonzero(rows["track"] < 0).tolist()
+    assert 0 < len(summary["clutter_rows"]) < n
+
+
+def test_associate_writes_every_row_once(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    meas, sensors = EXAMPLES / "associate_measurements.csv", EXAMPLES / "associate_sensors.csv"
+    args = ["associate", str(meas), "--sensors", str(sensors), "--out", str(out), "--method", "lagrangian"]
+    assert cli_main(args) == 0
+    rows = read_rows(out / "associate_measurements.csv")
+    table = read_rows(meas)
+    assert rows["row"].tolist() == list(range(len(table["sensor"])))
+    assert np.array_equal(rows["scan"], np.unique(table["time"], return_inverse=True)[1])
+    summary = json.loads((out / "associate_targets.json").read_text())
+    assert summary["scans"] == 3 and len(summary["targets"]) >= 10
+    for target in summary["targets"]:
+        assert sorted(target["rows"]) == np.flatnonzero(rows["target"] == target["target"]).tolist()
+        assert np.all(rows["scan"][target["rows"]] == target["scan"])
+
+
+def test_associate_by_an_attribute_column_and_a_wrong_one(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    meas = tmp_path / "meas.csv"
+    text = (EXAMPLES / "associate_measurements.csv").read_text().splitlines()
+    # A scan number column, and every time distinct: grouping by it gives the three scans back.
+    lines = [text[0] + ",scan_no"] + [
+        f"{line.split(',', 2)[0]},{k},{line.split(',', 2)[2]},{int(float(line.split(',')[1]) // 10)}"
+        for k, line in enumerate(text[1:])
+    ]
+    meas.write_text("\n".join(lines) + "\n")
+    sensors = str(EXAMPLES / "associate_sensors.csv")
+    out = tmp_path / "out"
+    assert cli_main(["associate", str(meas), "--sensors", sensors, "--out", str(out), "--scan-column", "scan_no"]) == 0
+    assert json.loads((out / "associate_targets.json").read_text())["scans"] == 3
+    with pytest.raises(SystemExit) as stop:
+        cli_main(["associate", str(meas), "--sensors", sensors, "--out", str(out), "--scan-column", "nope"])
+    assert stop.value.code == 2 and "--scan-column: 'nope' is not a column" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "measurements,message",
+    [
+        ("sensor,azimuth\n0,0.5\n", "missing required column 'time'"),
+        ("sensor,time,azimuth\n0,0.0,0.5\n5,0.0,0.5\n", "sensor[1] = 5 (row 1) is not a sensor of the network"),
+        ("sensor,time,azimuth\n0,0.0,abc\n", "azimuth: line 2 has 'abc', not a number (file"),
+        ("", "is empty"),
+        ("sensor,time,azimuth\n0,0.0,nan\n", "azimuth"),
+    ],
+)
+def test_bad_files_are_usage_errors_and_write_nothing(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], measurements: str, message: str
+) -> None:
+    meas = tmp_path / "bad.csv"
+    meas.write_text(measurements)
+    out = tmp_path / "never"
+    sensors = str(EXAMPLES / "associate_sensors.csv")
+    for command in ("initiate", "associate"):
+        with pytest.raises(SystemExit) as stop:
+            cli_main([command, str(meas), "--sensors", sensors, "--out", str(out)])
+        assert stop.value.code == 2
+        assert message in capsys.readouterr().err
+        assert not out.exists(), "a failed run created its output folder"
+
+
+def test_an_existing_output_is_replaced_whole_or_not_at_all(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    meas, sensors = EXAMPLES / "associate_measurements.csv", str(EXAMPLES / "associate_sensors.csv")
+    assert cli_main(["associate", str(meas), "--sensors", sensors, "--out", str(out)]) == 0
+    before = (out / "associate_measurements.csv").read_bytes()
+    broken = tmp_path / "broken.csv"
+    shutil.copy(meas, broken)
+    broken.write_text(broken.read_text() + "0,0.0\n")  # a short last line
+    with pytest.raises(SystemExit):
+        cli_main(["associate", str(broken), "--sensors", sensors, "--out", str(out)])
+    assert (out / "associate_measurements.csv").read_bytes() == before
+    assert not [p for p in out.iterdir() if p.name.startswith(".")], "a temporary file was left behind"
