@@ -97,7 +97,7 @@ def _add_reproduce(commands: argparse._SubParsersAction[argparse.ArgumentParser]
     reproduce = commands.add_parser(
         "reproduce",
         help="run a paper's experiment and print our figures beside the paper's",
-        description="Reproduce a paper's experiment (EXPERIMENTS.md) with fixed seeds.",
+        description="Reproduce a paper's experiment (docs/spec/EXPERIMENTS.md) with fixed seeds.",
     )
     experiments = reproduce.add_subparsers(dest="experiment", metavar="EXPERIMENT", required=True)
     for name, module, summary in _EXPERIMENTS:

@@ -4,11 +4,13 @@ of every static-association method per scan (METHODS §2; the accuracy tables ar
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
 import numpy as np
+from tqdm import tqdm
 
 from ..simulation.static_los import StaticScan, static_scan
 from ..static_los import associate_static
@@ -96,7 +98,9 @@ def timing_table(
     method's time, of the candidate count and of the gaps — a single scan's figure depends on
     how many ghosts it happens to have."""
     rows = []
-    for n_sensors, n_targets in cases:
+    bar = tqdm(cases, desc="Table 1 timing", unit="case", file=sys.stderr, disable=None, leave=False)
+    for n_sensors, n_targets in bar:
+        bar.set_postfix_str(f"S={n_sensors}, M={n_targets}")
         per_scan = []
         for k in range(scans if n_targets <= 100 else 1):
             scan = static_scan(
