@@ -38,7 +38,14 @@ from .simulation import (
     paper_fti_scenario,
     simulate,
 )
-from .static_los import StaticAssociation, StaticAssociator, associate_static, enumerate_candidates
+from .static_los import (
+    ScanAssociation,
+    StaticAssociation,
+    StaticAssociator,
+    associate_scans,
+    associate_static,
+    enumerate_candidates,
+)
 from .topology import TopologyAssociator
 
 #: The fuzzy initiator's track under its pre-subpackage name (``passive_assoc.fti.InitiatedTrack``).
@@ -86,4 +93,6 @@ __all__ = [
     "bearing_only_2d_scenario",
     "paper_fti_scenario",
     "simulate",
+    "associate_scans",
+    "ScanAssociation",
 ]

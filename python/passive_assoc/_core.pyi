@@ -204,6 +204,18 @@ def assign_sd(
     settings: SdSettings,
 ) -> SdResult: ...
 def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
+def associate_scans(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    rows: NDArray[np.int64],
+    offsets: NDArray[np.int64],
+    pd: NDArray[np.float64],
+    false_alarm_density: NDArray[np.float64],
+    enumeration: EnumerationSettings,
+    method: str,
+    sd: SdSettings,
+    intensity: IntensitySettings,
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]: ...
 def assign_2d_sparse(
     shape: tuple[int, int], indptr: NDArray[np.int64], indices: NDArray[np.int64], data: NDArray[np.float64]
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...

@@ -15,7 +15,7 @@ use passive_assoc_core::assign::{branch_bound, lagrangian, lap, SdMethod, SdProb
 /// `passive_assoc._settings.SdSettings`, read by attribute.
 #[derive(FromPyObject)]
 pub struct SdSettings {
-    method: String,
+    pub(crate) method: String,
     max_iter: i64,
     gap_tol: f64,
     max_nodes: i64,
@@ -49,13 +49,7 @@ pub fn assign_sd(
     settings: SdSettings,
 ) -> BindResult<SdResult> {
     let method: SdMethod = parse("method", &settings.method)?;
-    let root = LagrangianOptions::default()
-        .with_max_iter(count("max_iter", settings.max_iter, 1)?)?
-        .with_gap_tol(settings.gap_tol)?
-        .with_warm_start(parse("warm_start", &settings.warm_start)?)
-        .with_sensor_order(parse("sensor_order", &settings.sensor_order)?)
-        .with_polish(settings.polish)
-        .with_time_limit(time_limit(settings.time_limit)?)?;
+    let root = lagrangian_options(&settings)?;
     let n_sensors = tuples.shape()[1];
     let tuple_values = row_major("tuples", &tuples)?;
     let problem = SdProblem::new(
@@ -67,13 +61,7 @@ pub fn assign_sd(
     let solution = match method {
         SdMethod::Lagrangian => interrupt::detach(py, || lagrangian::solve(&problem, &root))?,
         SdMethod::Exact => {
-            let options = branch_bound::BranchBoundOptions::default()
-                .with_max_nodes(count("max_nodes", settings.max_nodes, 1)?)?
-                .with_root(root);
-            let options = match time_limit(settings.time_limit)? {
-                Some(limit) => options.with_time_limit(limit)?,
-                None => options.without_time_limit(),
-            };
+            let options = branch_bound_options(&settings, root)?;
             interrupt::detach(py, || branch_bound::solve(&problem, &options))?
         }
     };
@@ -141,6 +129,31 @@ pub fn assign_2d_sparse<'py>(
         to_numpy(py, cols, &[n])?,
         solved.cost,
     ))
+}
+
+/// The Lagrangian's options from the Python settings.
+pub fn lagrangian_options(settings: &SdSettings) -> BindResult<LagrangianOptions> {
+    Ok(LagrangianOptions::default()
+        .with_max_iter(count("max_iter", settings.max_iter, 1)?)?
+        .with_gap_tol(settings.gap_tol)?
+        .with_warm_start(parse("warm_start", &settings.warm_start)?)
+        .with_sensor_order(parse("sensor_order", &settings.sensor_order)?)
+        .with_polish(settings.polish)
+        .with_time_limit(time_limit(settings.time_limit)?)?)
+}
+
+/// The branch-and-bound's options from the Python settings and the Lagrangian's at its root.
+pub fn branch_bound_options(
+    settings: &SdSettings,
+    root: LagrangianOptions,
+) -> BindResult<branch_bound::BranchBoundOptions> {
+    let options = branch_bound::BranchBoundOptions::default()
+        .with_max_nodes(count("max_nodes", settings.max_nodes, 1)?)?
+        .with_root(root);
+    Ok(match time_limit(settings.time_limit)? {
+        Some(limit) => options.with_time_limit(limit)?,
+        None => options.without_time_limit(),
+    })
 }
 
 /// `time_limit` in seconds (None: none) as a `Duration`; both methods honour it.

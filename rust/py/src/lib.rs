@@ -4,6 +4,7 @@
 //! vectors to NumPy without copying, as arrays or frozen result objects.
 
 mod assign;
+mod batch;
 mod convert;
 mod errors;
 mod fit;
@@ -26,6 +27,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assign::assign_sd, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_2d, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_2d_sparse, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::associate_scans, m)?)?;
     m.add_function(wrap_pyfunction!(fti::initiate, m)?)?;
     m.add_function(wrap_pyfunction!(fti::closeness, m)?)?;
     m.add_function(wrap_pyfunction!(fti::maximize_closeness, m)?)?;

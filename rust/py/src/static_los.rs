@@ -70,11 +70,7 @@ pub fn enumerate_static(
     settings: EnumerationSettings,
     attributes: Option<AttributesArg<'_>>,
 ) -> BindResult<Candidates> {
-    let options = EnumerateOptions::default()
-        .with_gate(settings.chi2_gate)?
-        .with_min_intensity(count("min_intensity", settings.min_intensity, 2)?)?
-        .with_max_candidates(count("max_candidates", settings.max_candidates, 1)?)?;
-    let n_threads = threads(settings.n_threads)?;
+    let (options, n_threads) = enumeration_options(&settings)?;
     let network = sensors.view()?;
     let columns = measurements.columns(network.space())?;
     // One scan: the table's times play no part, so a zero column stands in for them.
@@ -136,6 +132,29 @@ pub struct IntensitySettings {
     n_threads: Option<i64>,
 }
 
+/// The intensity search's options from the Python settings.
+pub fn intensity_options(settings: &IntensitySettings) -> BindResult<IntensityOptions> {
+    let max_chains = match settings.max_chains {
+        Some(n) => Some(count("max_chains", n, 1)?),
+        None => None,
+    };
+    Ok(IntensityOptions::default()
+        .with_vote_fraction(settings.vote_fraction)?
+        .with_valid_airspace(settings.valid_airspace)
+        .with_max_chains(max_chains)?)
+}
+
+/// The enumeration's options and thread count from the Python settings.
+pub fn enumeration_options(
+    settings: &EnumerationSettings,
+) -> BindResult<(EnumerateOptions, Option<usize>)> {
+    let options = EnumerateOptions::default()
+        .with_gate(settings.chi2_gate)?
+        .with_min_intensity(count("min_intensity", settings.min_intensity, 2)?)?
+        .with_max_candidates(count("max_candidates", settings.max_candidates, 1)?)?;
+    Ok((options, threads(settings.n_threads)?))
+}
+
 /// One searched level of the intensity search.
 #[pyclass(frozen, get_all, module = "passive_assoc._core")]
 pub struct IntensityLevel {
@@ -169,10 +188,6 @@ pub fn intensity_search(
     settings: IntensitySettings,
 ) -> BindResult<IntensityResult> {
     let n_threads = threads(settings.n_threads)?;
-    let max_chains = match settings.max_chains {
-        Some(n) => Some(count("max_chains", n, 1)?),
-        None => None,
-    };
     let (k, n_sensors, dim) = (tuples.shape()[0], tuples.shape()[1], positions.shape()[1]);
     if positions.shape()[0] != k {
         return Err(value_error(
@@ -189,10 +204,7 @@ pub fn intensity_search(
         to_usize("sizes", slice1("sizes", &sizes)?)?,
     )?;
     let input = IntensityInput::new(set, position_slice.to_vec(), dim)?;
-    let options = IntensityOptions::default()
-        .with_vote_fraction(settings.vote_fraction)?
-        .with_valid_airspace(settings.valid_airspace)
-        .with_max_chains(max_chains)?;
+    let options = intensity_options(&settings)?;
     let sequential = searches_sequentially(costs.len());
     let outcome = interrupt::detach(py, || {
         with_threads_unless_sequential(sequential, n_threads, || {

@@ -51,6 +51,7 @@
 //!   rule; `airspace` (eq. 12–13) and `chains` (probability-intensity chains) implement it.
 
 mod airspace;
+mod batch;
 mod chain_block;
 mod chains;
 pub mod cost;
@@ -65,6 +66,7 @@ mod window;
 #[cfg(test)]
 mod tests;
 
+pub use batch::{associate_scans, ScanResult, ScanSolver, Scans};
 pub use cost::DetectionModel;
 pub use enumerate::{enumerate, enumerate_with_attributes, enumerates_sequentially};
 pub use intensity::{intensity_search, searches_sequentially, IntensityInput, IntensityOutcome};

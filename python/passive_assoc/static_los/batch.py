@@ -1,0 +1,161 @@
+"""Many scans in one call (METHODS §2): :func:`associate_scans`.
+
+A stream of scans associated with :func:`associate_static` one by one pays Python's overhead
+and a crossing into Rust per scan, and uses one core per call on a small scan. Here the
+whole table crosses once; the core enumerates and solves every scan on its own (the same
+functions, so the same answer per scan) and runs the scans in parallel, with the GIL released.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .. import _core
+from .._inputs import check_pair
+from .._settings import EnumerationSettings, IntensitySettings, SdSettings
+from ..assignment.sd import ASSIGN_SD_MAX_NODES
+from ..data import MeasurementTable, SensorNetwork
+from .associator import Method, _associator
+from .candidates import _per_sensor, _spans
+
+__all__ = ["ScanAssociation", "associate_scans"]
+
+
+@dataclass(frozen=True, eq=False)
+class ScanAssociation:
+    """Output of :func:`associate_scans`. Every input row is in exactly one target or is a
+    false alarm (label −1).
+
+    Attributes
+    ----------
+    scan : ndarray of int, shape (N,)
+        Each row's scan index (scans ordered by their key).
+    keys : ndarray, shape (n_scans,)
+        The scan key (time, or the column's value) of each scan.
+    labels : ndarray of int, shape (N,)
+        Each row's target index over all scans, or −1.
+    positions : ndarray, shape (T, ndim)
+        Every target's ML position, scan by scan.
+    target_scan : ndarray of int, shape (T,)
+        The scan of each target.
+    """
+
+    scan: NDArray[np.int64]
+    keys: NDArray[Any]
+    labels: NDArray[np.int64]
+    positions: NDArray[np.float64]
+    target_scan: NDArray[np.int64]
+
+
+def associate_scans(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    scan: str | ArrayLike = "time",
+    method: Method = "intensity",
+    **settings: Any,
+) -> ScanAssociation:
+    """Associate every scan of a table in one call: per scan what :func:`associate_static`
+    gives with the same settings, the scans in parallel in the core.
+
+    Parameters
+    ----------
+    measurements, sensors
+        The whole table and its network.
+    scan : str or array_like
+        Rows with equal values form a scan: ``"time"`` (default), the name of an attribute
+        column, or one value per row.
+    method, **settings
+        As :class:`StaticAssociator` (``n_threads`` sets the threads over scans). Not
+        supported here: emitter ``attributes``; ``method="exact"`` runs the core's
+        branch-and-bound (``exact_backend="branch_bound"``).
+
+    Examples
+    --------
+    >>> import numpy as np, passive_assoc as pa
+    >>> from passive_assoc.simulation import static_scan
+    >>> scans = [static_scan(seed, n_targets=4).measurements.to_arrays() for seed in (1, 2)]
+    >>> columns = {k: np.concatenate([s[k] for s in scans]) for k in scans[0]}
+    >>> columns["time"] = np.repeat([0.0, 1.0], [len(s["time"]) for s in scans])
+    >>> table = pa.MeasurementTable.from_columns(columns)
+    >>> out = pa.associate_scans(table, static_scan(1, n_targets=4).sensors, method="lagrangian")
+    >>> out.keys.tolist(), int(out.labels.max()) + 1 == len(out.positions)
+    ([0.0, 1.0], True)
+    """
+    associator = _associator(method, settings)
+    table, network = check_pair(measurements, sensors)
+    if associator.attributes:
+        raise ValueError("attributes: associate_scans does not take emitter attributes; use associate_static")
+    if associator.method == "exact" and associator.exact_backend == "highs":
+        raise ValueError("exact_backend: associate_scans runs the core's branch-and-bound, not HiGHS")
+    keys, scan_index = _scan_keys(table, scan)
+    order = np.argsort(scan_index, kind="stable").astype(np.int64)
+    offsets = np.searchsorted(scan_index[order], np.arange(len(keys) + 1)).astype(np.int64)
+    n = network.n_sensors
+    if associator.false_alarm_density is None:
+        density = default_density_per_scan(table, scan_index, len(keys), n)
+    else:
+        density = np.tile(
+            _per_sensor("false_alarm_density", associator.false_alarm_density, n, 0.0, np.inf), (len(keys), 1)
+        )
+    a = associator
+    sd_method: Literal["lagrangian", "exact"] = "exact" if a.method == "exact" else "lagrangian"  # unused by intensity
+    labels_in_order, per_scan, positions = _core.associate_scans(
+        table,
+        network,
+        order,
+        offsets,
+        _per_sensor("pd", a.pd, n, 0.0, 1.0),
+        np.ascontiguousarray(density),
+        EnumerationSettings(a.chi2_gate, a.min_intensity, a.max_candidates, a.n_threads),
+        a.method,
+        SdSettings(
+            sd_method, a.max_iter, a.gap_tol, ASSIGN_SD_MAX_NODES, a.time_limit, "auto", a.sensor_order, a.polish
+        ),
+        IntensitySettings(a.vote_fraction, a.valid_airspace, a.max_chains, None),
+    )
+    first_target = np.concatenate([[0], np.cumsum(per_scan)]).astype(np.int64)
+    labels = np.full(len(table), -1, dtype=np.int64)
+    found = labels_in_order >= 0
+    labels[order[found]] = labels_in_order[found] + first_target[scan_index[order[found]]]
+    return ScanAssociation(
+        scan_index.astype(np.int64),
+        keys,
+        labels,
+        positions,
+        np.repeat(np.arange(len(keys), dtype=np.int64), per_scan),
+    )
+
+
+def _scan_keys(table: MeasurementTable, scan: str | ArrayLike) -> tuple[NDArray[Any], NDArray[np.int64]]:
+    if isinstance(scan, str):
+        if scan == "time":
+            values: NDArray[Any] = table.time
+        elif scan in table.attributes:
+            values = table.attributes[scan]
+        else:
+            raise ValueError(f"scan: {scan!r} is not 'time' or an attribute column ({sorted(table.attributes)})")
+    else:
+        values = np.asarray(scan)
+        if values.shape != (len(table),):
+            raise ValueError(f"scan: expected one value per row ({len(table)}), got shape {values.shape}")
+    keys, index = np.unique(values, return_inverse=True)
+    return keys, index.astype(np.int64)
+
+
+def default_density_per_scan(
+    table: MeasurementTable, scan_index: NDArray[np.int64], n_scans: int, n_sensors: int, p_false: float = 0.05
+) -> NDArray[np.float64]:
+    """:func:`default_false_alarm_density` of every scan at once, ``(n_scans, n_sensors)``."""
+    ours = table.sensor < n_sensors
+    key = scan_index[ours] * n_sensors + table.sensor[ours]
+    counts = np.bincount(key, minlength=n_scans * n_sensors)
+    area = np.maximum(_spans(key, table.azimuth[ours], counts), 1e-3)
+    if table.ndim == 3:
+        heights = np.maximum(_spans(key, table.elevation[ours], counts), 1e-3)
+        area = np.where(counts > 0, area * heights, area)
+    density: NDArray[np.float64] = np.maximum(p_false * np.maximum(counts, 1) / area, 1e-12)
+    return density.reshape(n_scans, n_sensors)

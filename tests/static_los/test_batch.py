@@ -1,0 +1,55 @@
+"""associate_scans equals a loop over associate_static, scan by scan, for every method; every
+row ends in one target or is a false alarm; the thread count does not change the answer."""
+
+from __future__ import annotations
+
+import numpy as np
+import passive_assoc as pa
+import pytest
+from passive_assoc.simulation import static_scan
+
+
+def stream(n_scans: int, n_targets: int = 6) -> tuple[pa.MeasurementTable, pa.SensorNetwork]:
+    scans = [static_scan(seed, n_targets=n_targets).measurements.to_arrays() for seed in range(n_scans)]
+    columns = {k: np.concatenate([s[k] for s in scans]) for k in scans[0]}
+    columns["time"] = np.repeat(np.arange(n_scans, dtype=float) * 2.0, [len(s["time"]) for s in scans])
+    return pa.MeasurementTable.from_columns(columns), static_scan(0, n_targets=n_targets).sensors
+
+
+@pytest.mark.parametrize(
+    "method,settings",
+    [("intensity", {}), ("lagrangian", {}), ("exact", {"exact_backend": "branch_bound"}), ("lagrangian", {"pd": 0.9})],
+)
+def test_associate_scans_equals_the_loop(method: str, settings: dict[str, object]) -> None:
+    table, sensors = stream(12)
+    batch = pa.associate_scans(table, sensors, method=method, **settings)  # type: ignore[arg-type]
+    assert batch.keys.tolist() == [2.0 * k for k in range(12)]
+    assert len(batch.positions) == len(batch.target_scan) and len(batch.positions) > 12 * 3
+    for k, key in enumerate(batch.keys):
+        rows = np.flatnonzero(table.time == key)
+        one = pa.associate_static(table.select(rows), sensors, method, **settings)  # type: ignore[arg-type]
+        mine = np.flatnonzero(batch.target_scan == k)
+        np.testing.assert_array_equal(batch.positions[mine], one.positions)
+        expected = np.where(one.labels >= 0, one.labels + (mine[0] if len(mine) else 0), -1)
+        np.testing.assert_array_equal(batch.labels[rows], expected)
+        assert np.all(batch.scan[rows] == k)
+    # Every row once: in a target of its own scan, or a false alarm.
+    inside = batch.labels >= 0
+    assert np.all(batch.target_scan[batch.labels[inside]] == batch.scan[inside])
+    assert 0 < np.sum(~inside) < len(table)
+
+
+def test_thread_count_and_scan_columns() -> None:
+    table, sensors = stream(20)
+    one = pa.associate_scans(table, sensors, method="lagrangian", n_threads=1)
+    two = pa.associate_scans(table, sensors, method="lagrangian", n_threads=2)
+    np.testing.assert_array_equal(one.labels, two.labels)
+    np.testing.assert_array_equal(one.positions, two.positions)
+    by_array = pa.associate_scans(table, sensors, scan=(table.time // 2).astype(int), method="lagrangian")
+    np.testing.assert_array_equal(by_array.labels, one.labels)
+    with pytest.raises(ValueError, match="scan: 'nope'"):
+        pa.associate_scans(table, sensors, scan="nope")
+    with pytest.raises(ValueError, match="one value per row"):
+        pa.associate_scans(table, sensors, scan=[0, 1])
+    with pytest.raises(ValueError, match="exact_backend"):
+        pa.associate_scans(table, sensors, method="exact", exact_backend="highs")
