@@ -91,6 +91,7 @@ LAYERS = [
     ["fti", "static_los", "formation", "topology", "radar_esm"],
     ["simulation"],
     ["evaluation"],
+    ["interop"],
     ["plots"],
     ["plots_data"],
     ["experiments"],

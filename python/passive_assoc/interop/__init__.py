@@ -1,0 +1,1 @@
+"""Interop with other tracking libraries, each an optional extra: :mod:`.stonesoup`."""
