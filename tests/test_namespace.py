@@ -92,6 +92,7 @@ LAYERS = [
     ["simulation"],
     ["evaluation"],
     ["interop"],
+    ["distributed"],
     ["plots"],
     ["plots_data"],
     ["experiments"],

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -18,7 +18,7 @@ from . import __version__
 from .commands import associate, initiate
 from .evaluation import perfect_association_fit, target_crlbs
 from .experiments import formation, fti, intensity, topology, wavelet
-from .experiments.common import seed_int
+from .experiments.common import scheduler_address, seed_int
 from .simulation import paper_fti_scenario
 
 #: (name, module with add_arguments/main, one-line summary) of every `reproduce` experiment.
@@ -103,7 +103,28 @@ def _add_reproduce(commands: argparse._SubParsersAction[argparse.ArgumentParser]
     for name, module, summary in _EXPERIMENTS:
         sub = experiments.add_parser(name, help=summary, description=summary)
         module.add_arguments(sub)
-        sub.set_defaults(run=module.main)
+        sub.add_argument(
+            "--scheduler",
+            metavar="ADDRESS",
+            type=scheduler_address,
+            help="run the Monte-Carlo runs on a Dask cluster: its scheduler address, or 'local' for a "
+            "local cluster of processes (pip install 'passive-assoc[dask]'); same results as without",
+        )
+        sub.set_defaults(run=_on_scheduler(module.main))
+
+
+def _on_scheduler(run: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
+    """``run``, with its runs on the Dask cluster of ``--scheduler`` when one is given."""
+
+    def wrapped(args: argparse.Namespace) -> int:
+        if getattr(args, "scheduler", None) is None:
+            return run(args)
+        from .distributed import client_for, using
+
+        with client_for(args.scheduler) as client, using(client):
+            return run(args)
+
+    return wrapped
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -339,6 +339,11 @@ class MeasurementTable:
 
     __hash__ = None  # type: ignore[assignment]  # value equality over arrays
 
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
+        # Rebuilt through the constructor: arrays a transport hands back (Dask's out-of-band
+        # buffers) may be unaligned views, which the core refuses; the constructor copies.
+        return (MeasurementTable.from_columns, (self.to_arrays(),))
+
     def __repr__(self) -> str:
         sensors = np.unique(self.sensor).tolist()
         return (

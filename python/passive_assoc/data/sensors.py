@@ -285,6 +285,13 @@ class SensorNetwork:
 
         return import_pandas().DataFrame(network_columns(self))
 
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
+        # Rebuilt through the constructor (copies): a transport's arrays may be unaligned.
+        return (
+            SensorNetwork,
+            (self.positions.copy(), self.sigma_azimuth.copy(), self.sigma_elevation.copy(), self.ndim),
+        )
+
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, SensorNetwork):
             return NotImplemented

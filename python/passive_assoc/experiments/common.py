@@ -15,6 +15,8 @@ from typing import Any, TypeVar
 import numpy as np
 from tqdm import tqdm
 
+from ..distributed import current_client, map_on_client
+
 R = TypeVar("R")
 
 
@@ -70,19 +72,33 @@ def output_file(text: str) -> str:
     return text
 
 
+def scheduler_address(text: str) -> str:
+    """argparse type: a Dask scheduler address, or ``local``."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("expected a scheduler address (tcp://host:8786) or 'local'")
+    return text.strip()
+
+
+scheduler_address.bad_values = ["", "   "]  # type: ignore[attr-defined]
+
+
 def run_seeds(seed: int, runs: int) -> list[np.random.SeedSequence]:
     """Independent, reproducible seed sequences for ``runs`` Monte-Carlo runs."""
     return np.random.SeedSequence(seed).spawn(runs)
 
 
 def map_runs(work: Callable[[int], R], runs: int, workers: int, desc: str) -> list[R]:
-    """``[work(r) for r in range(runs)]`` with a progress bar, on ``workers`` threads.
+    """``[work(r) for r in range(runs)]`` with a progress bar, on ``workers`` threads (or on
+    the Dask cluster of :func:`passive_assoc.distributed.using`).
 
     The Rust core releases the GIL, so threads run runs in parallel; results come back in run
     order, so they do not depend on ``workers``.
     """
     bar = tqdm(total=runs, desc=desc, unit="run", file=sys.stderr, disable=None, leave=False)
     try:
+        client = current_client()
+        if client is not None:  # --scheduler: the runs go to a Dask cluster
+            return map_on_client(client, work, runs, bar.update)
         if workers <= 1:
             out = []
             for r in range(runs):

@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 from tqdm import tqdm
 
+from ..distributed import current_client
 from ..formation import FormationLocator, FormationResult
 from ..simulation.formation import (
     PAPER_ATTRIBUTE_NAMES,
@@ -159,7 +160,11 @@ def run_experiment(runs: int, seed: int, workers: int, noises: list[NoiseMode]) 
     total = runs * len(noises) * len(PAPER_SIGMAS_DEG)
     parts: list[NDArray[np.bool_]] = []
     spawn = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(workers, mp_context=spawn) if workers > 1 else nullcontext(None)
+    client = current_client()
+    if client is not None:  # --scheduler: the cluster's executor
+        pool: Any = nullcontext(client.get_executor())
+    else:
+        pool = ProcessPoolExecutor(workers, mp_context=spawn) if workers > 1 else nullcontext(None)
     with (
         pool as executor,
         tqdm(total=total, desc="formation", unit="run", file=sys.stderr, disable=None, leave=False) as bar,

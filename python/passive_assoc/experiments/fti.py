@@ -156,6 +156,8 @@ def run_experiment(
         return run
 
     results = map_runs(work, runs, workers, desc="fti runs")
+    if not first:  # run 0 ran on a Dask worker: repeat it here for the plot (same seed, same run)
+        work(0)
     return results, first[0], first[1], crlbs
 
 

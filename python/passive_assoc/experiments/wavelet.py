@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 from tqdm import tqdm
 
 from ..data import TrackTable
+from ..distributed import current_client
 from ..radar_esm import (
     Chi2TrackAssociator,
     NearestNeighbourTrackAssociator,
@@ -237,6 +238,9 @@ def worker_pool(workers: int) -> AbstractContextManager[Executor | None]:
     """Worker processes (spawned: the Rust core's thread pool does not survive a fork), or
     None to run in this process. Most of a run is NumPy-sized Python, so threads would queue
     on the GIL."""
+    client = current_client()
+    if client is not None:  # --scheduler: the cluster's executor
+        return nullcontext(client.get_executor())
     if workers <= 1:
         return nullcontext(None)
     return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
