@@ -50,3 +50,31 @@ def test_associate_scans_on_a_cluster_equals_one_local_call(client: Any) -> None
     np.testing.assert_array_equal(remote.positions, local.positions)
     np.testing.assert_array_equal(remote.target_scan, local.target_scan)
     np.testing.assert_array_equal(remote.scan, local.scan)
+
+
+def test_a_parquet_folder_is_associated_partition_by_partition(tmp_path: Path, client: Any) -> None:
+    """Three partitions of whole scans: every input row once in its partition's output, the
+    same files whether the partitions ran here or on the cluster."""
+    pytest.importorskip("pyarrow")
+    import pyarrow.parquet as pq
+    from passive_assoc.distributed import associate_parquet
+
+    sensors = static_scan(0, n_targets=5).sensors
+    inputs = tmp_path / "in"
+    inputs.mkdir()
+    for part in range(3):
+        scans = [static_scan(10 * part + k, n_targets=5).measurements.to_arrays() for k in range(4)]
+        columns = {k: np.concatenate([s[k] for s in scans]) for k in scans[0]}
+        columns["time"] = np.repeat(np.arange(4.0) + 4 * part, [len(s["time"]) for s in scans])
+        pa.MeasurementTable.from_columns(columns).to_parquet(inputs / f"part{part}.parquet")
+    here = associate_parquet(inputs, sensors, tmp_path / "here", method="lagrangian")
+    there = associate_parquet(inputs, sensors, tmp_path / "there", client=client, method="lagrangian")
+    assert here == there and [p["scans"] for p in here] == [4, 4, 4]
+    for part in range(3):
+        rows = pq.read_table(tmp_path / "here" / f"part{part}.parquet").to_pydict()
+        again = pq.read_table(tmp_path / "there" / f"part{part}.parquet").to_pydict()
+        assert rows == again
+        n = len(pa.MeasurementTable.from_parquet(inputs / f"part{part}.parquet"))
+        assert (rows["row"] == list(range(n)) and min(rows["target"]) == -1) or len(set(rows["target"])) > 1
+        targets = pq.read_table(tmp_path / "here" / f"part{part}.targets.parquet").to_pydict()
+        assert set(rows["target"]) - {-1} == set(targets["target"])

@@ -6,6 +6,9 @@
   so a distributed run prints what a local run with the same seed prints.
 * :func:`associate_scans_on` spreads :func:`~passive_assoc.associate_scans` over a cluster,
   a block of scans per task, and returns what one local call returns.
+* :func:`associate_parquet` associates a folder of Parquet partitions (each holding whole
+  scans) partition by partition and writes one result file per partition; a worker reads
+  and writes its own partition, so memory is bounded by a partition's size.
 
 Runs are sent in chunks (default 8 per task) so that a task's scheduling overhead, about a
 millisecond, is small beside its work.
@@ -15,7 +18,9 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import os
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any, TypeVar
 
 import numpy as np
@@ -23,7 +28,7 @@ import numpy as np
 from .data import MeasurementTable, SensorNetwork
 from .static_los.batch import ScanAssociation, _scan_keys, associate_scans
 
-__all__ = ["associate_scans_on", "client_for", "current_client", "map_on_client", "using"]
+__all__ = ["associate_parquet", "associate_scans_on", "client_for", "current_client", "map_on_client", "using"]
 
 R = TypeVar("R")
 
@@ -118,3 +123,56 @@ def associate_scans_on(
         np.concatenate(positions) if positions else np.empty((0, sensors.ndim)),
         np.concatenate(target_scan).astype(np.int64) if target_scan else np.empty(0, np.int64),
     )
+
+
+def associate_parquet(
+    folder: str | os.PathLike[str],
+    sensors: SensorNetwork,
+    out: str | os.PathLike[str],
+    *,
+    client: Any | None = None,
+    scan: str = "time",
+    **settings: Any,
+) -> list[dict[str, Any]]:
+    """Associates every ``*.parquet`` partition of ``folder`` (each holding whole scans:
+    a scan split over two files would be two scans), on ``client`` or here, and writes
+    ``out/<name>.parquet``: every input row once, with ``row``, ``scan`` (the scan's key) and
+    ``target`` (its target within the partition, −1 for a false alarm); and
+    ``out/<name>.targets.parquet``: each target's scan key and position. Returns per
+    partition its name and row, scan and target counts."""
+    paths = sorted(Path(folder).glob("*.parquet"))
+    if not paths:
+        raise ValueError(f"folder: no *.parquet files in {os.fspath(folder)!r}")
+    target = Path(out)
+    target.mkdir(parents=True, exist_ok=True)
+    jobs = [(path, target / path.name, target / f"{path.stem}.targets.parquet") for path in paths]
+    if client is None:
+        return [_associate_partition(*job, sensors, scan, settings) for job in jobs]
+    futures = [client.submit(_associate_partition, *job, sensors, scan, settings, pure=False) for job in jobs]
+    return [future.result() for future in futures]
+
+
+def _associate_partition(
+    source: Path, rows_out: Path, targets_out: Path, sensors: SensorNetwork, scan: str, settings: dict[str, Any]
+) -> dict[str, Any]:
+    from .data._io import write_atomically
+    from .data.measurement_files import write_parquet
+
+    table = MeasurementTable.from_parquet(source)
+    found = associate_scans(table, sensors, scan, **settings)
+    columns = {
+        "row": np.arange(len(table), dtype=np.int64),
+        "sensor": table.sensor,
+        "time": table.time,
+        "azimuth": table.azimuth,
+        "scan": found.keys[found.scan],
+        "target": found.labels,
+    }
+    if table.ndim == 3:
+        columns["elevation"] = table.elevation
+    write_atomically(rows_out, lambda p: write_parquet(p, columns))
+    axes = "xyz"[: found.positions.shape[1]]
+    positions = {axis: found.positions[:, k] for k, axis in enumerate(axes)}
+    targets = {"target": np.arange(len(found.positions)), "scan": found.keys[found.target_scan], **positions}
+    write_atomically(targets_out, lambda p: write_parquet(p, targets))
+    return {"partition": source.name, "rows": len(table), "scans": len(found.keys), "targets": len(found.positions)}

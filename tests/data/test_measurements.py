@@ -217,3 +217,23 @@ def test_from_csv_turns_csv_module_errors_into_value_errors(tmp_path: Path) -> N
     path.write_text("sensor,time,azimuth\n0,0," + "1" * 200_000 + "\n")
     with pytest.raises(ValueError, match=r"^path: .*long\.csv.* not a readable CSV file"):
         MeasurementTable.from_csv(path)
+
+
+def test_parquet_round_trip_and_extra_columns(tmp_path: Path) -> None:
+    pytest.importorskip("pyarrow")
+    import pyarrow as pa_arrow
+    import pyarrow.parquet as pq
+
+    table = _table(40)
+    table.to_parquet(tmp_path / "t.parquet")
+    assert MeasurementTable.from_parquet(tmp_path / "t.parquet") == table
+    pq.write_table(
+        pa_arrow.table(
+            {"sensor": [0, 1], "time": [0.0, 0.0], "azimuth": [90.0, 45.0], "snr": [3.0, 4.0], "tag": ["a", "b"]}
+        ),
+        tmp_path / "other.parquet",
+    )
+    with pytest.warns(UserWarning, match=r"\['tag'\]"):
+        other = MeasurementTable.from_parquet(tmp_path / "other.parquet", angle_unit="deg")
+    np.testing.assert_allclose(other.azimuth, np.radians([90.0, 45.0]))
+    assert other.attributes["snr"].tolist() == [3.0, 4.0]

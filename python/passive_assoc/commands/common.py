@@ -9,13 +9,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import tempfile
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
 from .._params import Boolean, Constraint, Interval, Options
 from ..data import MeasurementTable, SensorNetwork
+from ..data._io import write_atomically
 from ..experiments.common import _jsonable
 
 __all__ = [
@@ -42,7 +42,9 @@ angles are counter-clockwise from +x (east), elevation up; radians unless --degr
 
 
 def add_file_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("measurements", metavar="MEAS", type=input_file, help="measurements CSV file")
+    parser.add_argument(
+        "measurements", metavar="MEAS", type=input_file, help="measurements CSV file (or .parquet, with pyarrow)"
+    )
     parser.add_argument("--sensors", metavar="SENS", type=input_file, required=True, help="sensors CSV file")
     parser.add_argument("--degrees", action="store_true", help="azimuth and elevation in MEAS are in degrees")
     parser.add_argument(
@@ -67,7 +69,11 @@ input_file.bad_values = ["", "/nonexistent-directory/in.csv"]  # type: ignore[at
 
 def read_inputs(args: argparse.Namespace) -> tuple[MeasurementTable, SensorNetwork]:
     sensors = SensorNetwork.from_csv(args.sensors)
-    table = MeasurementTable.from_csv(args.measurements, angle_unit="deg" if args.degrees else "rad")
+    unit = "deg" if args.degrees else "rad"
+    if str(args.measurements).endswith(".parquet"):  # Parquet through the 'parquet' extra
+        table = MeasurementTable.from_parquet(args.measurements, angle_unit=unit)
+    else:
+        table = MeasurementTable.from_csv(args.measurements, angle_unit=unit)
     table.validate_against(sensors)
     return table, sensors
 
@@ -104,20 +110,6 @@ def prepare(folder: Path) -> Path:
     """Creates the output folder (after the inputs were read)."""
     folder.mkdir(parents=True, exist_ok=True)
     return folder
-
-
-def write_atomically(path: Path, write: Callable[[Path], None]) -> None:
-    """``write(temporary path)`` then rename over ``path``: a failure leaves no half file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # Same folder (so the rename is atomic), same suffix (matplotlib reads the format off it).
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    os.close(handle)
-    try:
-        write(Path(temporary))
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
 
 
 def row_columns(table: MeasurementTable, labels: Any, label_name: str = "track", **extra: Any) -> dict[str, Any]:

@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import csv
 import os
-from collections.abc import Collection, Mapping
+import tempfile
+from collections.abc import Callable, Collection, Mapping
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -22,6 +24,7 @@ __all__ = [
     "parse_column",
     "read_csv",
     "read_csv_text",
+    "write_atomically",
     "write_csv",
     "zip_columns",
 ]
@@ -108,6 +111,20 @@ def is_numeric(values: list[str]) -> bool:
     except ValueError:
         return False
     return True
+
+
+def write_atomically(path: Path, write: Callable[[Path], None]) -> None:
+    """``write(temporary path)`` then rename over ``path``: a failure leaves no half file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # Same folder (so the rename is atomic), same suffix (matplotlib reads the format off it).
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+    os.close(handle)
+    try:
+        write(Path(temporary))
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
 
 
 def import_pandas() -> Any:

@@ -23,7 +23,9 @@ from numpy.typing import NDArray
 
 from ._io import is_numeric, parse_column, read_csv_text, zip_columns
 
-__all__ = ["AngleUnit", "read_measurement_columns"]
+__all__ = ["AngleUnit", "read_measurement_columns", "read_measurement_parquet", "write_parquet"]
+
+PARQUET_HINT = "Parquet files need pyarrow: pip install 'passive-assoc[parquet]'"
 
 AngleUnit = Literal["rad", "deg"]
 _INTEGER = ("sensor", "truth")
@@ -61,3 +63,56 @@ def read_measurement_columns(
             if name in columns:
                 columns[name] = np.radians(columns[name])
     return columns
+
+
+def _pyarrow_parquet() -> Any:
+    try:
+        import pyarrow.parquet as pq
+    except ImportError as err:
+        raise ImportError(PARQUET_HINT) from err
+    return pq
+
+
+def read_measurement_parquet(
+    path: str | os.PathLike[str], known: tuple[str, ...], prefix: str, angle_unit: AngleUnit
+) -> dict[str, NDArray[Any]]:
+    """:func:`read_measurement_columns` for a Parquet file: the same rules for unknown columns
+    (numeric: attributes; other types: ignored with a warning) and for ``angle_unit``."""
+    if angle_unit not in ("rad", "deg"):
+        raise ValueError(f"angle_unit: must be 'rad' or 'deg', got {angle_unit!r}")
+    table = _pyarrow_parquet().read_table(path)
+    columns: dict[str, NDArray[Any]] = {}
+    ignored = []
+    for name in table.column_names:
+        values = table.column(name).to_numpy(zero_copy_only=False)
+        numeric = values.dtype.kind in "iuf"
+        key = name.strip()
+        if key in known or key.startswith(prefix):
+            if not numeric:
+                raise ValueError(
+                    f"{key}: column of type {table.column(name).type} is not numeric (file {os.fspath(path)!r})"
+                )
+            columns[key] = values
+        elif numeric:
+            columns[prefix + key] = values.astype(np.float64)
+        else:
+            ignored.append(key)
+    if ignored:
+        warnings.warn(
+            f"{os.fspath(path)!r}: ignoring non-numeric column(s) {ignored}; numeric extra columns are kept as "
+            "attributes",
+            UserWarning,
+            stacklevel=3,
+        )
+    if angle_unit == "deg":
+        for name in _ANGLES:
+            if name in columns:
+                columns[name] = np.radians(columns[name])
+    return columns
+
+
+def write_parquet(path: str | os.PathLike[str], columns: dict[str, NDArray[Any]]) -> None:
+    """Write named columns as a Parquet file."""
+    import pyarrow as pa
+
+    _pyarrow_parquet().write_table(pa.table({k: np.asarray(v) for k, v in columns.items()}), path)

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._validation import as_float_array, as_int_array, readonly, require_finite
 from ._io import import_pandas, write_csv
-from .measurement_files import AngleUnit, read_measurement_columns
+from .measurement_files import AngleUnit, read_measurement_columns, read_measurement_parquet, write_parquet
 from .sensors import SensorNetwork
 
 __all__ = ["MeasurementTable", "ATTRIBUTE_PREFIX"]
@@ -309,6 +309,17 @@ class MeasurementTable:
         ([1.5708, 0.7854], [12.5, 9.0])
         """
         return cls.from_columns(read_measurement_columns(path, (*_CORE, "truth"), ATTRIBUTE_PREFIX, angle_unit))
+
+    def to_parquet(self, path: str | os.PathLike[str]) -> None:
+        """Write a Parquet file (optional extra ``parquet``: pyarrow) with :meth:`to_csv`'s
+        columns; :meth:`from_parquet` reads it back exactly."""
+        write_parquet(path, self.to_arrays())
+
+    @classmethod
+    def from_parquet(cls, path: str | os.PathLike[str], *, angle_unit: AngleUnit = "rad") -> MeasurementTable:
+        """Read a Parquet file with :meth:`from_csv`'s columns and rules (numeric extra
+        columns kept as attributes, others ignored with a warning; ``angle_unit``)."""
+        return cls.from_columns(read_measurement_parquet(path, (*_CORE, "truth"), ATTRIBUTE_PREFIX, angle_unit))
 
     def to_pandas(self) -> Any:
         """Return a :class:`pandas.DataFrame` with the columns of :meth:`to_arrays`.
