@@ -16,6 +16,7 @@ from typing import Any
 from .._params import Boolean, Constraint, Interval, Options
 from ..data import MeasurementTable, SensorNetwork
 from ..data._io import write_atomically
+from ..data.measurement_files import AngleUnit
 from ..experiments.common import _jsonable
 
 __all__ = [
@@ -69,7 +70,7 @@ input_file.bad_values = ["", "/nonexistent-directory/in.csv"]  # type: ignore[at
 
 def read_inputs(args: argparse.Namespace) -> tuple[MeasurementTable, SensorNetwork]:
     sensors = SensorNetwork.from_csv(args.sensors)
-    unit = "deg" if args.degrees else "rad"
+    unit: AngleUnit = "deg" if args.degrees else "rad"
     if str(args.measurements).endswith(".parquet"):  # Parquet through the 'parquet' extra
         table = MeasurementTable.from_parquet(args.measurements, angle_unit=unit)
     else:
