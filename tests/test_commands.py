@@ -4,7 +4,6 @@ error naming the file, and a failed run writes nothing."""
 
 from __future__ import annotations
 
-import csv
 import json
 import shutil
 from pathlib import Path
@@ -17,9 +16,10 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
 def read_rows(path: Path) -> dict[str, np.ndarray]:
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    return {name: np.array([float(r[name]) for r in rows]) for name in rows[0]}
+    """The output opens in pandas (the issue's test), column by column as floats."""
+    pd = pytest.importorskip("pandas")
+    frame = pd.read_csv(path)
+    return {name: frame[name].to_numpy(dtype=float) for name in frame.columns}
 
 
 def test_initiate_writes_every_row_once(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
