@@ -110,3 +110,19 @@ def test_an_existing_output_is_replaced_whole_or_not_at_all(tmp_path: Path) -> N
         cli_main(["associate", str(broken), "--sensors", sensors, "--out", str(out)])
     assert (out / "associate_measurements.csv").read_bytes() == before
     assert not [p for p in out.iterdir() if p.name.startswith(".")], "a temporary file was left behind"
+
+
+def test_locate_writes_every_row_once(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    meas, sensors = EXAMPLES / "locate_measurements.csv", EXAMPLES / "locate_sensors.csv"
+    args = ["locate", str(meas), "--sensors", str(sensors), "--out", str(out), "--attributes", "rf", "prf", "pw", "asp"]
+    assert cli_main(args) == 0
+    rows = read_rows(out / "locate_measurements.csv")
+    assert rows["row"].tolist() == list(range(len(read_rows(meas)["sensor"])))
+    summary = json.loads((out / "locate_targets.json").read_text())
+    assert sum(g["associated"] for g in summary["groups"]) == 6
+    for group in summary["groups"]:
+        assert sorted(group["rows"]) == np.flatnonzero(rows["group"] == group["group"]).tolist()
+    with pytest.raises(SystemExit) as stop:
+        cli_main([*args[:-4], "--reference", "abc"])
+    assert stop.value.code == 2

@@ -15,7 +15,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from . import __version__
-from .commands import associate, initiate
+from .commands import associate, initiate, locate
 from .evaluation import perfect_association_fit, target_crlbs
 from .experiments import formation, fti, intensity, topology, wavelet
 from .experiments.common import scheduler_address, seed_int
@@ -34,6 +34,7 @@ _EXPERIMENTS = [
 _FILE_COMMANDS = [
     ("initiate", initiate, "initiate tracks from your sensors' measurement file (fuzzy track initiation)"),
     ("associate", associate, "associate your measurement file scan by scan (static LOS association)"),
+    ("locate", locate, "locate formation targets in your snapshot of bearings (baseline method, attributes)"),
 ]
 
 _COMPONENTS = ("x0 m", "y0 m", "z0 m", "vx m/s", "vy m/s", "vz m/s")

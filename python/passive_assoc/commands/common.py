@@ -154,7 +154,15 @@ def add_parameter_options(
         flag = "--" + name.replace("_", "-")
         default = defaults.get(name)
         first = kinds[0]
-        if isinstance(first, Boolean):
+        intervals = [c for c in kinds if isinstance(c, Interval)]
+        if isinstance(first, Options) and intervals:  # a word or a number, e.g. reference
+            group.add_argument(
+                flag,
+                type=_word_or_number(first, intervals[0]),
+                metavar="VALUE",
+                help=f"{first.describe()} or {intervals[0].describe()} (default {default})",
+            )
+        elif isinstance(first, Boolean):
             group.add_argument(flag, type=_boolean, metavar="{true,false}", help=f"(default {default})")
         elif isinstance(first, Options):
             group.add_argument(flag, choices=first.choices, help=f"(default {default})")
@@ -195,6 +203,18 @@ def _boolean(text: str) -> bool:
 
 
 _boolean.bad_values = ["maybe", "", "2"]  # type: ignore[attr-defined]
+
+
+def _word_or_number(options: Options, interval: Interval) -> Callable[[str], Any]:
+    """argparse type: one of ``options``' words, or a number ``interval`` accepts."""
+    number = _number(interval, None)
+
+    def parse(text: str) -> Any:
+        return text if text in options.choices else number(text)
+
+    parse.__name__ = f"{options.describe()} or {interval.describe()}"
+    parse.bad_values = ["", "abc"]  # type: ignore[attr-defined]
+    return parse
 
 
 def _number(interval: Interval, none_text: str | None) -> Callable[[str], Any]:
