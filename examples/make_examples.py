@@ -7,7 +7,12 @@
   one scan per time (0, 10, 20 s);
 * ``locate_sensors.csv`` / ``locate_measurements.csv`` — one snapshot of the formation paper's
   scene (3 sensors, 2-D, 6 emitters, 1° bearing noise), seed 1, with the emitter attributes
-  ``rf``, ``prf``, ``pw``, ``asp`` and their per-report stds (``<name>_std``).
+  ``rf``, ``prf``, ``pw``, ``asp`` and their per-report stds (``<name>_std``);
+* ``topology_local.csv`` / ``topology_system.csv`` — the topology paper's radars (seed 1,
+  relative azimuth biases up to 3°), tracks filtered from their reports over the first 12
+  scans: the system radar's and the others';
+* ``wavelet_radar.csv`` / ``wavelet_esm.csv`` — the wavelet paper's radar and ESM tracks
+  (seed 1, one false track each), constant-acceleration filtered.
 
     python3 examples/make_examples.py
 """
@@ -19,6 +24,10 @@ from pathlib import Path
 import numpy as np
 import passive_assoc as pa
 from passive_assoc.simulation import paper_fti_scenario, static_scan
+from passive_assoc.experiments.topology import SYSTEM_RADAR, local_tracks
+from passive_assoc.experiments.wavelet import PROCESS_NOISE
+from passive_assoc.radar_esm import filter_reports
+from passive_assoc.simulation import paper_topology_scenario, paper_wavelet_scenario
 from passive_assoc.simulation.formation import paper_formation_scene
 
 HERE = Path(__file__).resolve().parent
@@ -41,6 +50,15 @@ def main() -> None:
     for name, std in scene.attribute_std.items():
         columns[f"attr_{name}_std"] = np.full(n, float(std))
     pa.MeasurementTable.from_columns(columns).to_csv(HERE / "locate_measurements.csv")
+    rng = np.random.default_rng(1)
+    scenario = paper_topology_scenario(rng, bias_deg=3.0)
+    tracks = local_tracks(scenario, rng)
+    tracks = tracks.select(np.flatnonzero(tracks.time <= scenario.scan_times[11]))  # 12 scans: a small file
+    tracks.of(SYSTEM_RADAR).to_csv(HERE / "topology_system.csv")
+    tracks.select(np.flatnonzero(tracks.source != SYSTEM_RADAR)).to_csv(HERE / "topology_local.csv")
+    filtered = filter_reports(paper_wavelet_scenario(1, n_clutter=1).measurements, PROCESS_NOISE)
+    filtered.of(0).to_csv(HERE / "wavelet_radar.csv")
+    filtered.of(1).to_csv(HERE / "wavelet_esm.csv")
 
 
 if __name__ == "__main__":

@@ -126,3 +126,29 @@ def test_locate_writes_every_row_once(tmp_path: Path) -> None:
     with pytest.raises(SystemExit) as stop:
         cli_main([*args[:-4], "--reference", "abc"])
     assert stop.value.code == 2
+
+
+@pytest.mark.parametrize(
+    "method,local,system,extra",
+    [
+        ("topology", "topology_local.csv", "topology_system.csv", []),
+        ("wavelet", "wavelet_esm.csv", "wavelet_radar.csv", ["--process-noise", "169"]),
+    ],
+)
+def test_associate_tracks_writes_every_local_row_once(
+    tmp_path: Path, method: str, local: str, system: str, extra: list[str]
+) -> None:
+    out = tmp_path / "out"
+    args = ["associate-tracks", str(EXAMPLES / local), "--system", str(EXAMPLES / system), "--method", method]
+    assert cli_main([*args, "--out", str(out), *extra]) == 0
+    rows = read_rows(out / "tracks_local.csv")
+    assert rows["row"].tolist() == list(range(len(read_rows(EXAMPLES / local)["time"])))
+    pairs = json.loads((out / "tracks_pairs.json").read_text())["pairs"]
+    assert len(pairs) == int(np.sum(rows["system_track"] >= 0)) > 0
+
+
+def test_associate_tracks_refuses_another_methods_parameter(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    args = ["associate-tracks", str(EXAMPLES / "wavelet_esm.csv"), "--system", str(EXAMPLES / "wavelet_radar.csv")]
+    with pytest.raises(SystemExit) as stop:
+        cli_main([*args, "--method", "topology", "--tau", "0.5", "--out", str(tmp_path / "o")])
+    assert stop.value.code == 2 and "--method topology does not take --tau" in capsys.readouterr().err

@@ -15,7 +15,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from . import __version__
-from .commands import associate, initiate, locate
+from .commands import associate, associate_tracks, initiate, locate
 from .evaluation import perfect_association_fit, target_crlbs
 from .experiments import formation, fti, intensity, topology, wavelet
 from .experiments.common import scheduler_address, seed_int
@@ -35,6 +35,7 @@ _FILE_COMMANDS = [
     ("initiate", initiate, "initiate tracks from your sensors' measurement file (fuzzy track initiation)"),
     ("associate", associate, "associate your measurement file scan by scan (static LOS association)"),
     ("locate", locate, "locate formation targets in your snapshot of bearings (baseline method, attributes)"),
+    ("associate-tracks", associate_tracks, "associate your track files (reference topology, or radar/ESM wavelets)"),
 ]
 
 _COMPONENTS = ("x0 m", "y0 m", "z0 m", "vx m/s", "vy m/s", "vz m/s")

@@ -141,17 +141,24 @@ def write_json(path: Path, record: Mapping[str, Any]) -> None:
 
 
 def add_parameter_options(
-    parser: argparse.ArgumentParser, constraints: Mapping[str, list[Constraint]], defaults: Mapping[str, Any]
+    parser: argparse.ArgumentParser,
+    constraints: Mapping[str, list[Constraint]],
+    defaults: Mapping[str, Any],
+    title: str = "method parameters",
 ) -> list[str]:
     """One ``--name`` option per scalar parameter the class declares (its default shown,
-    unset = the library's default); returns the parameter names added."""
-    group = parser.add_argument_group("method parameters (default: the library's)")
+    unset = the library's default); returns the parameter names it covers (an option another
+    method already added is shared)."""
+    group = parser.add_argument_group(f"{title} (default: the library's)")
     added = []
     for name, allowed in constraints.items():
         kinds = [c for c in allowed if c is not None]
         if not kinds or name == "n_threads":
             continue
         flag = "--" + name.replace("_", "-")
+        if flag in parser._option_string_actions:  # the same parameter of another method
+            added.append(name)
+            continue
         default = defaults.get(name)
         first = kinds[0]
         intervals = [c for c in kinds if isinstance(c, Interval)]
