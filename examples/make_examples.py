@@ -23,11 +23,10 @@ from pathlib import Path
 
 import numpy as np
 import passive_assoc as pa
-from passive_assoc.simulation import paper_fti_scenario, static_scan
 from passive_assoc.experiments.topology import SYSTEM_RADAR, local_tracks
 from passive_assoc.experiments.wavelet import PROCESS_NOISE
 from passive_assoc.radar_esm import filter_reports
-from passive_assoc.simulation import paper_topology_scenario, paper_wavelet_scenario
+from passive_assoc.simulation import paper_fti_scenario, paper_topology_scenario, paper_wavelet_scenario, static_scan
 from passive_assoc.simulation.formation import paper_formation_scene
 
 HERE = Path(__file__).resolve().parent
