@@ -91,6 +91,7 @@ def test_csv_round_trip_exact(tmp_path: Path, truth: bool, elevation: bool) -> N
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
 
+@pytest.mark.filterwarnings("ignore:.*were the angles given in degrees")
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.integers(0, 2**40), finite, finite, finite), max_size=20))
 def test_csv_round_trip_any_double(  # type: ignore[no-untyped-def]
@@ -237,3 +238,16 @@ def test_parquet_round_trip_and_extra_columns(tmp_path: Path) -> None:
         other = MeasurementTable.from_parquet(tmp_path / "other.parquet", angle_unit="deg")
     np.testing.assert_allclose(other.azimuth, np.radians([90.0, 45.0]))
     assert other.attributes["snr"].tolist() == [3.0, 4.0]
+
+
+def test_angles_beyond_their_range_warn_of_degrees() -> None:
+    """Elevations of 5–15 "rad" (degrees given as radians) gave 0 tracks and no warning."""
+    with pytest.warns(UserWarning, match=r"elevation\[0\] = 5\.0 rad is beyond ±π/2: were the angles given in degrees"):
+        MeasurementTable.from_arrays([0, 1], [0.0, 0.0], [0.5, 0.7], [5.0, 15.0])
+    with pytest.warns(UserWarning, match=r"azimuth\[1\] = 200\.0 rad"):
+        MeasurementTable.from_arrays([0, 1], [0.0, 0.0], [0.5, 200.0])
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        MeasurementTable.from_arrays([0, 1], [0.0, 0.0], [-np.pi, 2 * np.pi], [np.pi / 2, -0.1])

@@ -173,3 +173,17 @@ def test_permuting_measurements_changes_nothing(seed: int, perm_seed: int, noise
     for other in (shuffled, regrouped):
         assert np.all(np.abs(other.estimates - base.estimates) <= 1e-6 * sigma)
         np.testing.assert_allclose(other.covariances, base.covariances, rtol=1e-6, atol=1e-12)
+
+
+def test_epoch_times_fit_with_the_default_t0() -> None:
+    """UNIX-epoch times: the default epoch is the table's earliest time (it was 0, and the fit
+    came back singular); the estimates are those of the same data shifted to start at 0."""
+    sc = pa.paper_fti_scenario(seed=1)
+    rows = [np.flatnonzero(sc.measurements.truth == k) for k in range(4)]
+    arrays = sc.measurements.to_arrays()
+    arrays["time"] = arrays["time"] + 1.7e9
+    shifted = pa.MeasurementTable.from_columns(arrays)
+    late = pa.fit_ml(shifted, sc.sensors, rows)
+    early = pa.fit_ml(sc.measurements, sc.sensors, rows)
+    assert late.t0 == 1.7e9 and early.t0 == 0.0 and bool(late.converged.all())
+    np.testing.assert_allclose(late.estimates, early.estimates, rtol=1e-6, atol=1e-3)

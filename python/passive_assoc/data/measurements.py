@@ -9,6 +9,7 @@ for clutter) that no algorithm may read.
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -89,6 +90,7 @@ class MeasurementTable:
         }
         attrs = self._attributes(n)
         truth = self._truth(n)
+        _warn_if_degrees(columns["azimuth"], columns["elevation"])
         for name, value in columns.items():
             object.__setattr__(self, name, readonly(value))
         object.__setattr__(self, "attributes", MappingProxyType(attrs))
@@ -361,3 +363,22 @@ class MeasurementTable:
             f"MeasurementTable(n_rows={len(self)}, ndim={self.ndim}, sensors={sensors}, "
             f"attributes={list(self.attributes)}, truth={self.truth is not None})"
         )
+
+
+def _warn_if_degrees(azimuth: NDArray[Any], elevation: NDArray[Any]) -> None:
+    """Angles beyond ±2π (azimuth) or ±π/2 (elevation) are almost surely degrees given as
+    radians, which silently gives no tracks: say so (a warning: the arithmetic still works)."""
+    for name, values, limit, text in (
+        ("azimuth", azimuth, 2 * np.pi, "±2π"),
+        ("elevation", elevation, np.pi / 2, "±π/2"),
+    ):
+        outside = np.abs(values) > limit * (1 + 1e-12)  # NaN (2-D elevation) compares False
+        if outside.any():
+            i = _first(outside)
+            warnings.warn(
+                f"{name}[{i}] = {float(values[i])!r} rad is beyond {text}: were the angles given in degrees? "
+                "(angle_unit='deg' in MeasurementTable.from_csv, or np.radians)",
+                UserWarning,
+                stacklevel=4,
+            )
+            return

@@ -32,7 +32,7 @@ FIT_CONSTRAINTS: dict[str, list[Constraint]] = {
     "motion": [Options("cv", "static")],
     # Beyond ±1e12 s (32 000 years) the epoch swamps the measurement times: t − t0 keeps no
     # digits of t, and the fit came back singular (t0 = 2**70) instead of refusing.
-    "t0": [Interval(float, -1e12, 1e12)],
+    "t0": [Interval(float, -1e12, 1e12), None],
     "max_iter": [Interval(int, 1, None)],
     "xtol": [Interval(float, 0.0, None, closed="neither")],
     "step_sigmas": [Interval(float, 0.0, None)],
@@ -72,6 +72,8 @@ class FitResult:
         Gauss-Newton iterations taken.
     termination : ndarray of uint8, shape (P,)
         Why each fit stopped; see :data:`TERMINATION_NAMES`.
+    t0 : float
+        The epoch of the constant-velocity states, seconds.
     """
 
     estimates: NDArray[np.float64]
@@ -79,6 +81,7 @@ class FitResult:
     chi2: NDArray[np.float64]
     iterations: NDArray[np.uint32]
     termination: NDArray[np.uint8]
+    t0: float = 0.0
 
     @property
     def success(self) -> NDArray[np.bool_]:
@@ -128,7 +131,7 @@ def fit_ml(
     *,
     initial: ArrayLike | None = None,
     motion: Motion = "cv",
-    t0: float = 0.0,
+    t0: float | None = None,
     max_iter: int = 50,
     xtol: float = 1e-10,
     step_sigmas: float = 1e-6,
@@ -150,8 +153,11 @@ def fit_ml(
         solution of each group.
     motion : {"cv", "static"}
         Constant-velocity initial state at ``t0`` (D = 4 or 6) or a static position (D = 2, 3).
-    t0 : float
-        Epoch of the constant-velocity state, seconds.
+    t0 : float, optional
+        Epoch of the constant-velocity state, seconds. Default: the table's earliest time, as
+        :class:`~passive_assoc.FuzzyTrackInitiator` takes it, so that UNIX-epoch times work (an
+        epoch of 0 with times near 1.7e9 s leaves the fit singular). :attr:`FitResult.t0`
+        records the one used.
     max_iter, xtol
         Iteration cap and relative step tolerance.
     step_sigmas : float
@@ -179,12 +185,14 @@ def fit_ml(
         dict(motion=motion, t0=t0, max_iter=max_iter, xtol=xtol, step_sigmas=step_sigmas, n_threads=n_threads),
         FIT_CONSTRAINTS,
     )
+    if checked["t0"] is None:
+        checked["t0"] = float(table.time.min()) if len(table) else 0.0
     indices, offsets = _groups_to_csr(groups)
     dim = network.ndim * (2 if checked["motion"] == "cv" else 1)
     start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
     settings = FitSettings(**checked, max_halvings=MAX_HALVINGS)
     out = _core.fit_batch(table, network, indices, offsets, start, settings)
-    return FitResult(*out)
+    return FitResult(*out, t0=checked["t0"])
 
 
 def crlb(
@@ -194,7 +202,7 @@ def crlb(
     truth: ArrayLike,
     *,
     motion: Motion = "cv",
-    t0: float = 0.0,
+    t0: float | None = 0.0,
 ) -> NDArray[np.float64]:
     """Cramér-Rao lower bound of a true state observed once per (sensor, time) pair.
 
@@ -212,7 +220,8 @@ def crlb(
     truth : array_like, shape (D,)
         The true state (position, or constant-velocity ``X0`` at ``t0``).
     motion, t0
-        As in :func:`fit_ml`.
+        As in :func:`fit_ml`, but ``t0`` defaults to 0 here: it is the epoch of ``truth``,
+        which the caller knows (None: the earliest of ``times``).
 
     Returns
     -------
@@ -230,18 +239,21 @@ def fisher_and_crlb(
     truth: ArrayLike,
     *,
     motion: Motion = "cv",
-    t0: float = 0.0,
+    t0: float | None = 0.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The Fisher information and its inverse; see :func:`crlb`."""
     network = check_network(sensors)
     checked = validate(dict(motion=motion, t0=t0), FIT_CONSTRAINTS)
     state = as_float_array("truth", truth, ndim=1)
     require_state_range("truth", state)
+    when = as_float_array("times", times, ndim=1)
+    if checked["t0"] is None:  # None: the earliest time, as fit_ml's default
+        checked["t0"] = float(when.min()) if len(when) else 0.0
     return _core.crlb(
         network,
         state,
         as_int_array("sensor_index", sensor_index, ndim=1),
-        as_float_array("times", times, ndim=1),
+        when,
         checked["motion"],
         checked["t0"],
     )
