@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import sys
 from typing import Any
 
@@ -25,7 +24,6 @@ from tqdm import tqdm
 
 from ..data import MeasurementTable
 from ..data._io import write_csv
-from ..experiments.common import _jsonable
 from ..static_los import StaticAssociator
 from .common import (
     EXAMPLE_FORMATS,
@@ -34,6 +32,7 @@ from .common import (
     given_parameters,
     output_path,
     prepare,
+    print_json,
     read_inputs,
     row_columns,
     write_atomically,
@@ -133,9 +132,7 @@ def main(args: argparse.Namespace) -> int:
         f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms; "
         f"wrote {folder / 'associate_measurements.csv'} and {folder / 'associate_targets.json'}"
     )
-    if args.json:
-        json.dump(_jsonable(summary), sys.stdout, indent=2)
-        print()
+    print_json(args, summary)
     if args.plot:
         from ..plots_data import plot_association
 

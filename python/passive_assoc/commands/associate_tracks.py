@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import argparse
 import inspect
-import json
-import sys
 from typing import Any
 
 import numpy as np
@@ -24,10 +22,17 @@ import numpy as np
 from ..assignment.tracks import TrackAssociation
 from ..data import TrackTable
 from ..data._io import write_csv
-from ..experiments.common import _jsonable
 from ..radar_esm import WaveletFuzzyAssociator
 from ..topology import TopologyAssociator
-from .common import add_parameter_options, given_parameters, output_folder, prepare, write_atomically, write_json
+from .common import (
+    add_parameter_options,
+    given_parameters,
+    output_folder,
+    prepare,
+    print_json,
+    write_atomically,
+    write_json,
+)
 from .common import input_file as input_file_type
 
 __all__ = ["add_arguments", "main"]
@@ -84,9 +89,7 @@ def main(args: argparse.Namespace) -> int:
         f"{len(result.pairs)} pairs; {paired} of {len(local)} local track states paired; wrote "
         f"{folder / 'tracks_local.csv'} and {folder / 'tracks_pairs.json'}"
     )
-    if args.json:
-        json.dump(_jsonable(summary), sys.stdout, indent=2)
-        print()
+    print_json(args, summary)
     return 0
 
 

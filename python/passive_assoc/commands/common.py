@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -25,6 +26,7 @@ __all__ = [
     "output_path",
     "given_parameters",
     "prepare",
+    "print_json",
     "read_inputs",
     "row_columns",
     "write_atomically",
@@ -129,6 +131,13 @@ def row_columns(table: MeasurementTable, labels: Any, label_name: str = "track",
     columns.update(extra)
     columns[label_name] = np.asarray(labels, dtype=np.int64)
     return columns
+
+
+def print_json(args: argparse.Namespace, record: Mapping[str, Any]) -> None:
+    """With ``--json``, the summary on standard output too."""
+    if args.json:
+        json.dump(_jsonable(record), sys.stdout, indent=2)
+        print()
 
 
 def write_json(path: Path, record: Mapping[str, Any]) -> None:

@@ -13,12 +13,9 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
-import sys
 from typing import Any
 
 from ..data._io import write_csv
-from ..experiments.common import _jsonable
 from ..fti import FuzzyTrackInitiator, InitiationResult
 from .common import (
     EXAMPLE_FORMATS,
@@ -27,6 +24,7 @@ from .common import (
     given_parameters,
     output_path,
     prepare,
+    print_json,
     read_inputs,
     row_columns,
     write_atomically,
@@ -75,9 +73,7 @@ def main(args: argparse.Namespace) -> int:
         f"{len(result.tracks)} track(s), {len(result.clutter)} of {len(table)} measurements clutter; "
         f"wrote {folder / 'initiate_measurements.csv'} and {folder / 'initiate_tracks.json'}"
     )
-    if args.json:
-        json.dump(_jsonable(summary), sys.stdout, indent=2)
-        print()
+    print_json(args, summary)
     if args.plot:
         from ..plots_data import plot_initiation
 

@@ -14,14 +14,11 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
-import sys
 from typing import Any
 
 import numpy as np
 
 from ..data._io import write_csv
-from ..experiments.common import _jsonable
 from ..formation import FormationLocator, FormationResult
 from .associate import column_name
 from .common import (
@@ -30,6 +27,7 @@ from .common import (
     add_parameter_options,
     given_parameters,
     prepare,
+    print_json,
     read_inputs,
     row_columns,
     write_atomically,
@@ -82,9 +80,7 @@ def main(args: argparse.Namespace) -> int:
         f"{len(table)} measurements unassociated; wrote {folder / 'locate_measurements.csv'} and "
         f"{folder / 'locate_targets.json'}"
     )
-    if args.json:
-        json.dump(_jsonable(summary), sys.stdout, indent=2)
-        print()
+    print_json(args, summary)
     return 0
 
 

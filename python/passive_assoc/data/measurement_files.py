@@ -51,12 +51,19 @@ def read_measurement_columns(
             columns[prefix + name] = parse_column(path, name, values, integer=False)
         else:
             ignored.append(name)
+    return _finish(path, columns, ignored, angle_unit)
+
+
+def _finish(
+    path: str | os.PathLike[str], columns: dict[str, NDArray[Any]], ignored: list[str], angle_unit: AngleUnit
+) -> dict[str, NDArray[Any]]:
+    """Warns of the ignored columns and converts degrees: the last steps of both readers."""
     if ignored:
         warnings.warn(
             f"{os.fspath(path)!r}: ignoring non-numeric column(s) {ignored}; numeric extra columns are kept as "
             "attributes",
             UserWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
     if angle_unit == "deg":
         for name in _ANGLES:
@@ -97,18 +104,7 @@ def read_measurement_parquet(
             columns[prefix + key] = values.astype(np.float64)
         else:
             ignored.append(key)
-    if ignored:
-        warnings.warn(
-            f"{os.fspath(path)!r}: ignoring non-numeric column(s) {ignored}; numeric extra columns are kept as "
-            "attributes",
-            UserWarning,
-            stacklevel=3,
-        )
-    if angle_unit == "deg":
-        for name in _ANGLES:
-            if name in columns:
-                columns[name] = np.radians(columns[name])
-    return columns
+    return _finish(path, columns, ignored, angle_unit)
 
 
 def write_parquet(path: str | os.PathLike[str], columns: dict[str, NDArray[Any]]) -> None:

@@ -87,6 +87,15 @@ pub fn assign_2d<'py>(
     let (n_rows, n_cols) = (costs.shape()[0], costs.shape()[1]);
     let values = row_major("costs", &costs)?;
     let solved = py.detach(|| lap::solve_dense(n_rows, n_cols, values))?;
+    pairs_output(py, &solved)
+}
+
+/// `(row_ind, col_ind, total)` of an assignment, as `scipy.optimize.linear_sum_assignment`
+/// gives the pairs, by increasing row.
+fn pairs_output<'py>(
+    py: Python<'py>,
+    solved: &lap::DenseAssignment,
+) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
     let (rows, cols): (Vec<i64>, Vec<i64>) = solved
         .row_to_col
         .iter()
@@ -117,18 +126,7 @@ pub fn assign_2d_sparse<'py>(
     let values = row_major("data", &data)?.to_vec();
     let costs = lap::SparseCosts::new(n_rows, n_cols, offsets, columns, values)?;
     let solved = py.detach(|| lap::solve_sparse_complete(&costs))?;
-    let (rows, cols): (Vec<i64>, Vec<i64>) = solved
-        .row_to_col
-        .iter()
-        .enumerate()
-        .filter_map(|(r, c)| c.map(|c| (r as i64, c as i64)))
-        .unzip();
-    let n = rows.len();
-    Ok((
-        to_numpy(py, rows, &[n])?,
-        to_numpy(py, cols, &[n])?,
-        solved.cost,
-    ))
+    pairs_output(py, &solved)
 }
 
 /// The Lagrangian's options from the Python settings.
