@@ -71,13 +71,16 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
     let (mut iterations, mut termination) = (0, Termination::MaxIterations);
     let deadline = options.time_limit().map(|limit| Instant::now() + limit);
+    // Per-iteration buffers, allocated once: the relaxed solution and the subgradient.
+    let mut relaxed = Vec::new();
+    let mut gradient: Vec<Vec<f64>> = mult.iter().map(|m| vec![0.0; m.len()]).collect();
     while iterations < options.max_iter() && !crate::parallel::interrupted() {
         if deadline.is_some_and(|d| Instant::now() >= d) {
             termination = Termination::NotProven(Limit::Time);
             break;
         }
         iterations += 1;
-        let (dual, relaxed) = relax.evaluate(&mult);
+        let dual = relax.evaluate(&mult, &mut relaxed);
         if dual > dual_bound {
             dual_bound = dual;
             since = 0;
@@ -100,7 +103,8 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
         if since >= options.stall_iters() {
             (alpha, since) = (alpha / 2.0, 0);
         }
-        if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, alpha * (best.1 - dual)) {
+        let numerator = alpha * (best.1 - dual);
+        if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, numerator, &mut gradient) {
             termination = Termination::Stalled;
             break;
         }
@@ -151,9 +155,18 @@ fn finish(
 }
 
 /// One projected subgradient step `u ← min(0, u + t·g / |g|²)` with `g_s[i] = 1 − uses`;
-/// `numerator` is `α·(best primal − L(u))`. Returns false when `g` vanishes (nothing to do).
-fn step(problem: &SdProblem, mult: &mut [Vec<f64>], relaxed: &[usize], numerator: f64) -> bool {
-    let mut g: Vec<Vec<f64>> = mult.iter().map(|m| vec![1.0; m.len()]).collect();
+/// `numerator` is `α·(best primal − L(u))`; `g` is the caller's buffer, shaped as `mult`.
+/// Returns false when `g` vanishes (nothing to do).
+fn step(
+    problem: &SdProblem,
+    mult: &mut [Vec<f64>],
+    relaxed: &[usize],
+    numerator: f64,
+    g: &mut [Vec<f64>],
+) -> bool {
+    for row in g.iter_mut() {
+        row.fill(1.0);
+    }
     for &k in relaxed {
         for (s, &i) in problem.tuple(k).iter().enumerate().skip(2) {
             g[s][i] -= 1.0;

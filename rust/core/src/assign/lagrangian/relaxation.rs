@@ -144,8 +144,9 @@ impl Relaxation {
         }
     }
 
-    /// `L(u)` and the tuples chosen by the relaxed problem.
-    pub(super) fn evaluate(&mut self, mult: &[Vec<f64>]) -> (f64, Vec<usize>) {
+    /// `L(u)`; the tuples chosen by the relaxed problem go into `chosen` (a buffer the
+    /// caller keeps across iterations).
+    pub(super) fn evaluate(&mut self, mult: &[Vec<f64>], chosen: &mut Vec<usize>) -> f64 {
         self.modify(mult);
         let (m, tuples) = (&self.modified, &self.tuples);
         let spans = self.pair_offs.windows(2);
@@ -183,7 +184,7 @@ impl Relaxation {
         } else {
             self.lap.solve(&self.pairs, &self.a, &self.b)
         };
-        let mut chosen = Vec::new();
+        chosen.clear();
         for (r, c) in sol.row_to_col.iter().enumerate() {
             match c {
                 Some(c) => chosen.extend(
@@ -206,7 +207,7 @@ impl Relaxation {
             chosen.push(tuples[x]);
         }
         dual += mult.iter().skip(2).flatten().sum::<f64>();
-        (dual, chosen)
+        dual
     }
 }
 
