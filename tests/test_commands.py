@@ -70,7 +70,9 @@ def test_associate_by_an_attribute_column_and_a_wrong_one(tmp_path: Path, capsys
     assert json.loads((out / "associate_targets.json").read_text())["scans"] == 3
     with pytest.raises(SystemExit) as stop:
         cli_main(["associate", str(meas), "--sensors", sensors, "--out", str(out), "--scan-column", "nope"])
-    assert stop.value.code == 2 and "--scan-column: 'nope' is not a column" in capsys.readouterr().err
+    assert (
+        stop.value.code == 2 and "--scan-column: 'nope' is not 'time' or an attribute column" in capsys.readouterr().err
+    )
 
 
 @pytest.mark.parametrize(

@@ -26,7 +26,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from .data import MeasurementTable, SensorNetwork
-from .static_los.batch import ScanAssociation, _scan_keys, associate_scans
+from .static_los.batch import ScanAssociation, associate_scans, scan_keys, scan_rows
 
 __all__ = ["associate_parquet", "associate_scans_on", "client_for", "current_client", "map_on_client", "using"]
 
@@ -98,12 +98,13 @@ def associate_scans_on(
 ) -> ScanAssociation:
     """:func:`~passive_assoc.associate_scans` with its scans spread over ``client``,
     ``scans_per_task`` a task; the same result as one local call."""
-    keys, scan_index = _scan_keys(measurements, scan)
+    keys, scan_index = scan_keys(measurements, scan)
+    order, offsets = scan_rows(scan_index, len(keys))
     starts = range(0, len(keys), scans_per_task)
     blocks = [np.arange(start, min(start + scans_per_task, len(keys))) for start in starts]
     parts = []
     for block in blocks:
-        rows = np.flatnonzero(np.isin(scan_index, block))
+        rows = order[offsets[block[0]] : offsets[block[-1] + 1]]
         task = client.submit(associate_scans, measurements.select(rows), sensors, scan_index[rows], **settings)
         parts.append((rows, task))
     labels = np.full(len(measurements), -1, dtype=np.int64)

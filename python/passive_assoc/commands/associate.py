@@ -19,27 +19,23 @@ import sys
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 from tqdm import tqdm
 
-from ..data import MeasurementTable
-from ..data._io import write_csv
 from ..static_los import StaticAssociator
+from ..static_los.batch import scan_keys, scan_rows
 from .common import (
     EXAMPLE_FORMATS,
     add_file_arguments,
     add_parameter_options,
     given_parameters,
     output_path,
-    prepare,
-    print_json,
     read_inputs,
     row_columns,
     write_atomically,
-    write_json,
+    write_outputs,
 )
 
-__all__ = ["add_arguments", "main", "scan_groups"]
+__all__ = ["add_arguments", "column_name", "main"]
 
 DESCRIPTION = (
     "Associate the bearings (and elevations) of several passive sensors scan by scan: which "
@@ -83,26 +79,11 @@ def column_name(text: str) -> str:
 column_name.bad_values = ["", "  "]  # type: ignore[attr-defined]
 
 
-def scan_groups(table: MeasurementTable, column: str) -> tuple[NDArray[np.int64], list[NDArray[np.int64]]]:
-    """Per row its scan index, and per scan its rows (scans in increasing column value)."""
-    if column == "time":
-        values = table.time
-    elif column in table.attributes:
-        values = table.attributes[column]
-    else:
-        raise ValueError(
-            f"--scan-column: {column!r} is not a column of the measurements (time, or one of "
-            f"{sorted(table.attributes)})"
-        )
-    keys, scan = np.unique(values, return_inverse=True)
-    order = np.argsort(scan, kind="stable")
-    bounds = np.searchsorted(scan[order], np.arange(len(keys) + 1))
-    return scan.astype(np.int64), [order[bounds[k] : bounds[k + 1]].astype(np.int64) for k in range(len(keys))]
-
-
 def main(args: argparse.Namespace) -> int:
     table, sensors = read_inputs(args)
-    scan, groups = scan_groups(table, args.scan_column)
+    keys, scan = scan_keys(table, args.scan_column, name="--scan-column")
+    order, offsets = scan_rows(scan, len(keys))
+    groups = [order[offsets[k] : offsets[k + 1]] for k in range(len(keys))]
     associator = StaticAssociator(**given_parameters(args, args.parameter_names))
     target = np.full(len(table), -1, dtype=np.int64)
     targets: list[dict[str, Any]] = []
@@ -122,17 +103,13 @@ def main(args: argparse.Namespace) -> int:
             )
         inside = found.labels >= 0
         target[rows[inside]] = found.labels[inside] + (len(targets) - len(found.positions))
-    folder = prepare(args.out)
-    columns = row_columns(table, target, label_name="target", scan=scan)
-    write_atomically(folder / "associate_measurements.csv", lambda p: write_csv(p, columns))
-    summary = {"method": associator.method, "scans": len(groups), "targets": targets}
-    write_json(folder / "associate_targets.json", summary)
     false_alarms = int(np.sum(target < 0))
-    print(
-        f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms; "
-        f"wrote {folder / 'associate_measurements.csv'} and {folder / 'associate_targets.json'}"
+    write_outputs(
+        args,
+        ("associate_measurements.csv", row_columns(table, target, label_name="target", scan=scan)),
+        ("associate_targets.json", {"method": associator.method, "scans": len(groups), "targets": targets}),
+        f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms",
     )
-    print_json(args, summary)
     if args.plot:
         from ..plots_data import plot_association
 

@@ -21,19 +21,15 @@ import numpy as np
 
 from ..assignment.tracks import TrackAssociation
 from ..data import TrackTable
-from ..data._io import write_csv
 from ..radar_esm import WaveletFuzzyAssociator
 from ..topology import TopologyAssociator
 from .common import (
     add_parameter_options,
     given_parameters,
+    input_file,
     output_folder,
-    prepare,
-    print_json,
-    write_atomically,
-    write_json,
+    write_outputs,
 )
-from .common import input_file as input_file_type
 
 __all__ = ["add_arguments", "main"]
 
@@ -54,8 +50,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "examples/topology_system.csv --method topology --out out/"
     )
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    parser.add_argument("local", metavar="LOCAL", type=input_file_type, help="local (or ESM) tracks CSV")
-    parser.add_argument("--system", metavar="SYSTEM", type=input_file_type, required=True, help="system tracks CSV")
+    parser.add_argument("local", metavar="LOCAL", type=input_file, help="local (or ESM) tracks CSV")
+    parser.add_argument("--system", metavar="SYSTEM", type=input_file, required=True, help="system tracks CSV")
     parser.add_argument("--method", choices=sorted(_METHODS), default="topology", help="(default topology)")
     parser.add_argument("--out", metavar="DIR", type=output_folder, default=".", help="output folder (default .)")
     parser.add_argument("--json", action="store_true", help="also print the pairs as JSON")
@@ -79,17 +75,14 @@ def main(args: argparse.Namespace) -> int:
         )
     associator = cls(**given)
     result = associator.associate(system, local) if args.method == "wavelet" else associator.associate(local, system)
-    folder = prepare(args.out)
     columns = local_rows(local, result)
-    write_atomically(folder / "tracks_local.csv", lambda p: write_csv(p, columns))
-    summary = {"method": args.method, "pairs": _pairs(result), "bias": _bias(result)}
-    write_json(folder / "tracks_pairs.json", summary)
     paired = int(np.sum(columns["system_track"] >= 0))
-    print(
-        f"{len(result.pairs)} pairs; {paired} of {len(local)} local track states paired; wrote "
-        f"{folder / 'tracks_local.csv'} and {folder / 'tracks_pairs.json'}"
+    write_outputs(
+        args,
+        ("tracks_local.csv", columns),
+        ("tracks_pairs.json", {"method": args.method, "pairs": _pairs(result), "bias": _bias(result)}),
+        f"{len(result.pairs)} pairs; {paired} of {len(local)} local track states paired",
     )
-    print_json(args, summary)
     return 0
 
 

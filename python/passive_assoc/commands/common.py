@@ -16,7 +16,7 @@ from typing import Any
 
 from .._params import Boolean, Constraint, Interval, Options
 from ..data import MeasurementTable, SensorNetwork
-from ..data._io import write_atomically
+from ..data._io import write_atomically, write_csv
 from ..data.measurement_files import AngleUnit
 from ..experiments.common import _jsonable
 
@@ -31,6 +31,7 @@ __all__ = [
     "row_columns",
     "write_atomically",
     "write_json",
+    "write_outputs",
 ]
 
 EXAMPLE_FORMATS = """input files (CSV with a header row; spaces around names are fine):
@@ -131,6 +132,23 @@ def row_columns(table: MeasurementTable, labels: Any, label_name: str = "track",
     columns.update(extra)
     columns[label_name] = np.asarray(labels, dtype=np.int64)
     return columns
+
+
+def write_outputs(
+    args: argparse.Namespace,
+    rows: tuple[str, Mapping[str, Any]],
+    summary: tuple[str, Mapping[str, Any]],
+    headline: str,
+) -> None:
+    """Every command's ending: ``--out`` created, the per-row CSV and the JSON summary
+    written atomically, ``headline`` and the two paths printed, and the summary printed
+    too with ``--json``."""
+    folder = prepare(args.out)
+    (csv_name, columns), (json_name, record) = rows, summary
+    write_atomically(folder / csv_name, lambda path: write_csv(path, columns))
+    write_json(folder / json_name, record)
+    print(f"{headline}; wrote {folder / csv_name} and {folder / json_name}")
+    print_json(args, record)
 
 
 def print_json(args: argparse.Namespace, record: Mapping[str, Any]) -> None:

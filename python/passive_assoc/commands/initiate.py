@@ -15,7 +15,6 @@ import argparse
 import dataclasses
 from typing import Any
 
-from ..data._io import write_csv
 from ..fti import FuzzyTrackInitiator, InitiationResult
 from .common import (
     EXAMPLE_FORMATS,
@@ -23,12 +22,10 @@ from .common import (
     add_parameter_options,
     given_parameters,
     output_path,
-    prepare,
-    print_json,
     read_inputs,
     row_columns,
     write_atomically,
-    write_json,
+    write_outputs,
 )
 
 __all__ = ["add_arguments", "main"]
@@ -64,16 +61,12 @@ def main(args: argparse.Namespace) -> int:
     table, sensors = read_inputs(args)
     initiator = FuzzyTrackInitiator(**given_parameters(args, args.parameter_names))
     result = initiator.initiate(table, sensors)
-    folder = prepare(args.out)
-    rows = row_columns(table, result.labels)
-    write_atomically(folder / "initiate_measurements.csv", lambda p: write_csv(p, rows))
-    summary = track_summary(result)
-    write_json(folder / "initiate_tracks.json", summary)
-    print(
-        f"{len(result.tracks)} track(s), {len(result.clutter)} of {len(table)} measurements clutter; "
-        f"wrote {folder / 'initiate_measurements.csv'} and {folder / 'initiate_tracks.json'}"
+    write_outputs(
+        args,
+        ("initiate_measurements.csv", row_columns(table, result.labels)),
+        ("initiate_tracks.json", track_summary(result)),
+        f"{len(result.tracks)} track(s), {len(result.clutter)} of {len(table)} measurements clutter",
     )
-    print_json(args, summary)
     if args.plot:
         from ..plots_data import plot_initiation
 

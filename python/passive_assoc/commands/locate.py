@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 
-from ..data._io import write_csv
 from ..formation import FormationLocator, FormationResult
 from .associate import column_name
 from .common import (
@@ -26,12 +25,9 @@ from .common import (
     add_file_arguments,
     add_parameter_options,
     given_parameters,
-    prepare,
-    print_json,
     read_inputs,
     row_columns,
-    write_atomically,
-    write_json,
+    write_outputs,
 )
 
 __all__ = ["add_arguments", "main"]
@@ -69,18 +65,14 @@ def main(args: argparse.Namespace) -> int:
     if args.attributes is not None:
         parameters["attributes"] = args.attributes
     result = FormationLocator(**parameters).locate(table, sensors)
-    folder = prepare(args.out)
-    rows = row_columns(table, result.labels, label_name="group")
-    write_atomically(folder / "locate_measurements.csv", lambda p: write_csv(p, rows))
-    summary = target_summary(result)
-    write_json(folder / "locate_targets.json", summary)
-    located = int(np.sum(result.associated))
-    print(
-        f"{located} of {len(result.baseline_rows)} baseline reports located, {int(np.sum(result.labels < 0))} of "
-        f"{len(table)} measurements unassociated; wrote {folder / 'locate_measurements.csv'} and "
-        f"{folder / 'locate_targets.json'}"
+    located, unassociated = int(np.sum(result.associated)), int(np.sum(result.labels < 0))
+    write_outputs(
+        args,
+        ("locate_measurements.csv", row_columns(table, result.labels, label_name="group")),
+        ("locate_targets.json", target_summary(result)),
+        f"{located} of {len(result.baseline_rows)} baseline reports located, {unassociated} of {len(table)} "
+        "measurements unassociated",
     )
-    print_json(args, summary)
     return 0
 
 

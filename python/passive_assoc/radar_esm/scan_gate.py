@@ -125,13 +125,10 @@ def _full_tests(
 ) -> _Test:
     assert config.process_noise is not None
     rolling = [RollingWindow(t, filter_transitions(t, times, config.process_noise), cap) for t in (radar, esm)]
-    at = [-1]
 
     def test(k: int, length: int, rows: NDArray[np.intp], cols: NDArray[np.intp]) -> NDArray[np.bool_]:
-        while at[0] < k:  # scans are visited in order; advance both windows to k
-            at[0] += 1
-            for window in rolling:
-                window.advance(at[0])
+        for window in rolling:
+            window.advance_to(k)
         span = slice(k - length + 1, k + 1)
         operator = _operator(config, length)
         sides = []

@@ -92,7 +92,7 @@ def filter_transitions(tracks: AlignedTracks, times: NDArray[np.float64], proces
 class RollingWindow:
     """Per track, the position covariance of the last ``cap`` scans, advanced scan by scan.
 
-    After :meth:`advance` to scan k, :meth:`covariance` gives ``(n, ndim, L, ndim, L)``: the
+    After :meth:`advance_to` scan k, :meth:`covariance` gives ``(n, ndim, L, ndim, L)``: the
     covariance of the positions at scans k − L + 1 … k (coordinate, scan), for L up to the
     track's consecutive presence (older entries are stale and never read).
     """
@@ -108,9 +108,16 @@ class RollingWindow:
         self._cross = np.zeros((n, size, cap, self._ndim))
         # Positions over the last cap scans, the newest last.
         self._sigma = np.zeros((n, self._ndim, cap, self._ndim, cap))
+        self._at = -1  # the scan the window ends at (none yet)
 
-    def advance(self, k: int) -> None:
-        """Move to scan k (called for k = 0, 1, … in order)."""
+    def advance_to(self, k: int) -> None:
+        """Roll the window forward to end at scan k (scan by scan; k never decreases)."""
+        while self._at < k:
+            self._at += 1
+            self._step(self._at)
+
+    def _step(self, k: int) -> None:
+        """Move from scan k − 1 to scan k."""
         d, (n, size, cap, _) = self._ndim, self._cross.shape
         old = self._cross
         cross = np.empty_like(old)

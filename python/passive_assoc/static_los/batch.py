@@ -22,7 +22,7 @@ from ..data import MeasurementTable, SensorNetwork
 from .associator import Method, _associator
 from .candidates import _per_sensor, _spans
 
-__all__ = ["ScanAssociation", "associate_scans"]
+__all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,9 +91,8 @@ def associate_scans(
         raise ValueError("attributes: associate_scans does not take emitter attributes; use associate_static")
     if associator.method == "exact" and associator.exact_backend == "highs":
         raise ValueError("exact_backend: associate_scans runs the core's branch-and-bound, not HiGHS")
-    keys, scan_index = _scan_keys(table, scan)
-    order = np.argsort(scan_index, kind="stable").astype(np.int64)
-    offsets = np.searchsorted(scan_index[order], np.arange(len(keys) + 1)).astype(np.int64)
+    keys, scan_index = scan_keys(table, scan)
+    order, offsets = scan_rows(scan_index, len(keys))
     n = network.n_sensors
     if associator.false_alarm_density is None:
         density = default_density_per_scan(table, scan_index, len(keys), n)
@@ -130,20 +129,33 @@ def associate_scans(
     )
 
 
-def _scan_keys(table: MeasurementTable, scan: str | ArrayLike) -> tuple[NDArray[Any], NDArray[np.int64]]:
+def scan_keys(
+    table: MeasurementTable, scan: str | ArrayLike, name: str = "scan"
+) -> tuple[NDArray[Any], NDArray[np.int64]]:
+    """The scans' keys (sorted) and each row's scan index: rows with equal ``scan`` values —
+    ``"time"``, an attribute column's name, or one value per row — form a scan. ``name`` is
+    the argument errors name."""
     if isinstance(scan, str):
         if scan == "time":
             values: NDArray[Any] = table.time
         elif scan in table.attributes:
             values = table.attributes[scan]
         else:
-            raise ValueError(f"scan: {scan!r} is not 'time' or an attribute column ({sorted(table.attributes)})")
+            raise ValueError(f"{name}: {scan!r} is not 'time' or an attribute column ({sorted(table.attributes)})")
     else:
         values = np.asarray(scan)
         if values.shape != (len(table),):
-            raise ValueError(f"scan: expected one value per row ({len(table)}), got shape {values.shape}")
+            raise ValueError(f"{name}: expected one value per row ({len(table)}), got shape {values.shape}")
     keys, index = np.unique(values, return_inverse=True)
     return keys, index.astype(np.int64)
+
+
+def scan_rows(scan_index: NDArray[np.int64], n_scans: int) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The rows scan by scan (table order within a scan) and the scans' offsets into them:
+    scan k is ``order[offsets[k]:offsets[k + 1]]``."""
+    order = np.argsort(scan_index, kind="stable").astype(np.int64)
+    offsets = np.searchsorted(scan_index[order], np.arange(n_scans + 1)).astype(np.int64)
+    return order, offsets
 
 
 def default_density_per_scan(

@@ -203,6 +203,12 @@ impl<'a> Measurements<'a> {
         self.time[m]
     }
 
+    /// Measurement `m`'s azimuth and elevation as stored (the elevation is NaN in the plane).
+    #[inline]
+    pub fn angles(&self, m: usize) -> [f64; 2] {
+        [self.azimuth[m], self.elevation[m]]
+    }
+
     /// Measurement `m` with its sensor's position and noise, ready for the model.
     #[inline]
     pub fn observation(&self, sensors: &Sensors<'_>, m: usize) -> Observation {

@@ -101,8 +101,8 @@ fn one_scan(
     let (azimuth, elevation): (Vec<f64>, Vec<f64>) = rows
         .iter()
         .map(|&r| {
-            let o = table.observation(sensors, r);
-            (o.angles[0], o.angles[1])
+            let [a, e] = table.angles(r);
+            (a, e)
         })
         .unzip();
     let scan = Measurements::new(sensors, &sensor, &time, &azimuth, &elevation)?;

@@ -279,11 +279,7 @@ fn finish(
             row_to_col[i] = Some(j);
             col_to_row[j] = Some(i);
             // The cheapest duplicate is the one the search used.
-            cost += costs
-                .row(i)
-                .filter(|e| e.0 == j)
-                .map(|e| e.1)
-                .fold(f64::INFINITY, f64::min);
+            cost += costs.cheapest(i, j);
         } else {
             cost += a[i];
         }

@@ -21,8 +21,8 @@ pub(super) struct Init {
 }
 
 /// Repricing steps per free row allowed in one pass of augmenting row reduction. LAPJV's own
-/// bound (current · n) let the first pass run until no row was free: at 1000² and 3000² it
-/// scanned 37 000 and 328 000 rows, most of the solve. Past a few steps per row the shortest
+/// bound (current · n) let the first pass run until no row was free, which at 1000² and 3000²
+/// was most of the solve. Past a few steps per row the shortest
 /// augmenting paths finish the remaining rows for less. A sweep of 1 to 64 (uniform costs,
 /// 100² to 3000², three seeds, made with a temporary build knob) put the best between 8 and 16;
 /// 8 is the better of the two below 1000². The resulting times are in docs/performance.md

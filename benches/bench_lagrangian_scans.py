@@ -1,0 +1,43 @@
+"""The Lagrangian S-D solver per scan on one thread: 400 scans of the static-association
+paper's scene, S = 3, M = 20 (60 reports a scan), through ``associate_scans`` (the whole loop
+in Rust, so the figure is the solver's, not Python's). Prints ms per scan and the mean
+iterations; ``perf record python3 benches/bench_lagrangian_scans.py`` profiles it.
+
+    python3 benches/bench_lagrangian_scans.py [--scans 400] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+import passive_assoc as pa
+from passive_assoc.simulation import static_scan
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scans", type=int, default=400)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    parts = [static_scan(seed, n_targets=20).measurements.to_arrays() for seed in range(args.scans)]
+    columns = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    columns["time"] = np.repeat(np.arange(float(args.scans)), [len(p["time"]) for p in parts])
+    table, sensors = pa.MeasurementTable.from_columns(columns), static_scan(0, n_targets=20).sensors
+    best = float("inf")
+    for _ in range(args.repeat):
+        start = time.perf_counter()
+        pa.associate_scans(table, sensors, method="lagrangian", n_threads=1)
+        best = min(best, time.perf_counter() - start)
+    iterations = []
+    for seed in range(min(args.scans, 100)):
+        scan = static_scan(seed, n_targets=20)
+        c = pa.enumerate_candidates(scan.measurements, scan.sensors)
+        iterations.append(pa.assign_sd(c.tuples, c.costs, c.sizes).iterations)
+    per_scan = best / args.scans * 1e3
+    print(f"{per_scan:.2f} ms a scan (best of {args.repeat}); {np.mean(iterations):.0f} iterations on average")
+
+
+if __name__ == "__main__":
+    main()
