@@ -144,7 +144,11 @@ fn bench_descent(c: &mut Criterion) {
     };
     let scans = Scans::new(&rows, 2);
     let pairs = resolve_pairs(None, &scans).expect("two sensors with scans");
-    let set = generate(&problem, &scans, &pairs, &options).expect("candidates");
+    let outer: Vec<[usize; 4]> = pairs
+        .iter()
+        .flat_map(|&p| scans.scan_slots(p, 1, false))
+        .collect();
+    let set = generate(&problem, &scans, &outer, None, &options).expect("candidates");
     let truth = TARGETS[0];
     let nearest = set
         .candidates

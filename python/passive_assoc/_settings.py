@@ -50,7 +50,7 @@ class SdSettings:
 class InitiationSettings:
     t0: float
     gate_sigmas: float
-    n_detect: int
+    n_detect: int | None
     ray_gate_sigmas: float | None
     reject_behind: bool
     v_max: float | None
@@ -61,6 +61,7 @@ class InitiationSettings:
     descent_max_iter: int
     max_candidates: int
     refine_passes: int
+    candidate_scans: int
     n_threads: int | None
 
 

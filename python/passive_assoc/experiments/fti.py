@@ -277,6 +277,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="classify-and-refit passes after the final fit (default 2; 0 = the paper's pipeline)",
     )
     parser.add_argument(
+        "--candidate-scans",
+        type=positive_int,
+        default=4,
+        help="scans at each end of the window that form candidates (default 4; 1 = the paper's first and last)",
+    )
+    parser.add_argument(
         "--descent-scaling",
         choices=("whitened", "diagonal"),
         default="whitened",
@@ -294,6 +300,7 @@ def main(args: argparse.Namespace) -> int:
     initiator = FuzzyTrackInitiator(
         n_threads=1 if args.workers > 1 else None,
         refine_passes=args.refine_passes,
+        candidate_scans=args.candidate_scans,
         descent_scaling=args.descent_scaling,
     )
     runs, scenario, result, crlbs = run_experiment(
@@ -308,6 +315,7 @@ def main(args: argparse.Namespace) -> int:
         "clutter_ratio": args.clutter_ratio,
         "workers": args.workers,
         "refine_passes": args.refine_passes,
+        "candidate_scans": args.candidate_scans,
         "descent_scaling": args.descent_scaling,
     }
     print_table2(summary["run0_estimates"], scenario.true_states)

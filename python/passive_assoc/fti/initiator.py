@@ -10,6 +10,7 @@ ambiguity resolution, final ML fit) runs in the Rust core with the GIL released.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
@@ -114,9 +115,12 @@ class FuzzyTrackInitiator:
     gate_sigmas : float
         Detection gate g of eq. 23, in standard deviations (a σ-gate on each measurement's
         normalised residual); paper 5.
-    n_detect : int
+    n_detect : int, optional
         Nd: an optimum becomes a target when more than this many not-yet-taken measurements
-        are related to it; paper 9.
+        are related to it. Default: from the data, ``ceil(0.6 * N) - 1`` for N scans in the
+        table (summed over sensors; a target yields at most one report per scan), which is the
+        paper's 9 for its 2 sensors x 8 scans and grows with sensors and scans
+        (docs/methods.md §1 has the measurements).
     pairs : sequence of (int, int), optional
         Sensor pairs that generate candidates; default every pair.
     ray_gate_sigmas : float or None
@@ -152,6 +156,13 @@ class FuzzyTrackInitiator:
         refit, until the partition stops changing (a project extension; 0 = the paper's
         pipeline). The ML estimate is sharper than the closeness optimum the first
         classification uses, which matters where targets cross or fly close.
+    candidate_scans : int
+        How far into each end of the window candidates reach (a project extension for missed
+        detections). 1 is the paper: each sensor's first and last scan only, so a target missed
+        in either is never initiated. With k > 1 a second pass, on the measurements the first
+        pass's detection left, also pairs each sensor's i-th scan from the start with its j-th
+        from the end for every other i, j < k. Default 4 (docs/methods.md §1 has the
+        measurements behind it).
     max_candidates : int
         Refuse (ValueError) rather than exhaust memory when more candidates than this reach
         the fitting stage.
@@ -162,7 +173,7 @@ class FuzzyTrackInitiator:
     spread_factor: float = 2.0
     spread: float | None = None
     gate_sigmas: float = 5.0
-    n_detect: int = 9
+    n_detect: int | None = None
     pairs: Sequence[tuple[int, int]] | None = None
     ray_gate_sigmas: float | None = 5.0
     reject_behind: bool = True
@@ -173,6 +184,7 @@ class FuzzyTrackInitiator:
     descent_scaling: Literal["whitened", "diagonal"] = "whitened"
     descent_max_iter: int = 100
     refine_passes: int = 2
+    candidate_scans: int = 4
     max_candidates: int = 500_000
     n_threads: int | None = None
 
@@ -182,7 +194,7 @@ class FuzzyTrackInitiator:
         "spread_factor": [POSITIVE],
         "spread": [POSITIVE, None],
         "gate_sigmas": [POSITIVE],
-        "n_detect": [Interval(int, 1, None)],
+        "n_detect": [Interval(int, 1, None), None],
         "ray_gate_sigmas": [POSITIVE, None],
         "reject_behind": [Boolean()],
         "v_max": [POSITIVE, None],
@@ -192,6 +204,7 @@ class FuzzyTrackInitiator:
         "descent_scaling": [Options("whitened", "diagonal")],
         "descent_max_iter": [Interval(int, 1, None)],
         "refine_passes": [Interval(int, 0, None)],
+        "candidate_scans": [Interval(int, 1, None)],
         "max_candidates": [Interval(int, 1, None)],
         "n_threads": [Interval(int, 1, None), None],
     }
@@ -229,7 +242,7 @@ class FuzzyTrackInitiator:
         ----------
         measurements : MeasurementTable
             Every measurement of every sensor in the window (any order, any number of scans;
-            candidates come from each sensor's first and last scan).
+            candidates come from each sensor's outermost scans, see ``candidate_scans``).
         sensors : SensorNetwork
         t0 : float, optional
             Epoch of the returned initial states; default the earliest measurement time.
@@ -255,6 +268,7 @@ class FuzzyTrackInitiator:
             descent_max_iter=self.descent_max_iter,
             max_candidates=self.max_candidates,
             refine_passes=self.refine_passes,
+            candidate_scans=self.candidate_scans,
             n_threads=self.n_threads,
         )
         out = _core.initiate(table, network, self._pairs(network.n_sensors), (spread_az, spread_el), settings)
@@ -273,4 +287,30 @@ class FuzzyTrackInitiator:
         seconds = {name: float(getattr(out.stage_seconds, name)) for name in STAGE_SECOND_NAMES}
         seconds["final"] = seconds.pop("final_fit")
         diagnostics = InitiationDiagnostics(counts, out.descent_iterations, seconds)
+        _warn_if_no_candidate(counts)
         return InitiationResult(tracks, labels, epoch, diagnostics)
+
+
+#: What usually empties each pruning stage, for the warning below.
+_EMPTIED_BY = {
+    "raw": "a sensor of every pair has an empty outer scan",
+    "ray_gate": "no two rays meet within ray_gate_sigmas: are the angles radians, the sensor positions metres?",
+    "behind": "every crossing is behind a sensor: check the azimuth convention and the sensor positions",
+    "v_max": "every candidate moves faster than v_max: raise v_max, or check the times' unit (seconds)",
+    "fitted": "no candidate fit converged",
+    "chi2_gate": "no candidate fit passes chi2_gate: are the sensors' stds right?",
+}
+
+
+def _warn_if_no_candidate(counts: dict[str, int]) -> None:
+    """A scene where no candidate survives pruning gives no track for a reason the user can
+    usually fix (units, conventions, a too-tight bound): name the stage that emptied and why."""
+    for stage, hint in _EMPTIED_BY.items():
+        if counts[stage] == 0:
+            funnel = " -> ".join(f"{name} {counts[name]}" for name in STAGE_COUNT_NAMES[:6])
+            warnings.warn(
+                f"no candidate survived the {stage!r} stage ({funnel}), so no track can be initiated: {hint}",
+                UserWarning,
+                stacklevel=3,
+            )
+            return

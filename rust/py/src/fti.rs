@@ -28,7 +28,7 @@ type SpreadArrays<'py> = (PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, f64>
 pub struct InitiationSettings {
     t0: f64,
     gate_sigmas: f64,
-    n_detect: i64,
+    n_detect: Option<i64>,
     ray_gate_sigmas: Option<f64>,
     reject_behind: bool,
     v_max: Option<f64>,
@@ -39,6 +39,7 @@ pub struct InitiationSettings {
     descent_max_iter: i64,
     max_candidates: i64,
     refine_passes: i64,
+    candidate_scans: i64,
     n_threads: Option<i64>,
 }
 
@@ -50,7 +51,7 @@ impl InitiationSettings {
         Ok(InitiationOptions::default()
             .with_pairs(pairs)
             .with_gate(self.gate_sigmas)?
-            .with_n_detect(count("n_detect", self.n_detect, 1)?)?
+            .with_n_detect(self.n_detect.map(|n| count("n_detect", n, 1)).transpose()?)?
             .with_ray_gate(self.ray_gate_sigmas)?
             .with_reject_behind(self.reject_behind)
             .with_v_max(self.v_max)?
@@ -59,7 +60,8 @@ impl InitiationSettings {
             .with_merge_tol(self.merge_tol)?
             .with_descent(descent)
             .with_max_candidates(count("max_candidates", self.max_candidates, 1)?)?
-            .with_refine_passes(count("refine_passes", self.refine_passes, 0)?))
+            .with_refine_passes(count("refine_passes", self.refine_passes, 0)?)
+            .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?)
     }
 }
 

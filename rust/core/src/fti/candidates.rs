@@ -86,30 +86,30 @@ pub struct CandidateSet {
     pub seconds_fit: f64,
 }
 
-/// Generates, prunes and fits the candidates of every pair, in pair order.
+/// Generates, prunes and fits the candidates of every scan quadruple `[a-first, b-first,
+/// a-last, b-last]` of `slots` (see [`Scans::scan_slots`]), in order, from the rows that are
+/// `available` (every row when `None`).
 pub fn generate(
     problem: &Problem<'_>,
     scans: &Scans,
-    pairs: &[[usize; 2]],
+    slots: &[[usize; 4]],
+    available: Option<&[bool]>,
     options: &InitiationOptions,
 ) -> CoreResult<CandidateSet> {
     let start = Instant::now();
     let mut set = CandidateSet::default();
-    for &[a, b] in pairs {
-        let (a_first, a_last) = scans.first_last(a)?;
-        let (b_first, b_last) = scans.first_last(b)?;
-        let (sa1, sb1, sa2, sb2) = (
-            scans.scan(a_first),
-            scans.scan(b_first),
-            scans.scan(a_last),
-            scans.scan(b_last),
-        );
+    let rows_of = |k: usize| -> Vec<usize> {
+        let rows = scans.scan(k).iter().copied();
+        rows.filter(|&m| available.is_none_or(|a| a[m])).collect()
+    };
+    for &slot in slots {
+        let [sa1, sb1, sa2, sb2] = slot.map(rows_of);
         let raw = [sa1.len(), sb1.len(), sa2.len(), sb2.len()]
             .iter()
             .fold(1usize, |p, &n| p.saturating_mul(n));
         set.counts.raw = set.counts.raw.saturating_add(raw);
-        let (firsts, f_ray) = ray_pairs(problem, sa1, sb1, options)?;
-        let (lasts, l_ray) = ray_pairs(problem, sa2, sb2, options)?;
+        let (firsts, f_ray) = ray_pairs(problem, &sa1, &sb1, options)?;
+        let (lasts, l_ray) = ray_pairs(problem, &sa2, &sb2, options)?;
         set.counts.ray_gate = set
             .counts
             .ray_gate

@@ -28,7 +28,7 @@
 
 use super::descent::Optimum;
 use super::scans::Scans;
-use super::Problem;
+use super::{InitiationOptions, Problem};
 use crate::assign::lap::solve_dense;
 use crate::error::CoreResult;
 use crate::geometry::angles::wrap;
@@ -82,28 +82,24 @@ fn related_rows(
     out
 }
 
-/// Eq. 23 detection over the merged optima `order` (already by decreasing R); returns the
-/// accepted optima in acceptance order.
+/// Eq. 23 detection over the merged optima `order` (already by decreasing R) among the rows
+/// still `available` (one flag per row; an accepted target's related rows are cleared, so a
+/// later pass continues where this one stopped); returns the accepted optima in acceptance
+/// order.
 pub fn detect(
     problem: &Problem<'_>,
     scans: &Scans,
     optima: &[Optimum],
     order: &[usize],
-    gate: f64,
-    n_detect: usize,
-    one_per_scan: bool,
+    options: &InitiationOptions,
+    available: &mut [bool],
 ) -> Vec<usize> {
-    let mut available = vec![true; problem.measurements.len()];
+    let gate2 = options.gate() * options.gate();
+    let n_detect = options.n_detect_for(scans.len());
     let mut accepted = Vec::new();
     for &i in order {
-        let related = related_rows(
-            problem,
-            scans,
-            &optima[i].x,
-            gate * gate,
-            one_per_scan,
-            &available,
-        );
+        let x = &optima[i].x;
+        let related = related_rows(problem, scans, x, gate2, options.one_per_scan(), available);
         if related.len() > n_detect {
             for &m in &related {
                 available[m] = false;

@@ -5,7 +5,8 @@
 //! The pipeline ([`initiate`]), one module per stage:
 //!
 //! 1. [`scans`]: a scan is the rows of one sensor with one exact time value; each sensor's
-//!    first and last scan in the table feed the candidates.
+//!    first and last scan in the table feed the candidates (and, in a second pass on the rows
+//!    the first pass's detection left, the next-outermost scans: `candidate_scans`).
 //! 2. [`candidates`]: for each sensor pair (a, b), one measurement from each of a-first,
 //!    b-first, a-last, b-last (eq. 20–22). The product is never materialised: first-scan ray
 //!    pairs and last-scan ray pairs are formed and pruned separately, then combined in chunks
@@ -33,6 +34,8 @@ mod reference;
 mod sim;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_missed;
 
 pub use closeness::{closeness, closeness_and_gradient, Precomputed, Spreads};
 pub use options::{DescentOptions, InitiationOptions, Scaling, CHI2_2DOF_999};
@@ -80,6 +83,25 @@ pub struct StageCounts {
 }
 
 impl StageCounts {
+    /// Adds the counts of another pass, stage by stage.
+    pub fn accumulate(&mut self, other: &StageCounts) {
+        let sums = self.entries().map(|(_, n)| n);
+        let more = other.entries().map(|(_, n)| n);
+        let [raw, ray_gate, behind, v_max, fitted, chi2_gate, optima, merged, detected] =
+            std::array::from_fn(|k| sums[k].saturating_add(more[k]));
+        *self = StageCounts {
+            raw,
+            ray_gate,
+            behind,
+            v_max,
+            fitted,
+            chi2_gate,
+            optima,
+            merged,
+            detected,
+        };
+    }
+
     /// `(name, count)` in pipeline order; the names are the binding's dictionary keys.
     pub fn entries(&self) -> [(&'static str, usize); 9] {
         [

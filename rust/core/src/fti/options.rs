@@ -115,7 +115,7 @@ impl DescentOptions {
 /// |---|---|---|
 /// | `pairs` | every pair a < b | |
 /// | `gate` | 5 | the paper's g |
-/// | `n_detect` | 9 | the paper's Nd (2 sensors × 8 scans) |
+/// | `n_detect` | auto | ⌈0.6·N⌉ − 1 for N scans in the table: the paper's Nd = 9 at N = 16; see [`n_detect_for`](Self::n_detect_for) |
 /// | `ray_gate` | 5 σ | misses a true ray pair with probability < 10⁻⁵ (3-D only) |
 /// | `reject_behind` | on | a passive sensor cannot see a target behind it |
 /// | `v_max` | 500 m/s | 2.5× the paper's fastest target; loosening it mostly costs fits |
@@ -125,6 +125,7 @@ impl DescentOptions {
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | ≈ 0.45 kB per stored candidate, ≈ 3 s of fitting per thread |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
+/// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
 ///
 /// Every scalar is checked by its setter; the pairs need the data and are checked by
 /// [`initiate`](super::initiate).
@@ -139,13 +140,14 @@ impl DescentOptions {
 /// assert_eq!((o.gate(), o.v_max(), o.descent().max_iter()), (4.0, None, 50));
 /// assert_eq!(o.pairs(), Some(&[[0, 1]][..]));
 /// assert!(InitiationOptions::default().with_gate(0.0).is_err());
-/// assert!(InitiationOptions::default().with_n_detect(0).is_err());
+/// assert!(InitiationOptions::default().with_n_detect(Some(0)).is_err());
+/// assert_eq!(InitiationOptions::default().n_detect_for(16), 9);
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitiationOptions {
     pairs: Option<Vec<[usize; 2]>>,
     gate: f64,
-    n_detect: usize,
+    n_detect: Option<usize>,
     ray_gate: Option<f64>,
     reject_behind: bool,
     v_max: Option<f64>,
@@ -155,18 +157,19 @@ pub struct InitiationOptions {
     descent: DescentOptions,
     max_candidates: usize,
     refine_passes: usize,
+    candidate_scans: usize,
 }
 
 impl Default for InitiationOptions {
-    /// The values of the table above: every pair, `gate = 5`, `n_detect = 9`,
+    /// The values of the table above: every pair, `gate = 5`, `n_detect` automatic,
     /// `ray_gate = Some(5)`, `reject_behind`, `v_max = Some(500)`,
     /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, `merge_tol = 1`, the default
-    /// descent, `max_candidates = 500_000`, `refine_passes = 2`.
+    /// descent, `max_candidates = 500_000`, `refine_passes = 2`, `candidate_scans = 4`.
     fn default() -> Self {
         Self {
             pairs: None,
             gate: 5.0,
-            n_detect: 9,
+            n_detect: None,
             ray_gate: Some(5.0),
             reject_behind: true,
             v_max: Some(500.0),
@@ -176,6 +179,7 @@ impl Default for InitiationOptions {
             descent: DescentOptions::default(),
             max_candidates: 500_000,
             refine_passes: 2,
+            candidate_scans: 4,
         }
     }
 }
@@ -196,9 +200,9 @@ impl InitiationOptions {
     }
 
     /// A detected target needs more than `n_detect` related measurements (paper Nd = 9; at
-    /// least 1).
-    pub fn with_n_detect(mut self, n_detect: usize) -> CoreResult<Self> {
-        if n_detect < 1 {
+    /// least 1); `None` derives it from the data ([`n_detect_for`](Self::n_detect_for)).
+    pub fn with_n_detect(mut self, n_detect: Option<usize>) -> CoreResult<Self> {
+        if n_detect == Some(0) {
             return Err(CoreError::out_of_range("n_detect", "must be at least 1"));
         }
         self.n_detect = n_detect;
@@ -282,6 +286,27 @@ impl InitiationOptions {
         self
     }
 
+    /// How deep into each end of the window candidates reach (project extension for missed
+    /// detections; at least 1). 1 is the paper: each sensor's first and last scan. With k > 1
+    /// a second pass, on the rows the first pass's detection left, also combines each sensor's
+    /// i-th scan from the start with its j-th from the end for every other i, j < k (see
+    /// [`Scans::scan_slots`](super::scans::Scans::scan_slots)), so a target missed in an outer
+    /// scan is still initiated.
+    pub fn with_candidate_scans(mut self, candidate_scans: usize) -> CoreResult<Self> {
+        if candidate_scans < 1 {
+            return Err(CoreError::out_of_range(
+                "candidate_scans",
+                "must be at least 1",
+            ));
+        }
+        self.candidate_scans = candidate_scans;
+        Ok(self)
+    }
+
+    pub fn candidate_scans(&self) -> usize {
+        self.candidate_scans
+    }
+
     pub fn pairs(&self) -> Option<&[[usize; 2]]> {
         self.pairs.as_deref()
     }
@@ -290,7 +315,17 @@ impl InitiationOptions {
         self.gate
     }
 
-    pub fn n_detect(&self) -> usize {
+    /// Nd for a table of `n_scans` scans (over all sensors): the explicit value, or
+    /// `⌈0.6·n_scans⌉ − 1` (at least 1). With one report per target and scan, N scans are the
+    /// most a target can be related to; the rule asks for 60 % of them, which is the paper's
+    /// Nd = 9 at its N = 16 and grows with the scans and sensors, where a fixed Nd lets
+    /// clutter optima through (docs/methods.md §1, "Detection threshold").
+    pub fn n_detect_for(&self, n_scans: usize) -> usize {
+        self.n_detect
+            .unwrap_or_else(|| ((3 * n_scans).div_ceil(5)).saturating_sub(1).max(1))
+    }
+
+    pub fn n_detect(&self) -> Option<usize> {
         self.n_detect
     }
 

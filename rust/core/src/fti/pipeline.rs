@@ -10,7 +10,7 @@ use super::closeness::{closeness, Precomputed, Spreads};
 use super::descent::{descend_all, merge};
 use super::detection::{classify, detect};
 use super::scans::{resolve_pairs, Scans};
-use super::{Initiation, InitiationOptions, Problem, StageSeconds, Track};
+use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
 use crate::estimation::fit::gauss_newton::fit;
@@ -38,36 +38,46 @@ pub fn initiate(
     let dim = problem.layout.dim();
     let scans = Scans::new(measurements, sensors.len());
     let pairs = resolve_pairs(options.pairs(), &scans)?;
+    let mut available = vec![true; measurements.len()];
+    let mut run = Run::default();
 
-    let set = candidates::generate(&problem, &scans, &pairs, options)?;
-    stop_if_interrupted()?;
-    let mut counts = set.counts;
-    let mut seconds = StageSeconds {
-        candidates: set.seconds_enumerate,
-        fit: set.seconds_fit,
-        ..StageSeconds::default()
-    };
-
-    let clock = Instant::now();
-    let optima = descend_all(&pre, &set.candidates, options.descent());
-    stop_if_interrupted()?;
-    let order = merge(&optima, dim, options.merge_tol());
-    seconds.descent = clock.elapsed().as_secs_f64();
-    counts.optima = optima.len();
-    counts.merged = order.len();
-
-    let clock = Instant::now();
-    let accepted = detect(
+    // Pass 1: the paper's first and last scans, over every row.
+    let outer: Vec<[usize; 4]> = pairs
+        .iter()
+        .flat_map(|&p| scans.scan_slots(p, 1, false))
+        .collect();
+    let mut states = run.pass(
         &problem,
+        &pre,
         &scans,
-        &optima,
-        &order,
-        options.gate(),
-        options.n_detect(),
-        options.one_per_scan(),
-    );
-    counts.detected = accepted.len();
-    let states: Vec<[f64; MAX_DIM]> = accepted.iter().map(|&i| optima[i].x).collect();
+        &outer,
+        None,
+        options,
+        &mut available,
+    )?;
+    // Pass 2 (candidate_scans > 1): the next-outermost scans, over the rows pass 1 left. Their
+    // targets are missed in an outer scan; the rows already taken cannot be reused, so pass 1's
+    // targets cannot be found twice.
+    let depth = options.candidate_scans();
+    let inner: Vec<[usize; 4]> = pairs
+        .iter()
+        .flat_map(|&p| scans.scan_slots(p, depth, true))
+        .collect();
+    if !inner.is_empty() {
+        let mask = available.clone();
+        states.extend(run.pass(
+            &problem,
+            &pre,
+            &scans,
+            &inner,
+            Some(&mask),
+            options,
+            &mut available,
+        )?);
+    }
+    let (counts, mut seconds) = (run.counts, run.seconds);
+
+    let clock = Instant::now();
     let labels = classify(
         &problem,
         &scans,
@@ -75,7 +85,7 @@ pub fn initiate(
         options.gate(),
         options.one_per_scan(),
     )?;
-    seconds.detection = clock.elapsed().as_secs_f64();
+    seconds.detection += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
     let (mut tracks, mut labels) = final_tracks(&problem, &pre, &states, labels);
@@ -100,9 +110,56 @@ pub fn initiate(
         tracks,
         labels,
         stage_counts: counts,
-        descent_iterations: optima.iter().map(|o| o.iterations).collect(),
+        descent_iterations: run.iterations,
         stage_seconds: seconds,
     })
+}
+
+/// What the candidate passes have counted and timed so far.
+#[derive(Default)]
+struct Run {
+    counts: StageCounts,
+    seconds: StageSeconds,
+    iterations: Vec<usize>,
+}
+
+impl Run {
+    /// One pass: candidates from the scan quadruples `slots` (rows in `mask`, or all), their
+    /// descents and merge, and eq. 23 detection on the rows still `available`; returns the
+    /// accepted optima's states in acceptance order.
+    #[allow(clippy::too_many_arguments)] // one pass's inputs, each used once; a struct would only rename them
+    fn pass(
+        &mut self,
+        problem: &Problem<'_>,
+        pre: &Precomputed,
+        scans: &Scans,
+        slots: &[[usize; 4]],
+        mask: Option<&[bool]>,
+        options: &InitiationOptions,
+        available: &mut [bool],
+    ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
+        let set = candidates::generate(problem, scans, slots, mask, options)?;
+        stop_if_interrupted()?;
+        let mut counts = set.counts;
+        self.seconds.candidates += set.seconds_enumerate;
+        self.seconds.fit += set.seconds_fit;
+
+        let clock = Instant::now();
+        let optima = descend_all(pre, &set.candidates, options.descent());
+        stop_if_interrupted()?;
+        let order = merge(&optima, problem.layout.dim(), options.merge_tol());
+        self.seconds.descent += clock.elapsed().as_secs_f64();
+        counts.optima = optima.len();
+        counts.merged = order.len();
+        self.iterations.extend(optima.iter().map(|o| o.iterations));
+
+        let clock = Instant::now();
+        let accepted = detect(problem, scans, &optima, &order, options, available);
+        self.seconds.detection += clock.elapsed().as_secs_f64();
+        counts.detected = accepted.len();
+        self.counts.accumulate(&counts);
+        Ok(accepted.iter().map(|&i| optima[i].x).collect())
+    }
 }
 
 fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
@@ -197,7 +254,11 @@ pub(crate) fn candidates_of(
     };
     let scans = Scans::new(measurements, sensors.len());
     let pairs = resolve_pairs(options.pairs(), &scans)?;
-    let set = candidates::generate(&problem, &scans, &pairs, options)?;
+    let slots: Vec<[usize; 4]> = pairs
+        .iter()
+        .flat_map(|&p| scans.scan_slots(p, 1, false))
+        .collect();
+    let set = candidates::generate(&problem, &scans, &slots, None, options)?;
     stop_if_interrupted()?;
     Ok((set.candidates, set.counts, scans, pairs))
 }

@@ -81,6 +81,37 @@ impl Scans {
             )),
         }
     }
+
+    /// The scans `[a-first, b-first, a-last, b-last]` of pair (a, b) that candidates combine, for
+    /// every slot `(i, j)` with `i, j < depth`: each sensor's `i`-th scan from the start and `j`-th
+    /// from the end (slot (0, 0) is the paper's first and last scan; with `inner_only` it is left
+    /// out). A slot is used only when both sensors' first scan precedes their last. The two
+    /// sensors move together (a diagonal, not every mix): `depth²` slots instead of `depth⁴`, and a
+    /// target missed in one outer scan is still covered by the next slot (docs/methods.md §1).
+    pub fn scan_slots(
+        &self,
+        [a, b]: [usize; 2],
+        depth: usize,
+        inner_only: bool,
+    ) -> Vec<[usize; 4]> {
+        let (sa, sb) = (&self.per_sensor[a], &self.per_sensor[b]);
+        let mut out = Vec::new();
+        for i in 0..depth {
+            for j in 0..depth {
+                if inner_only && (i, j) == (0, 0) {
+                    continue;
+                }
+                let last_a = sa.len().checked_sub(1 + j);
+                let last_b = sb.len().checked_sub(1 + j);
+                if let (Some(la), Some(lb)) = (last_a, last_b) {
+                    if i < la && i < lb {
+                        out.push([sa[i], sb[i], sa[la], sb[lb]]);
+                    }
+                }
+            }
+        }
+        out
+    }
 }
 
 /// The sensor pairs to use: `requested`, checked, or every pair a < b. Both sensors of each

@@ -77,6 +77,22 @@ impl Scenario {
         .expect("valid table")
     }
 
+    /// Drops the rows whose `keep` flag is false (a missed detection or a removed report).
+    pub fn keep_rows(&mut self, keep: &[bool]) {
+        fn kept<T: Copy>(v: &[T], keep: &[bool]) -> Vec<T> {
+            v.iter()
+                .zip(keep)
+                .filter(|(_, k)| **k)
+                .map(|(x, _)| *x)
+                .collect()
+        }
+        self.time = kept(&self.time, keep);
+        self.azimuth = kept(&self.azimuth, keep);
+        self.elevation = kept(&self.elevation, keep);
+        self.sensor = kept(&self.sensor, keep);
+        self.truth = kept(&self.truth, keep);
+    }
+
     pub fn spreads(&self) -> Spreads<'_> {
         Spreads::new(
             self.space,

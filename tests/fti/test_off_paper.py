@@ -1,0 +1,79 @@
+"""The initiator off the paper's scene (issue 16): missed detections in the outer scans, more
+sensors, few scans, and input that cannot give a track. Each test asserts the number of tracks
+and that each track is one target's."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import passive_assoc as pa
+import pytest
+from passive_assoc.fti import FuzzyTrackInitiator, InitiationResult
+from passive_assoc.simulation import Scenario
+from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
+
+
+def targets_tracked(result: InitiationResult, scenario: Scenario) -> list[int]:
+    """The target each track holds, sorted: at least two thirds of a track's rows must be one
+    target's (where two targets' bearings cross, a few rows can go to the other track: 0.70
+    is the lowest share on the seeds below, 0.79 at Pd = 1)."""
+    truth = scenario.measurements.truth
+    assert truth is not None
+    found = []
+    for track in result.tracks:
+        labels, counts = np.unique(truth[track.measurements], return_counts=True)
+        k = int(labels[np.argmax(counts)])
+        assert k >= 0 and 3 * counts.max() >= 2 * len(track.measurements), (labels, counts)
+        found.append(k)
+    return sorted(found)
+
+
+def test_a_target_missed_in_an_outer_scan_is_initiated_by_the_second_pass() -> None:
+    """3 sensors in 2-D at Pd = 0.9: on this seed a target is missed in outer scans, and the
+    paper's candidates (first and last scans only) lose it."""
+    scenario = pa.bearing_only_2d_scenario(4, pd=0.9)
+    paper = FuzzyTrackInitiator(candidate_scans=1).initiate(scenario.measurements, scenario.sensors)
+    assert len(paper.tracks) == 2
+    result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    assert targets_tracked(result, scenario) == [0, 1, 2]
+
+
+@pytest.mark.parametrize("pd", [1.0, 0.9])
+def test_three_sensors_in_2d_give_one_track_per_target(pd: float) -> None:
+    """24 scans: the paper's fixed Nd = 9 gave 4-7 tracks for 3 targets on these seeds; the
+    default Nd (from the number of scans) gives the 3."""
+    for seed in range(10):
+        scenario = pa.bearing_only_2d_scenario(seed, pd=pd)
+        result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+        assert targets_tracked(result, scenario) == [0, 1, 2], seed
+    fixed = FuzzyTrackInitiator(n_detect=9).initiate(scenario.measurements, scenario.sensors)
+    assert len(fixed.tracks) > 3
+
+
+def test_two_sensors_and_four_scans_give_the_targets() -> None:
+    """2 sensors x 4 scans = 8 reports per target: the paper's Nd = 9 cannot be reached (it
+    gave 0 tracks and no warning)."""
+    sensors = pa.SensorNetwork.spatial([[0.0, 0.0, 0.0], [20e3, 0.0, 0.0]], 5e-3, 5e-3)
+    states = [[1340.0, 5000.0, 1000.0, 173.2, 100.0, 0.0], [6000.0, 1000.0, 1000.0, 0.0, 200.0, 0.0]]
+    times = [15.0 * np.arange(4), 5.0 + 15.0 * np.arange(4)]
+    for seed in range(5):
+        targets = [ConstantVelocityTarget(np.array(s), t0=0.0) for s in states]
+        scenario = simulate(sensors, targets, times, clutter_per_scan=4, t0=0.0, seed=seed)
+        result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors, t0=0.0)
+        assert targets_tracked(result, scenario) == [0, 1], seed
+        assert FuzzyTrackInitiator(n_detect=9).initiate(scenario.measurements, scenario.sensors).tracks == []
+
+
+def test_a_scene_where_no_candidate_survives_warns_and_says_why() -> None:
+    """Times in kiloseconds: every candidate moves 1000x too fast for v_max."""
+    scenario = pa.paper_fti_scenario(3)
+    columns = scenario.measurements.to_arrays()
+    columns["time"] = columns["time"] / 1000.0
+    table = pa.MeasurementTable.from_columns(columns)
+    with pytest.warns(UserWarning, match=r"no candidate survived the 'v_max' stage .*raise v_max, or check the times"):
+        result = FuzzyTrackInitiator().initiate(table, scenario.sensors)
+    assert result.tracks == []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the paper's own scene does not warn
+        assert len(FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors).tracks) == 4
