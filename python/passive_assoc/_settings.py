@@ -62,6 +62,7 @@ class InitiationSettings:
     max_candidates: int
     refine_passes: int
     candidate_scans: int
+    support_gate: bool
     n_threads: int | None
 
 

@@ -71,7 +71,18 @@ def test_paper_run_with_clutter_finds_the_four_targets(assert_partition: Partiti
         matched.append(k)
     assert sorted(matched) == [0, 1, 2, 3]
     counts = result.diagnostics.stage_counts
-    assert list(counts) == ["raw", "ray_gate", "behind", "v_max", "fitted", "chi2_gate", "optima", "merged", "detected"]
+    assert list(counts) == [
+        "raw",
+        "ray_gate",
+        "behind",
+        "v_max",
+        "fitted",
+        "chi2_gate",
+        "supported",
+        "optima",
+        "merged",
+        "detected",
+    ]
     # Pass 1 combines the four outer scans (12 rows each); pass 2 the other 15 scan slots of
     # candidate_scans=4 over what pass 1 left: every target row is taken, 8 clutter rows a scan.
     assert counts["raw"] == 12**4 + 15 * 8**4 and counts["detected"] == 4

@@ -53,7 +53,7 @@ def test_three_sensors_in_2d_give_one_track_per_target(pd: float) -> None:
 
 def test_two_sensors_and_four_scans_give_the_targets() -> None:
     """2 sensors x 4 scans = 8 reports per target: the paper's Nd = 9 cannot be reached (it
-    gave 0 tracks and no warning)."""
+    gave 0 tracks and no warning; now it says why)."""
     sensors = pa.SensorNetwork.spatial([[0.0, 0.0, 0.0], [20e3, 0.0, 0.0]], 5e-3, 5e-3)
     states = [[1340.0, 5000.0, 1000.0, 173.2, 100.0, 0.0], [6000.0, 1000.0, 1000.0, 0.0, 200.0, 0.0]]
     times = [15.0 * np.arange(4), 5.0 + 15.0 * np.arange(4)]
@@ -62,7 +62,9 @@ def test_two_sensors_and_four_scans_give_the_targets() -> None:
         scenario = simulate(sensors, targets, times, clutter_per_scan=4, t0=0.0, seed=seed)
         result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors, t0=0.0)
         assert targets_tracked(result, scenario) == [0, 1], seed
-        assert FuzzyTrackInitiator(n_detect=9).initiate(scenario.measurements, scenario.sensors).tracks == []
+        with pytest.warns(UserWarning, match=r"no candidate survived the 'supported' stage .*lower n_detect"):
+            fixed = FuzzyTrackInitiator(n_detect=9).initiate(scenario.measurements, scenario.sensors)
+        assert fixed.tracks == []
 
 
 def test_a_scene_where_no_candidate_survives_warns_and_says_why() -> None:

@@ -35,7 +35,18 @@ POSITIVE = Interval(float, 0.0, None, closed="neither")
 
 
 #: The stages of :class:`InitiationDiagnostics` ``stage_counts``, in pipeline order.
-STAGE_COUNT_NAMES = ("raw", "ray_gate", "behind", "v_max", "fitted", "chi2_gate", "optima", "merged", "detected")
+STAGE_COUNT_NAMES = (
+    "raw",
+    "ray_gate",
+    "behind",
+    "v_max",
+    "fitted",
+    "chi2_gate",
+    "supported",
+    "optima",
+    "merged",
+    "detected",
+)
 #: The timed stages (``stage_seconds`` calls the last one ``"final"``).
 STAGE_SECOND_NAMES = ("candidates", "fit", "descent", "detection", "final_fit")
 
@@ -163,6 +174,13 @@ class FuzzyTrackInitiator:
         pass's detection left, also pairs each sensor's i-th scan from the start with its j-th
         from the end for every other i, j < k. Default 4 (docs/methods.md §1 has the
         measurements behind it).
+    support_gate : bool
+        Descend only from candidates that more than ``n_detect`` scans support: a scan supports
+        a candidate when one of its measurements is within ``gate_sigmas`` of the predicted
+        angles, with the candidate fit's own uncertainty added (a project extension; False =
+        the paper, every candidate is searched). Such a candidate cannot become a target, and
+        in 2-D, where four bearings fit exactly and no χ² gate exists, nearly every candidate
+        is of that kind (docs/methods.md §1).
     max_candidates : int
         Refuse (ValueError) rather than exhaust memory when more candidates than this reach
         the fitting stage.
@@ -185,6 +203,7 @@ class FuzzyTrackInitiator:
     descent_max_iter: int = 100
     refine_passes: int = 2
     candidate_scans: int = 4
+    support_gate: bool = True
     max_candidates: int = 500_000
     n_threads: int | None = None
 
@@ -205,6 +224,7 @@ class FuzzyTrackInitiator:
         "descent_max_iter": [Interval(int, 1, None)],
         "refine_passes": [Interval(int, 0, None)],
         "candidate_scans": [Interval(int, 1, None)],
+        "support_gate": [Boolean()],
         "max_candidates": [Interval(int, 1, None)],
         "n_threads": [Interval(int, 1, None), None],
     }
@@ -269,6 +289,7 @@ class FuzzyTrackInitiator:
             max_candidates=self.max_candidates,
             refine_passes=self.refine_passes,
             candidate_scans=self.candidate_scans,
+            support_gate=self.support_gate,
             n_threads=self.n_threads,
         )
         out = _core.initiate(table, network, self._pairs(network.n_sensors), (spread_az, spread_el), settings)
@@ -299,6 +320,7 @@ _EMPTIED_BY = {
     "v_max": "every candidate moves faster than v_max: raise v_max, or check the times' unit (seconds)",
     "fitted": "no candidate fit converged",
     "chi2_gate": "no candidate fit passes chi2_gate: are the sensors' stds right?",
+    "supported": "no candidate is seen in more than n_detect scans: lower n_detect, or check the stds and times",
 }
 
 
@@ -307,7 +329,7 @@ def _warn_if_no_candidate(counts: dict[str, int]) -> None:
     usually fix (units, conventions, a too-tight bound): name the stage that emptied and why."""
     for stage, hint in _EMPTIED_BY.items():
         if counts[stage] == 0:
-            funnel = " -> ".join(f"{name} {counts[name]}" for name in STAGE_COUNT_NAMES[:6])
+            funnel = " -> ".join(f"{name} {counts[name]}" for name in STAGE_COUNT_NAMES[:7])
             warnings.warn(
                 f"no candidate survived the {stage!r} stage ({funnel}), so no track can be initiated: {hint}",
                 UserWarning,

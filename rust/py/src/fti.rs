@@ -40,6 +40,7 @@ pub struct InitiationSettings {
     max_candidates: i64,
     refine_passes: i64,
     candidate_scans: i64,
+    support_gate: bool,
     n_threads: Option<i64>,
 }
 
@@ -61,7 +62,8 @@ impl InitiationSettings {
             .with_descent(descent)
             .with_max_candidates(count("max_candidates", self.max_candidates, 1)?)?
             .with_refine_passes(count("refine_passes", self.refine_passes, 0)?)
-            .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?)
+            .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?
+            .with_support_gate(self.support_gate))
     }
 }
 
@@ -74,6 +76,7 @@ pub struct StageCounts {
     v_max: usize,
     fitted: usize,
     chi2_gate: usize,
+    supported: usize,
     optima: usize,
     merged: usize,
     detected: usize,
@@ -150,6 +153,7 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
         v_max,
         fitted,
         chi2_gate,
+        supported,
         optima,
         merged,
         detected,
@@ -177,6 +181,7 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
                 v_max,
                 fitted,
                 chi2_gate,
+                supported,
                 optima,
                 merged,
                 detected,

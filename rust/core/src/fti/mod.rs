@@ -13,9 +13,10 @@
 //!    and fitted by Gauss-Newton. Every pruning rule is optional; with all off every 4-tuple is
 //!    fitted, which is the paper's unpruned algorithm.
 //! 3. [`closeness`](mod@closeness): the fuzzy synthetic closeness R(X0) (eq. 17–18) and its gradient.
-//! 4. [`descent`]: steepest ascent of R from each surviving candidate (eq. 19), merged optima.
-//! 5. [`detection`]: detection (eq. 23) and ambiguity resolution (eq. 24).
-//! 6. [`pipeline`]: the driver and the final Gauss-Newton refit of each track.
+//! 4. [`support`]: candidates fewer than Nd scans support are dropped (project extension).
+//! 5. [`descent`]: steepest ascent of R from each surviving candidate (eq. 19), merged optima.
+//! 6. [`detection`]: detection (eq. 23) and ambiguity resolution (eq. 24).
+//! 7. [`pipeline`]: the driver and the final Gauss-Newton refit of each track.
 //!
 //! Parallel stages (fits, descents, final fits) run on rayon and collect in input order; the
 //! sequential stages are order-defined, so results are bit-identical for any thread count.
@@ -27,6 +28,7 @@ pub mod detection;
 mod options;
 pub mod pipeline;
 pub mod scans;
+pub mod support;
 
 #[cfg(test)]
 mod reference;
@@ -74,6 +76,8 @@ pub struct StageCounts {
     /// Fits that gave a finite estimate and a positive-definite covariance.
     pub fitted: usize,
     pub chi2_gate: usize,
+    /// Candidates that more than Nd scans support (see [`support`]; = `chi2_gate` when off).
+    pub supported: usize,
     /// Descents run (one per surviving candidate).
     pub optima: usize,
     /// Optima left after merging.
@@ -87,7 +91,7 @@ impl StageCounts {
     pub fn accumulate(&mut self, other: &StageCounts) {
         let sums = self.entries().map(|(_, n)| n);
         let more = other.entries().map(|(_, n)| n);
-        let [raw, ray_gate, behind, v_max, fitted, chi2_gate, optima, merged, detected] =
+        let [raw, ray_gate, behind, v_max, fitted, chi2_gate, supported, optima, merged, detected] =
             std::array::from_fn(|k| sums[k].saturating_add(more[k]));
         *self = StageCounts {
             raw,
@@ -96,6 +100,7 @@ impl StageCounts {
             v_max,
             fitted,
             chi2_gate,
+            supported,
             optima,
             merged,
             detected,
@@ -103,7 +108,7 @@ impl StageCounts {
     }
 
     /// `(name, count)` in pipeline order; the names are the binding's dictionary keys.
-    pub fn entries(&self) -> [(&'static str, usize); 9] {
+    pub fn entries(&self) -> [(&'static str, usize); 10] {
         [
             ("raw", self.raw),
             ("ray_gate", self.ray_gate),
@@ -111,6 +116,7 @@ impl StageCounts {
             ("v_max", self.v_max),
             ("fitted", self.fitted),
             ("chi2_gate", self.chi2_gate),
+            ("supported", self.supported),
             ("optima", self.optima),
             ("merged", self.merged),
             ("detected", self.detected),

@@ -125,6 +125,7 @@ impl DescentOptions {
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | ≈ 0.45 kB per stored candidate, ≈ 3 s of fitting per thread |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
+/// | `support_gate` | on | see [`support`](super::support) |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
 ///
 /// Every scalar is checked by its setter; the pairs need the data and are checked by
@@ -158,6 +159,7 @@ pub struct InitiationOptions {
     max_candidates: usize,
     refine_passes: usize,
     candidate_scans: usize,
+    support_gate: bool,
 }
 
 impl Default for InitiationOptions {
@@ -180,6 +182,7 @@ impl Default for InitiationOptions {
             max_candidates: 500_000,
             refine_passes: 2,
             candidate_scans: 4,
+            support_gate: true,
         }
     }
 }
@@ -301,6 +304,17 @@ impl InitiationOptions {
         }
         self.candidate_scans = candidate_scans;
         Ok(self)
+    }
+
+    /// Descend only from candidates that more than Nd scans support (on by default; off = the
+    /// paper, every candidate is descended). See [`support`](super::support).
+    pub fn with_support_gate(mut self, support_gate: bool) -> Self {
+        self.support_gate = support_gate;
+        self
+    }
+
+    pub fn support_gate(&self) -> bool {
+        self.support_gate
     }
 
     pub fn candidate_scans(&self) -> usize {

@@ -10,6 +10,7 @@ use super::closeness::{closeness, Precomputed, Spreads};
 use super::descent::{descend_all, merge};
 use super::detection::{classify, detect};
 use super::scans::{resolve_pairs, Scans};
+use super::support::{self, SupportTable};
 use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
@@ -39,7 +40,12 @@ pub fn initiate(
     let scans = Scans::new(measurements, sensors.len());
     let pairs = resolve_pairs(options.pairs(), &scans)?;
     let mut available = vec![true; measurements.len()];
-    let mut run = Run::default();
+    let mut run = Run {
+        support: options
+            .support_gate()
+            .then(|| SupportTable::new(&problem, &scans)),
+        ..Run::default()
+    };
 
     // Pass 1: the paper's first and last scans, over every row.
     let outer: Vec<[usize; 4]> = pairs
@@ -118,6 +124,7 @@ pub fn initiate(
 /// What the candidate passes have counted and timed so far.
 #[derive(Default)]
 struct Run {
+    support: Option<SupportTable>,
     counts: StageCounts,
     seconds: StageSeconds,
     iterations: Vec<usize>,
@@ -145,7 +152,15 @@ impl Run {
         self.seconds.fit += set.seconds_fit;
 
         let clock = Instant::now();
-        let optima = descend_all(pre, &set.candidates, options.descent());
+        let n_detect = options.n_detect_for(scans.len());
+        let starts = match &self.support {
+            Some(table) => {
+                support::filter(problem, table, set.candidates, options.gate(), n_detect)
+            }
+            None => set.candidates,
+        };
+        counts.supported = starts.len();
+        let optima = descend_all(pre, &starts, options.descent());
         stop_if_interrupted()?;
         let order = merge(&optima, problem.layout.dim(), options.merge_tol());
         self.seconds.descent += clock.elapsed().as_secs_f64();

@@ -195,7 +195,8 @@ fn cluttered_noisy_paper_run_finds_the_targets_and_partitions_every_row() {
     );
     assert!(
         c.fitted >= c.chi2_gate
-            && c.chi2_gate == c.optima
+            && c.chi2_gate >= c.supported
+            && c.supported == c.optima
             && c.optima >= c.merged
             && c.merged >= c.detected
     );
