@@ -107,6 +107,7 @@ def test_all_pruning_off_gives_the_same_targets_on_a_small_case() -> None:
     assert np.array_equal(pruned.labels, unpruned.labels)
 
 
+@pytest.mark.filterwarnings("ignore:no candidate survived")  # short random windows may have none
 def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: PartitionCheck) -> None:
     """Random short windows, 2-D and 3-D, with and without clutter and misses: every row ends in
     exactly one track or the clutter, and nothing but a too-short window is refused.

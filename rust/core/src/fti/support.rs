@@ -118,7 +118,7 @@ fn azimuth_window(sorted: &[[f64; 2]], centre: f64, width: f64) -> impl Iterator
         &sorted[start..end.max(start)]
     };
     let (lo, hi) = (centre - width, centre + width);
-    let (main, wrapped): (&[[f64; 2]], &[[f64; 2]]) = if !(width < PI) {
+    let (main, wrapped): (&[[f64; 2]], &[[f64; 2]]) = if width >= PI || width.is_nan() {
         (sorted, &[])
     } else if lo < -PI {
         (range(-PI, hi), range(lo + 2.0 * PI, PI))
