@@ -18,6 +18,7 @@ from ..evaluation import gospa
 from ..simulation.static_los import SQUARE_X, SQUARE_Y, StaticScan, static_scan
 from ..static_los import associate_static, enumerate_candidates
 from ..static_los.associator import Method
+from ..static_los.prior import check_region, prior_costs
 from .common import finite_float, fmt, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 from .intensity_timing import METHODS, Solvers, print_timing, timing_table
 
@@ -48,7 +49,9 @@ def ghosts(scan: StaticScan, cands: Candidates) -> int:
     return len(full) - sum(1 for t in true_tuples(scan) if t in full)
 
 
-def score(scan: StaticScan, cands: Candidates, method: Method, solvers: Solvers) -> dict[str, float]:
+def score(
+    scan: StaticScan, cands: Candidates, method: Method, solvers: Solvers, prior: bool = False
+) -> dict[str, float]:
     """Accuracy (observable targets whose full tuple, misses included, is exactly recovered)
     and GOSPA of one method on one scan; for the exact method also whether the truth's own
     eq. 2 cost is higher than the proven optimum (then no optimiser of eq. 2 can return it).
@@ -56,16 +59,25 @@ def score(scan: StaticScan, cands: Candidates, method: Method, solvers: Solvers)
     # The paper's configuration: the intensity method with its valid-airspace step.
     # max_chains=None: the paper's vote over every point of H (the library caps it at 64).
     settings = solvers.kwargs(method)
+    if prior:
+        settings.update(scenario_prior(scan))
     result = associate_static(scan.measurements, scan.sensors, method, n_threads=1, max_chains=None, **settings)
     found = {tuple(row) for row in result.tuples.tolist()}
     hits = [t in found for t in true_tuples(scan)]
     g = gospa(result.positions, scan.targets[scan.observable()], c=GOSPA_CUTOFF_M)
     out = {"accuracy": float(np.mean(hits)) if hits else float("nan"), "gospa": g.total}
-    if method == "exact":
+    if method == "exact" and not prior:
         out["ghosts"] = ghosts(scan, cands)
         if result.report["optimal"]:
             out["truth_beaten"] = float(truth_cost(scan, cands, cands.costs) > result.report["primal_cost"] + 1e-9)
     return out
+
+
+def scenario_prior(scan: StaticScan) -> dict[str, Any]:
+    """The scenario's own prior as ``StaticAssociator`` options: targets uniform over the
+    square at density M / area."""
+    area = (SQUARE_X[1] - SQUARE_X[0]) * (SQUARE_Y[1] - SQUARE_Y[0])
+    return {"region": (*SQUARE_X, *SQUARE_Y), "target_density": len(scan.targets) / area}
 
 
 def bayes_map(scan: StaticScan, cands: Candidates, time_limit: float) -> dict[str, float]:
@@ -75,15 +87,8 @@ def bayes_map(scan: StaticScan, cands: Candidates, time_limit: float) -> dict[st
     by Laplace's approximation of the marginal likelihood: eq. 2 − ln(M/area) − ln(2π √det P)
     − ln(prior mass of the square under N(x̂, P)). Returns its accuracy and whether the truth's
     own cost is higher than that MAP's (then no estimator of the association can prefer it)."""
-    from scipy.stats import norm
-
-    pos, cov = cands.positions, cands.covariances
-    sd = np.sqrt(np.stack([cov[:, 0, 0], cov[:, 1, 1]], axis=1))
-    lo, hi = np.array([SQUARE_X[0], SQUARE_Y[0]]), np.array([SQUARE_X[1], SQUARE_Y[1]])
-    mass = np.prod(norm.cdf((hi - pos) / sd) - norm.cdf((lo - pos) / sd), axis=1)
-    density = len(scan.targets) / float(np.prod(hi - lo))
-    with np.errstate(divide="ignore"):
-        cost = cands.costs - np.log(density) - np.log(2 * np.pi) - 0.5 * np.log(np.linalg.det(cov)) - np.log(mass)
+    prior = scenario_prior(scan)
+    cost = prior_costs(cands, check_region(prior["region"], 2), prior["target_density"])
     keep = np.flatnonzero(np.isfinite(cost) & (cost < 0))
     solved = assign_sd(cands.tuples[keep], cost[keep], cands.sizes, method="exact", time_limit=time_limit)
     found = {tuple(cands.rows[keep[k]].tolist()) for k in solved.chosen}
@@ -97,7 +102,14 @@ def bayes_map(scan: StaticScan, cands: Candidates, time_limit: float) -> dict[st
 
 
 def accuracy_table(
-    runs: int, seed: int, ratios: list[float], n_targets: int, workers: int, solvers: Solvers, bayes: bool = False
+    runs: int,
+    seed: int,
+    ratios: list[float],
+    n_targets: int,
+    workers: int,
+    solvers: Solvers,
+    bayes: bool = False,
+    prior: bool = False,
 ) -> dict[str, Any]:
     table: dict[str, Any] = {}
     for ratio in ratios:
@@ -111,6 +123,8 @@ def accuracy_table(
             out: dict[str, dict[str, float]] = {m: score(scan, cands, m, solvers) for m in METHODS}
             if bayes:
                 out["bayes"] = bayes_map(scan, cands, solvers.time_limit)
+            if prior:
+                out.update({f"{m}+prior": score(scan, cands, m, solvers, prior=True) for m in METHODS})
             return out
 
         per_run = map_runs(work, runs, workers, desc=f"accuracy R={ratio:g}")
@@ -121,6 +135,14 @@ def accuracy_table(
             }
             for m in METHODS
         }
+        if prior:
+            table[f"{ratio:g}"]["with_prior"] = {
+                m: {
+                    "accuracy_pct": 100 * float(np.nanmean([p[f"{m}+prior"]["accuracy"] for p in per_run])),
+                    "gospa_mean_m": float(np.mean([p[f"{m}+prior"]["gospa"] for p in per_run])),
+                }
+                for m in METHODS
+            }
         proven = [p["exact"]["truth_beaten"] for p in per_run if "truth_beaten" in p["exact"]]
         table[f"{ratio:g}"]["truth_costlier_than_optimum_pct"] = (
             100 * float(np.mean(proven)) if proven else float("nan")
@@ -170,6 +192,19 @@ def print_accuracy(table: dict[str, Any], runs: int, n_targets: int) -> None:
     print("  truth>opt: scans (with a proven exact optimum) where the true association's own eq. 2 cost is")
     print("  higher than the optimum's — there no method that optimises eq. 2 can return the truth;")
     print("  ghosts: median number of intensity-S candidates per scan that are not targets")
+    if any("with_prior" in cells for cells in table.values()):
+        print("\nWith the scenario's prior (region= the square, target_density= M / area; a project extension)")
+        out = [["R", *(f"{m} %" for m in METHODS), *(f"GOSPA {m[:5]} m" for m in METHODS)]]
+        for ratio, cells in table.items():
+            w = cells["with_prior"]
+            out.append(
+                [
+                    ratio,
+                    *(f"{w[m]['accuracy_pct']:.1f}" for m in METHODS),
+                    *(f"{w[m]['gospa_mean_m']:.0f}" for m in METHODS),
+                ]
+            )
+        print_rows(out, [4, 12, 13, 8, 13, 12, 12])
     if any("bayes_map" in cells for cells in table.values()):
         print("\nBound — exact MAP under the scenario's own model (uniform prior over the square, Laplace marginal)")
         out = [["R", "MAP accuracy %", "truth costlier than MAP %", "proven runs"]]
@@ -197,6 +232,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--no-airspace",
         action="store_true",
         help="run the intensity method without its valid-airspace step (the library default)",
+    )
+    parser.add_argument(
+        "--prior",
+        action="store_true",
+        help="also run every method with the scenario's prior (region= the square, target_density= M/area)",
     )
     parser.add_argument(
         "--bayes-bound",
@@ -252,7 +292,9 @@ def main(args: argparse.Namespace) -> int:
     solvers = Solvers(
         args.time_limit, not args.no_airspace, args.max_iter, args.gap_tol, args.sensor_order, args.polish
     )
-    accuracy = accuracy_table(args.runs, args.seed, args.ratios, args.targets, args.workers, solvers, args.bayes_bound)
+    accuracy = accuracy_table(
+        args.runs, args.seed, args.ratios, args.targets, args.workers, solvers, args.bayes_bound, args.prior
+    )
     print_accuracy(accuracy, args.runs, args.targets)
     timing: list[dict[str, Any]] = []
     if not args.no_timing:

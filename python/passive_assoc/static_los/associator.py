@@ -27,6 +27,7 @@ from ..assignment.sd import ASSIGN_SD_MAX_NODES, _solver_sizes, solve_validated
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import ATTRIBUTE_CONSTRAINTS, AttributeStd
 from .candidates import CHI2_1DOF_99, ENUMERATION_CONSTRAINTS, enumerate_validated, stage_counts
+from .prior import PricedCandidates, check_region, priced
 
 __all__ = ["Method", "StaticAssociation", "StaticAssociator", "associate_static"]
 
@@ -129,6 +130,16 @@ class StaticAssociator:
     attribute_std, eta, combination
         The gate's attribute stds, threshold and Dempster reading, as in
         :class:`passive_assoc.FormationLocator`.
+    region : sequence of float, optional
+        Where targets can be: ``(xmin, xmax, ymin, ymax)`` (2-D) or with ``zmin, zmax`` (3-D),
+        metres. With ``target_density`` it turns eq. 2 into the posterior cost under a uniform
+        prior over the region (a project extension; :mod:`passive_assoc.static_los.prior`):
+        candidates outside the region, or better explained as false alarms, are dropped before
+        the method runs. Default None: eq. 2 as the paper.
+    target_density : float, optional
+        Expected targets per m² (2-D) or m³ (3-D) in the region, e.g. the number of targets
+        you expect divided by the region's area. Needed with ``region``; alone, it applies the
+        prior without a boundary.
     n_threads : int, optional
         Threads for the enumeration and the intensity method's chains (None: all cores);
         results are identical for any value.
@@ -155,6 +166,8 @@ class StaticAssociator:
     attribute_std: AttributeStd | None = None
     eta: float = 0.6
     combination: Literal["simple", "two_outcome"] = "simple"
+    region: Sequence[float] | None = None
+    target_density: float | None = None
 
     #: Declared constraints of the scalar parameters (``pd`` and ``false_alarm_density`` are
     #: per-sensor arrays, checked against the network at :meth:`associate`). Checked once,
@@ -172,12 +185,18 @@ class StaticAssociator:
         "polish": [Boolean()],
         "exact_backend": [Options("auto", "branch_bound", "highs")],
         **ATTRIBUTE_CONSTRAINTS,
+        "target_density": [Interval(float, 0.0, None, closed="neither"), None],
     }
 
     def __post_init__(self) -> None:
         checked = validate({name: getattr(self, name) for name in self._constraints}, self._constraints)
         for name, value in checked.items():
             object.__setattr__(self, name, value)  # normalised: NumPy scalars become int/float
+        if self.region is not None:
+            if self.target_density is None:
+                raise ValueError("target_density: needed with region (expected targets per m² or m³ in it)")
+            n = np.size(self.region)
+            check_region(self.region, 2 if n == 4 else 3)  # the network's dimension is checked per scan
 
     def candidates(self, measurements: MeasurementTable, sensors: SensorNetwork) -> Candidates:
         """Every gated candidate tuple of the scan (see :func:`enumerate_candidates`; the
@@ -206,12 +225,16 @@ class StaticAssociator:
         StaticAssociation
             Every input row is in exactly one accepted tuple or in the clutter set.
         """
-        cands = self.candidates(measurements, sensors)
+        enumerated = self.candidates(measurements, sensors)
         report: dict[str, Any] = {
             "method": self.method,
-            "candidates": len(cands.costs),
-            "stage_counts": stage_counts(cands),
+            "candidates": len(enumerated.costs),
+            "stage_counts": stage_counts(enumerated),
         }
+        cands: Candidates | PricedCandidates = enumerated
+        if self.target_density is not None:
+            cands = priced(enumerated, check_region(self.region, sensors.ndim), self.target_density)
+            report["priced_candidates"] = len(cands.costs)
         if self.method == "intensity":
             settings = IntensitySettings(self.vote_fraction, self.valid_airspace, self.max_chains, self.n_threads)
             out = _core.intensity_search(cands.tuples, cands.positions, cands.costs, cands.sizes, settings)
@@ -284,7 +307,9 @@ def _cached_associator(key: tuple[Any, ...]) -> StaticAssociator:
     return StaticAssociator(method, **{k: v for k, _, v in items})
 
 
-def _result(cands: Candidates, chosen: NDArray[np.int64], n_rows: int, report: dict[str, Any]) -> StaticAssociation:
+def _result(
+    cands: Candidates | PricedCandidates, chosen: NDArray[np.int64], n_rows: int, report: dict[str, Any]
+) -> StaticAssociation:
     rows = cands.rows[chosen]
     used = rows >= 0
     flat = rows[used]
