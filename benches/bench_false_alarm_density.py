@@ -1,8 +1,9 @@
 """Issue 16's hand-written case: the paper's three sensors, three well-separated targets
 (2 mrad noise) and one false alarm on one sensor, 300 trials. Counts the Lagrangian's
-outcomes with the default false-alarm density (p_false · n / span), with the same formula
-floored at one false alarm per sensor sector (max(p_false · n, 1) / span, passed explicitly:
-a candidate default, not the library's), and with fixed densities.
+outcomes with the library's default false-alarm density (the larger of p_false · n and the
+sensor's report excess over the median sensor, per span), with the fraction alone
+(p_false · n / span, the default before issue 16), with the fraction floored at one false alarm
+per sensor sector (max(p_false · n, 1) / span), and with fixed densities.
 
     python3 benches/bench_false_alarm_density.py [--trials 300]
 """
@@ -14,15 +15,18 @@ import collections
 
 import numpy as np
 import passive_assoc as pa
-from passive_assoc.static_los.batch import default_density_per_scan
 
 
-def floored(table: pa.MeasurementTable, n_sensors: int, p_false: float = 0.05) -> np.ndarray:
-    """max(p_false · n, 1) / span per sensor: the default with at least one false alarm."""
-    default = default_density_per_scan(table, np.zeros(len(table), np.int64), 1, n_sensors, p_false)[0]
+def per_span(table: pa.MeasurementTable, n_sensors: int, false_alarms: np.ndarray) -> np.ndarray:
+    """``false_alarms`` per sensor over the bearing span of its reports (as the default)."""
+    spans = np.array([np.ptp(table.azimuth[table.sensor == j]) for j in range(n_sensors)])
+    return false_alarms / np.maximum(spans, 1e-3)
+
+
+def fraction(table: pa.MeasurementTable, n_sensors: int, floor: float, p_false: float = 0.05) -> np.ndarray:
+    """max(p_false · n, floor) / span per sensor."""
     counts = np.bincount(table.sensor, minlength=n_sensors)
-    span = p_false * np.maximum(counts, 1) / default  # the default's area, recovered
-    return np.maximum(p_false * counts, 1.0) / span
+    return per_span(table, n_sensors, np.maximum(p_false * np.maximum(counts, 1), floor))
 
 
 def main() -> None:
@@ -44,11 +48,18 @@ def main() -> None:
         rows.append((j, rng.uniform(min(own) - 0.2, max(own) + 0.2)))
         s, a = np.array(rows).T
         table = pa.MeasurementTable.from_arrays(s.astype(int), np.zeros(len(s)), a)
-        for name, density in (("default", None), ("floored", floored(table, 3)), ("1.0", 1.0), ("3.0", 3.0)):
+        variants = (
+            ("default", None),
+            ("fraction", fraction(table, 3, 0.0)),
+            ("floored", fraction(table, 3, 1.0)),
+            ("1.0", 1.0),
+            ("3.0", 3.0),
+        )
+        for name, density in variants:
             r = pa.associate_static(table, sensors, "lagrangian", false_alarm_density=density)
             full = int(np.sum((r.tuples >= 0).sum(axis=1) == 3))
             right[name] += len(r.positions) == 3 and full == 3 and r.clutter.tolist() == [9]
-    for name in ("default", "floored", "1.0", "3.0"):
+    for name in ("default", "fraction", "floored", "1.0", "3.0"):
         print(f"{name:>8}: three full targets and the false alarm as clutter in {right[name]}/{args.trials}")
 
 

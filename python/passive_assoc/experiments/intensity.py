@@ -15,7 +15,7 @@ import numpy as np
 from .._core import Candidates
 from ..assignment import assign_sd
 from ..evaluation import gospa
-from ..simulation.static_los import SQUARE_X, SQUARE_Y, StaticScan, static_scan
+from ..simulation.static_los import SQUARE_X, SQUARE_Y, StaticScan, sector, static_scan
 from ..static_los import associate_static, enumerate_candidates
 from ..static_los.associator import Method
 from ..static_los.prior import check_region, prior_costs
@@ -73,21 +73,33 @@ def score(
     return out
 
 
-def scenario_prior(scan: StaticScan) -> dict[str, Any]:
-    """The scenario's own prior as ``StaticAssociator`` options: targets uniform over the
-    square at density M / area."""
+def scenario_prior(scan: StaticScan, pd: float = 0.95, p_false: float = 0.05) -> dict[str, Any]:
+    """What a user who knows the scenario knows, as ``StaticAssociator`` options: targets
+    uniform over the square at density M / area, and each sensor's false-alarm density — the
+    simulation's Poisson mean ``p_false / (1 - p_false) · pd · M`` over the sector the square
+    covers from it (instead of the default's estimate from the scan)."""
     area = (SQUARE_X[1] - SQUARE_X[0]) * (SQUARE_Y[1] - SQUARE_Y[0])
-    return {"region": (*SQUARE_X, *SQUARE_Y), "target_density": len(scan.targets) / area}
+    mean = p_false / (1 - p_false) * pd * len(scan.targets)
+    widths = np.array([high - low for low, high in map(sector, scan.sensors.positions[:, :2])])
+    return {
+        "region": (*SQUARE_X, *SQUARE_Y),
+        "target_density": len(scan.targets) / area,
+        "false_alarm_density": mean / widths,
+    }
 
 
-def bayes_map(scan: StaticScan, cands: Candidates, time_limit: float) -> dict[str, float]:
+def bayes_map(scan: StaticScan, time_limit: float) -> dict[str, float]:
     """The best any method can expect here: the exact MAP association under the scenario's own
-    model, which eq. 2 only approximates. Each candidate's cost becomes the negative log
-    posterior ratio with the true prior — targets uniform over the square at density M/area —
-    by Laplace's approximation of the marginal likelihood: eq. 2 − ln(M/area) − ln(2π √det P)
-    − ln(prior mass of the square under N(x̂, P)). Returns its accuracy and whether the truth's
-    own cost is higher than that MAP's (then no estimator of the association can prefer it)."""
+    model, which eq. 2 only approximates — its candidates priced with the scenario's own
+    false-alarm density and prior (:func:`scenario_prior`,
+    :func:`passive_assoc.static_los.prior.prior_costs`) and solved exactly with ``assign_sd``
+    (the associators' options do the same through ``exact``). Returns its accuracy and whether
+    the truth's own cost is higher than that MAP's (then no estimator of the association can
+    prefer it)."""
     prior = scenario_prior(scan)
+    cands = enumerate_candidates(
+        scan.measurements, scan.sensors, false_alarm_density=prior["false_alarm_density"], n_threads=1
+    )
     cost = prior_costs(cands, check_region(prior["region"], 2), prior["target_density"])
     keep = np.flatnonzero(np.isfinite(cost) & (cost < 0))
     solved = assign_sd(cands.tuples[keep], cost[keep], cands.sizes, method="exact", time_limit=time_limit)
@@ -122,7 +134,7 @@ def accuracy_table(
             cands = enumerate_candidates(scan.measurements, scan.sensors, n_threads=1)
             out: dict[str, dict[str, float]] = {m: score(scan, cands, m, solvers) for m in METHODS}
             if bayes:
-                out["bayes"] = bayes_map(scan, cands, solvers.time_limit)
+                out["bayes"] = bayes_map(scan, solvers.time_limit)
             if prior:
                 out.update({f"{m}+prior": score(scan, cands, m, solvers, prior=True) for m in METHODS})
             return out
@@ -193,7 +205,10 @@ def print_accuracy(table: dict[str, Any], runs: int, n_targets: int) -> None:
     print("  higher than the optimum's — there no method that optimises eq. 2 can return the truth;")
     print("  ghosts: median number of intensity-S candidates per scan that are not targets")
     if any("with_prior" in cells for cells in table.values()):
-        print("\nWith the scenario's prior (region= the square, target_density= M / area; a project extension)")
+        print(
+            "\nWith what the scenario's user knows (region= the square, target_density= M / area, "
+            "false_alarm_density= the simulation's; a project extension)"
+        )
         out = [["R", *(f"{m} %" for m in METHODS), *(f"GOSPA {m[:5]} m" for m in METHODS)]]
         for ratio, cells in table.items():
             w = cells["with_prior"]
@@ -236,7 +251,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--prior",
         action="store_true",
-        help="also run every method with the scenario's prior (region= the square, target_density= M/area)",
+        help="also run every method with what the scenario's user knows: region, target density, false-alarm density",
     )
     parser.add_argument(
         "--bayes-bound",

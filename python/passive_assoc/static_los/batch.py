@@ -20,7 +20,7 @@ from .._settings import EnumerationSettings, IntensitySettings, SdSettings
 from ..assignment.sd import ASSIGN_SD_MAX_NODES
 from ..data import MeasurementTable, SensorNetwork
 from .associator import Method, _associator
-from .candidates import _per_sensor, _spans
+from .candidates import _per_sensor, _spans, expected_false_alarms
 
 __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
 
@@ -169,5 +169,6 @@ def default_density_per_scan(
     if table.ndim == 3:
         heights = np.maximum(_spans(key, table.elevation[ours], counts), 1e-3)
         area = np.where(counts > 0, area * heights, area)
-    density: NDArray[np.float64] = np.maximum(p_false * np.maximum(counts, 1) / area, 1e-12)
+    expected = expected_false_alarms(counts.reshape(n_scans, n_sensors), p_false).ravel()
+    density: NDArray[np.float64] = np.maximum(expected / area, 1e-12)
     return density.reshape(n_scans, n_sensors)

@@ -1,0 +1,101 @@
+"""Fuzzy track initiation at scale (issue 16 §2): time, peak memory and where the time goes,
+against the number of targets and of sensors.
+
+The scene is the paper's, grown: 3-D sensors 20 km apart on the x axis (2 of them: the paper's
+pair), targets at random in x ∈ [0, 20] km, y ∈ [1, 16] km, z = 1 km with the paper's speeds
+(100-200 m/s, random heading in the plane), 8 scans of 15 s, sensor j sampling 5 s after
+sensor j − 1, σ = 5 mrad, clutter twice the true reports per sensor and scan (the paper's
+ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs in its own process
+(peak RSS is per process) with a wall-clock cap; the defaults of `FuzzyTrackInitiator`.
+
+    python3 benches/bench_initiation_scale.py [--targets 4 8 16] [--sensors 2 3] [--cap 120]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+
+CASE = r"""
+import json, resource, sys, time
+import numpy as np
+import passive_assoc as pa
+from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
+
+n_targets, n_sensors, seed = (int(v) for v in sys.argv[1:4])
+rng = np.random.default_rng(seed)
+sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
+speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
+states = np.column_stack([
+    rng.uniform(0, 20e3 * max(n_sensors - 1, 1), n_targets), rng.uniform(1e3, 16e3, n_targets),
+    np.full(n_targets, 1e3), speed * np.cos(heading), speed * np.sin(heading), np.zeros(n_targets),
+])
+targets = [ConstantVelocityTarget(s, t0=0.0) for s in states]
+times = [5.0 * j + 15.0 * np.arange(8) for j in range(n_sensors)]
+scenario = simulate(sensors, targets, times, clutter_per_scan=2 * n_targets, azimuth_window=(0, np.pi),
+                    elevation_window=(0, np.pi / 2), t0=0.0, seed=seed)
+start = time.perf_counter()
+result = pa.FuzzyTrackInitiator().initiate(scenario.measurements, sensors, t0=0.0)
+seconds = time.perf_counter() - start
+truth = scenario.measurements.truth
+found = set()
+for track in result.tracks:
+    labels, counts = np.unique(truth[track.measurements], return_counts=True)
+    if labels[np.argmax(counts)] >= 0 and 3 * counts.max() >= 2 * len(track.measurements):
+        found.add(int(labels[np.argmax(counts)]))
+print(json.dumps({
+    "rows": len(scenario.measurements), "seconds": seconds, "tracks": len(result.tracks), "found": len(found),
+    "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    "stages": result.diagnostics.stage_seconds, "counts": result.diagnostics.stage_counts,
+}))
+"""
+
+
+def run_case(n_targets: int, n_sensors: int, seed: int, cap: float) -> dict | None:
+    try:
+        out = subprocess.run(
+            [sys.executable, "-c", CASE, str(n_targets), str(n_sensors), str(seed)],
+            capture_output=True,
+            text=True,
+            timeout=cap,
+            check=True,
+        )
+    except subprocess.TimeoutExpired:
+        return None
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--targets", type=int, nargs="+", default=[4, 8, 16, 32])
+    parser.add_argument("--sensors", type=int, nargs="+", default=[2, 3])
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--cap", type=float, default=120.0, help="seconds per case before giving up")
+    args = parser.parse_args()
+    print(
+        "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | searched | "
+        "time in fit / search / detection |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for n_sensors in args.sensors:
+        for n_targets in args.targets:
+            case = run_case(n_targets, n_sensors, args.seed, args.cap)
+            if case is None:
+                print(f"| {n_sensors} | {n_targets} | | > {args.cap:g} | | | | | | |")
+                continue
+            st, c = case["stages"], case["counts"]
+            shares = " / ".join(
+                f"{100 * st[k] / case['seconds']:.0f} %" if case["seconds"] > 0 else "-"
+                for k in ("fit", "descent", "detection")
+            )
+            print(
+                f"| {n_sensors} | {n_targets} | {case['rows']} | {case['seconds']:.3g} | {case['peak_mb']:.0f} | "
+                f"{case['tracks']} | {case['found']}/{n_targets} | {c['fitted']} | {c['supported']} | {shares} |"
+            )
+            sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
