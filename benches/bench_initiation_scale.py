@@ -53,7 +53,8 @@ print(json.dumps({
 """
 
 
-def run_case(n_targets: int, n_sensors: int, seed: int, cap: float) -> dict | None:
+def run_case(n_targets: int, n_sensors: int, seed: int, cap: float) -> dict | str | None:
+    """The case's figures; its error's last line when it fails; None past the cap."""
     try:
         out = subprocess.run(
             [sys.executable, "-c", CASE, str(n_targets), str(n_sensors), str(seed)],
@@ -64,6 +65,8 @@ def run_case(n_targets: int, n_sensors: int, seed: int, cap: float) -> dict | No
         )
     except subprocess.TimeoutExpired:
         return None
+    except subprocess.CalledProcessError as err:
+        return err.stderr.strip().splitlines()[-1]
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -82,8 +85,9 @@ def main() -> None:
     for n_sensors in args.sensors:
         for n_targets in args.targets:
             case = run_case(n_targets, n_sensors, args.seed, args.cap)
-            if case is None:
-                print(f"| {n_sensors} | {n_targets} | | > {args.cap:g} | | | | | | |")
+            if case is None or isinstance(case, str):
+                what = f"> {args.cap:g}" if case is None else f"refused: {case}"
+                print(f"| {n_sensors} | {n_targets} | | {what} | | | | | | |")
                 continue
             st, c = case["stages"], case["counts"]
             shares = " / ".join(
