@@ -4,6 +4,7 @@ support gate. Prints the time, the tracks, how many rows of each track are one t
 the stage counts.
 
     python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too]
+    python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20   # found per seed
 """
 
 from __future__ import annotations
@@ -15,11 +16,37 @@ import numpy as np
 import passive_assoc as pa
 
 
+def found_over_seeds(n: int, pd: float, seeds: int) -> None:
+    """Targets whose track holds at least two thirds of its rows' majority, and extra tracks."""
+    found = extra = 0
+    for seed in range(seeds):
+        scenario = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd)
+        result = pa.FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+        truth = scenario.measurements.truth
+        assert truth is not None
+        hit = set()
+        for track in result.tracks:
+            labels, counts = np.unique(truth[track.measurements], return_counts=True)
+            k = int(labels[np.argmax(counts)])
+            if k >= 0 and 3 * counts.max() >= 2 * len(track.measurements) and k not in hit:
+                hit.add(k)
+            else:
+                extra += 1
+        found += len(hit)
+    print(f"{n} targets, Pd {pd}, {seeds} seeds: {found}/{n * seeds} targets found, {extra} other tracks")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--targets", type=int, nargs="+", default=[5, 8])
     parser.add_argument("--no-gate-too", action="store_true", help="also run with support_gate=False (slow)")
+    parser.add_argument("--pd", type=float, default=1.0)
+    parser.add_argument("--seeds", type=int, default=0, help="instead: targets found over seeds 0..N-1")
     args = parser.parse_args()
+    if args.seeds:
+        for n in args.targets:
+            found_over_seeds(n, args.pd, args.seeds)
+        return
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):

@@ -63,6 +63,7 @@ class InitiationSettings:
     refine_passes: int
     candidate_scans: int
     support_gate: bool
+    track_test_z: float | None
     n_threads: int | None
 
 

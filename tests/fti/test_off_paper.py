@@ -79,3 +79,17 @@ def test_a_scene_where_no_candidate_survives_warns_and_says_why() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # the paper's own scene does not warn
         assert len(FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors).tracks) == 4
+
+
+def test_the_track_test_dissolves_a_track_threaded_through_clutter() -> None:
+    """5 targets, 3 sensors in 2-D, 10 clutter bearings per scan: a search can thread 15 of 24
+    scans' clutter (more than Nd = 14). Its refit χ² is far above a target's."""
+    scenario = pa.bearing_only_2d_scenario(10, n_targets=5, n_sensors=3, clutter_ratio=2)
+    truth = scenario.measurements.truth
+    assert truth is not None
+    off = FuzzyTrackInitiator(track_test=None).initiate(scenario.measurements, scenario.sensors)
+    clutter_only = [t for t in off.tracks if np.all(truth[t.measurements] < 0)]
+    assert len(off.tracks) == 6 and len(clutter_only) == 1
+    result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    assert targets_tracked(result, scenario) == [0, 1, 2, 3, 4]
+    assert set(clutter_only[0].measurements) <= set(result.clutter)

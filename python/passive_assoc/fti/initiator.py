@@ -18,6 +18,7 @@ from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.special import ndtri
 
 from .. import _core
 from .._inputs import check_pair
@@ -181,6 +182,11 @@ class FuzzyTrackInitiator:
         the paper, every candidate is searched). Such a candidate cannot become a target, and
         in 2-D, where four bearings fit exactly and no χ² gate exists, nearly every candidate
         is of that kind (docs/methods.md §1).
+    track_test : float or None
+        Dissolve a final track whose ML refit χ² is above the χ²(dof) quantile at this tail
+        probability (dof = angles − state dimension); its measurements become clutter (a
+        project extension; None: off). A track threaded through clutter has residuals spread
+        over the whole gate (χ²/dof near 8); a target's are noise. Default 1e-6.
     max_candidates : int
         Refuse (ValueError) rather than exhaust memory when more candidates than this reach
         the fitting stage.
@@ -204,6 +210,7 @@ class FuzzyTrackInitiator:
     refine_passes: int = 2
     candidate_scans: int = 4
     support_gate: bool = True
+    track_test: float | None = 1e-6
     max_candidates: int = 500_000
     n_threads: int | None = None
 
@@ -225,6 +232,7 @@ class FuzzyTrackInitiator:
         "refine_passes": [Interval(int, 0, None)],
         "candidate_scans": [Interval(int, 1, None)],
         "support_gate": [Boolean()],
+        "track_test": [Interval(float, 0.0, 0.5, closed="neither"), None],
         "max_candidates": [Interval(int, 1, None)],
         "n_threads": [Interval(int, 1, None), None],
     }
@@ -290,6 +298,7 @@ class FuzzyTrackInitiator:
             refine_passes=self.refine_passes,
             candidate_scans=self.candidate_scans,
             support_gate=self.support_gate,
+            track_test_z=None if self.track_test is None else float(-ndtri(self.track_test)),
             n_threads=self.n_threads,
         )
         out = _core.initiate(table, network, self._pairs(network.n_sensors), (spread_az, spread_el), settings)

@@ -41,6 +41,7 @@ pub struct InitiationSettings {
     refine_passes: i64,
     candidate_scans: i64,
     support_gate: bool,
+    track_test_z: Option<f64>,
     n_threads: Option<i64>,
 }
 
@@ -63,7 +64,8 @@ impl InitiationSettings {
             .with_max_candidates(count("max_candidates", self.max_candidates, 1)?)?
             .with_refine_passes(count("refine_passes", self.refine_passes, 0)?)
             .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?
-            .with_support_gate(self.support_gate))
+            .with_support_gate(self.support_gate)
+            .with_track_test(self.track_test_z)?)
     }
 }
 

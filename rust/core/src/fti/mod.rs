@@ -40,7 +40,9 @@ mod tests;
 mod tests_missed;
 
 pub use closeness::{closeness, closeness_and_gradient, Precomputed, Spreads};
-pub use options::{DescentOptions, InitiationOptions, Scaling, CHI2_2DOF_999};
+pub use options::{
+    chi2_quantile, DescentOptions, InitiationOptions, Scaling, CHI2_2DOF_999, TRACK_TEST_Z,
+};
 pub use pipeline::initiate;
 
 use crate::data::{Measurements, Sensors};

@@ -7,6 +7,24 @@ use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 /// measurements give 8 equations for 6 unknowns.
 pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 
+/// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
+pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
+
+/// χ²(dof) quantile at standard-normal level `z` by Wilson–Hilferty (conservative, i.e.
+/// slightly high, at few degrees of freedom; within 3 % from 10).
+///
+/// ```
+/// use passive_assoc_core::fti::{chi2_quantile, TRACK_TEST_Z};
+/// // SciPy's chi2.isf(1e-6, k) is 27.63, 46.86 and 182.13 at k = 2, 10, 100.
+/// assert!((30.0..30.5).contains(&chi2_quantile(2.0, TRACK_TEST_Z)));
+/// assert!((46.86..48.3).contains(&chi2_quantile(10.0, TRACK_TEST_Z)));
+/// assert!((182.1..182.7).contains(&chi2_quantile(100.0, TRACK_TEST_Z)));
+/// ```
+pub fn chi2_quantile(dof: f64, z: f64) -> f64 {
+    let h = 2.0 / (9.0 * dof);
+    dof * (1.0 - h + z * h.sqrt()).powi(3)
+}
+
 /// The linear change of variables each descent works in. See [`descent`](super::descent).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Scaling {
@@ -125,6 +143,7 @@ impl DescentOptions {
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | ≈ 0.45 kB per stored candidate, ≈ 3 s of fitting per thread |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
+/// | `track_test` | z = 4.753 (tail 10⁻⁶) | see [`with_track_test`](Self::with_track_test) |
 /// | `support_gate` | on | see [`support`](super::support) |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
 ///
@@ -160,6 +179,7 @@ pub struct InitiationOptions {
     refine_passes: usize,
     candidate_scans: usize,
     support_gate: bool,
+    track_test: Option<f64>,
 }
 
 impl Default for InitiationOptions {
@@ -183,6 +203,7 @@ impl Default for InitiationOptions {
             refine_passes: 2,
             candidate_scans: 4,
             support_gate: true,
+            track_test: Some(TRACK_TEST_Z),
         }
     }
 }
@@ -311,6 +332,21 @@ impl InitiationOptions {
     pub fn with_support_gate(mut self, support_gate: bool) -> Self {
         self.support_gate = support_gate;
         self
+    }
+
+    /// Dissolve a final track whose refit χ² exceeds the χ²(dof) quantile at standard-normal
+    /// level `z` (Wilson–Hilferty; dof = angles − state dimension), its rows becoming clutter
+    /// (project extension; finite `> 0`, `None` = off). A track of clutter reports threads
+    /// them at residuals spread over the whole gate (χ²/dof ≈ 8 for a uniform ±5σ spread); a
+    /// target's is χ²-distributed. Default z = 4.753, a true track's tail probability 10⁻⁶.
+    pub fn with_track_test(mut self, z: Option<f64>) -> CoreResult<Self> {
+        positive("track_test", z)?;
+        self.track_test = z;
+        Ok(self)
+    }
+
+    pub fn track_test(&self) -> Option<f64> {
+        self.track_test
     }
 
     pub fn support_gate(&self) -> bool {

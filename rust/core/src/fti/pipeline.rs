@@ -9,6 +9,7 @@ use super::candidates;
 use super::closeness::{closeness, Precomputed, Spreads};
 use super::descent::{descend_all, merge};
 use super::detection::{classify, detect};
+use super::options::chi2_quantile;
 use super::scans::{resolve_pairs, Scans};
 use super::support::{self, SupportTable};
 use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
@@ -109,6 +110,9 @@ pub fn initiate(
         }
         (tracks, labels) = final_tracks(&problem, &pre, &refined, relabelled);
     }
+    // The track test runs once, on the refined tracks: an early classification can give a
+    // target wrong rows that a refine pass then corrects.
+    let (tracks, labels) = tested(&problem, tracks, labels.len(), options);
     seconds.final_fit = clock.elapsed().as_secs_f64();
 
     Ok(Initiation {
@@ -212,6 +216,37 @@ fn final_tracks(
         tracks.push(track);
     }
     (tracks, out)
+}
+
+/// The tracks that pass the track test ([`InitiationOptions::with_track_test`]), relabelled;
+/// the rows of the others become clutter.
+fn tested(
+    problem: &Problem<'_>,
+    tracks: Vec<Track>,
+    n_rows: usize,
+    options: &InitiationOptions,
+) -> (Vec<Track>, Vec<i64>) {
+    let kept: Vec<Track> = tracks
+        .into_iter()
+        .filter(|t| passes_test(problem, t, options))
+        .collect();
+    let mut labels = vec![-1i64; n_rows];
+    for (k, track) in kept.iter().enumerate() {
+        for &m in &track.measurements {
+            labels[m] = k as i64;
+        }
+    }
+    (kept, labels)
+}
+
+/// Whether a refitted track's χ² is plausible for its degrees of freedom.
+fn passes_test(problem: &Problem<'_>, track: &Track, options: &InitiationOptions) -> bool {
+    let Some(z) = options.track_test() else {
+        return true;
+    };
+    let angles = track.measurements.len() * problem.layout.space.angles();
+    let dof = angles.saturating_sub(problem.layout.dim());
+    dof == 0 || track.chi2 <= chi2_quantile(dof as f64, z)
 }
 
 fn refit(
