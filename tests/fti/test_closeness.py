@@ -62,3 +62,18 @@ def test_closeness_bad_input(scenario: pa.Scenario) -> None:
         pa.maximize_closeness(m, sensors, scenario.true_states[:2], np.eye(6)[None])
     with pytest.raises(ValueError, match="scaling"):
         pa.maximize_closeness(m, sensors, scenario.true_states[:1], np.eye(6)[None], scaling="newton")
+
+
+def test_the_default_epoch_is_the_earliest_time() -> None:
+    """UNIX-epoch times: states at the first scan give the R they give on the same table with
+    times from 0 (issue 16: t0 from the data everywhere)."""
+    scenario = pa.paper_fti_scenario(seed=2)
+    columns = scenario.measurements.to_arrays()
+    columns["time"] = columns["time"] + 1.7e9
+    shifted = pa.MeasurementTable.from_columns(columns)
+    r0, g0 = pa.closeness(scenario.measurements, scenario.sensors, scenario.true_states)
+    r1, g1 = pa.closeness(shifted, scenario.sensors, scenario.true_states)
+    np.testing.assert_allclose(r1, r0, rtol=1e-9)
+    np.testing.assert_allclose(g1, g0, rtol=1e-6, atol=1e-12)
+    away = scenario.true_states + np.array([1000.0, 0, 0, 0, 0, 0])
+    assert np.all(r0 > pa.closeness(shifted, scenario.sensors, away)[0])  # R falls away from the truth

@@ -31,12 +31,20 @@ def _spreads(
     return table, network, (factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float))
 
 
+def _epoch(measurements: MeasurementTable, t0: float | None) -> float:
+    """``t0``, checked, or the table's earliest time (0 for an empty table)."""
+    if t0 is not None:
+        return as_float_scalar("t0", t0, finite=True)
+    times = np.asarray(measurements.time)
+    return float(times.min()) if times.size else 0.0
+
+
 def closeness(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     states: ArrayLike,
     *,
-    t0: float = 0.0,
+    t0: float | None = None,
     spread_factor: float = 2.0,
     n_threads: int | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -48,8 +56,10 @@ def closeness(
         All measurements of all sensors (R is the mean membership over every row).
     states : array_like, shape (P, D)
         X0 at ``t0``; D = 6 (3-D) or 4 (2-D).
-    t0 : float
-        Epoch of the states.
+    t0 : float, optional
+        Epoch of the states; default the earliest measurement time, as
+        :meth:`FuzzyTrackInitiator.initiate` and :func:`fit_ml` use (an epoch of 0 with UNIX
+        times near 1.7e9 s would leave every predicted position a product of huge numbers).
     spread_factor : float
         Membership spread as a multiple of each sensor's noise std (paper: 2).
     n_threads : int, optional
@@ -62,7 +72,7 @@ def closeness(
     x = as_float_array("states", states, shape=(None, d))
     require_state_range("states", x)
     return _core.closeness(
-        *_spreads(measurements, sensors, spread_factor), x, as_float_scalar("t0", t0, finite=True), n_threads
+        *_spreads(measurements, sensors, spread_factor), x, _epoch(measurements, t0), n_threads
     )
 
 
@@ -82,7 +92,7 @@ def maximize_closeness(
     starts: ArrayLike,
     covariances: ArrayLike,
     *,
-    t0: float = 0.0,
+    t0: float | None = None,
     spread_factor: float = 2.0,
     scaling: Literal["whitened", "diagonal"] = "whitened",
     max_iter: int = 100,
@@ -99,6 +109,8 @@ def maximize_closeness(
     starts : array_like, shape (P, D)
     covariances : array_like, shape (P, D, D)
         Positive definite.
+    t0 : float, optional
+        Epoch of the states; default the earliest measurement time (as :func:`closeness`).
     max_iter : int
         Iteration cap per search.
 
@@ -113,7 +125,7 @@ def maximize_closeness(
     if scaling not in ("whitened", "diagonal"):
         raise ValueError(f"scaling: must be 'whitened' or 'diagonal', got {scaling!r}")
     settings = DescentSettings(
-        t0=as_float_scalar("t0", t0, finite=True),
+        t0=_epoch(measurements, t0),
         scaling=scaling,
         max_iter=as_int_scalar("max_iter", max_iter, minimum=0),
         n_threads=n_threads,
