@@ -71,9 +71,7 @@ def closeness(
     d = 2 * sensors.ndim
     x = as_float_array("states", states, shape=(None, d))
     require_state_range("states", x)
-    return _core.closeness(
-        *_spreads(measurements, sensors, spread_factor), x, _epoch(measurements, t0), n_threads
-    )
+    return _core.closeness(*_spreads(measurements, sensors, spread_factor), x, _epoch(measurements, t0), n_threads)
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,8 @@
 //!   vacuous there). In 2-D two bearing lines always meet, so the rule does not exist.
 //! * **behind-sensor**: the meeting point must be in front of both sensors (positive ranges).
 //! * **v_max**: the speed implied by the first and last meeting midpoints (each at the mean
-//!   time of its two rays) must be ≤ `v_max`. Give a margin: midpoints carry noise.
+//!   time of its two rays) must be ≤ `v_max`. Give a margin: midpoints carry noise. The
+//!   `v_max` count also applies the motion-corrected ray gate ([`super::motion_gate`]).
 //! * **χ² gate** (3-D only): after the fit, λ ≤ `chi2_gate` (default χ²(2) 99.9 % = 13.8155:
 //!   8 equations, 6 unknowns). In 2-D the 4 bearings give 4 equations for 4 unknowns: the fit
 //!   is exact (λ = 0 up to rounding) and the gate has no information, so it is skipped.
@@ -28,6 +29,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::motion_gate;
 use super::scans::Scans;
 use super::{InitiationOptions, Problem, StageCounts};
 use crate::error::{reserve_one, CoreError, CoreResult};
@@ -63,10 +65,10 @@ pub struct Candidate {
 /// two samples, ranges along each ray and the closest-point distance (0 in 2-D).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Meeting {
-    point: [f64; 3],
-    time: f64,
-    range_a: f64,
-    range_b: f64,
+    pub(super) point: [f64; 3],
+    pub(super) time: f64,
+    pub(super) range_a: f64,
+    pub(super) range_b: f64,
     distance: f64,
 }
 
@@ -126,7 +128,7 @@ pub fn generate(
 
 /// Pairs every row of `rows_a` with every row of `rows_b` under the ray gate and the
 /// behind-sensor rule; returns the survivors and how many passed the ray gate.
-fn ray_pairs(
+pub(super) fn ray_pairs(
     problem: &Problem<'_>,
     rows_a: &[usize],
     rows_b: &[usize],
@@ -235,7 +237,8 @@ fn combine(
             return Ok(()); // the binding raises KeyboardInterrupt; nothing partial escapes
         }
         for l in lasts {
-            if !speed_passes(f, l, options.v_max()) {
+            if !speed_passes(f, l, options.v_max()) || !motion_gate::passes(problem, f, l, options)
+            {
                 continue;
             }
             set.counts.v_max += 1;

@@ -25,10 +25,12 @@ pub mod candidates;
 pub mod closeness;
 pub mod descent;
 pub mod detection;
+mod motion_gate;
 mod options;
 pub mod pipeline;
 pub mod scans;
 pub mod support;
+mod track_test;
 
 #[cfg(test)]
 mod reference;

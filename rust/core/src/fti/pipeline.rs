@@ -9,9 +9,9 @@ use super::candidates;
 use super::closeness::{closeness, Precomputed, Spreads};
 use super::descent::{descend_all, merge};
 use super::detection::{classify, detect};
-use super::options::chi2_quantile;
 use super::scans::{resolve_pairs, Scans};
 use super::support::{self, SupportTable};
+use super::track_test;
 use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
@@ -112,7 +112,9 @@ pub fn initiate(
     }
     // The track test runs once, on the refined tracks: an early classification can give a
     // target wrong rows that a refine pass then corrects.
-    let (tracks, labels) = tested(&problem, tracks, labels.len(), options);
+    let n_detect = options.n_detect_for(scans.len());
+    let (tracks, labels) =
+        track_test::tested(&problem, &pre, tracks, labels.len(), n_detect, options);
     seconds.final_fit = clock.elapsed().as_secs_f64();
 
     Ok(Initiation {
@@ -218,38 +220,7 @@ fn final_tracks(
     (tracks, out)
 }
 
-/// The tracks that pass the track test ([`InitiationOptions::with_track_test`]), relabelled;
-/// the rows of the others become clutter.
-fn tested(
-    problem: &Problem<'_>,
-    tracks: Vec<Track>,
-    n_rows: usize,
-    options: &InitiationOptions,
-) -> (Vec<Track>, Vec<i64>) {
-    let kept: Vec<Track> = tracks
-        .into_iter()
-        .filter(|t| passes_test(problem, t, options))
-        .collect();
-    let mut labels = vec![-1i64; n_rows];
-    for (k, track) in kept.iter().enumerate() {
-        for &m in &track.measurements {
-            labels[m] = k as i64;
-        }
-    }
-    (kept, labels)
-}
-
-/// Whether a refitted track's χ² is plausible for its degrees of freedom.
-fn passes_test(problem: &Problem<'_>, track: &Track, options: &InitiationOptions) -> bool {
-    let Some(z) = options.track_test() else {
-        return true;
-    };
-    let angles = track.measurements.len() * problem.layout.space.angles();
-    let dof = angles.saturating_sub(problem.layout.dim());
-    dof == 0 || track.chi2 <= chi2_quantile(dof as f64, z)
-}
-
-fn refit(
+pub(super) fn refit(
     problem: &Problem<'_>,
     pre: &Precomputed,
     start: &[f64; MAX_DIM],
