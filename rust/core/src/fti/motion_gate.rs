@@ -86,8 +86,7 @@ mod tests {
     use super::passes;
     use crate::fti::candidates::{fit_candidate, ray_pairs, RayPair};
     use crate::fti::scans::Scans;
-    use crate::fti::{sim, InitiationOptions, Problem, CHI2_2DOF_999};
-    use crate::geometry::model::{Motion, Space, StateLayout};
+    use crate::fti::{sim, InitiationOptions, CHI2_2DOF_999};
 
     /// Every 4-tuple of the outer scans of two cluttered paper runs, brute force: the gate
     /// keeps every candidate whose fit passes the χ² gate and rejects most of the others.
@@ -97,12 +96,7 @@ mod tests {
             let sc = sim::paper(seed, true, 8, 8);
             let sensors = sc.sensors();
             let table = sc.measurements(&sensors);
-            let problem = Problem {
-                sensors,
-                measurements: table,
-                layout: StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 }),
-                t0: 0.0,
-            };
+            let problem = sim::spatial_problem(sensors, table);
             let scans = Scans::new(&table, 2);
             let [a1, b1, a2, b2] = scans.scan_slots([0, 1], 1, false)[0].map(|k| scans.scan(k));
             // The pairs the pipeline combines: past the ray gate and the behind-sensor rule.

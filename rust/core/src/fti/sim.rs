@@ -5,7 +5,7 @@
 use std::f64::consts::PI;
 
 use crate::data::{Measurements, Sensors};
-use crate::fti::Spreads;
+use crate::fti::{Problem, Spreads};
 use crate::geometry::model::{predict, Motion, Space, StateLayout};
 
 /// Table 1 of the paper: X0 = (x0, y0, z0, vx, vy, vz) at t0 = 0.
@@ -213,4 +213,14 @@ pub fn planar(seed: u64, noisy: bool, clutter: usize, n_scans: usize) -> Scenari
     }
     sc.shuffle(&mut rng);
     sc
+}
+
+/// The 3-D constant-velocity problem of a table with epoch 0 (the simulations' t0).
+pub fn spatial_problem<'a>(sensors: Sensors<'a>, measurements: Measurements<'a>) -> Problem<'a> {
+    Problem {
+        sensors,
+        measurements,
+        layout: StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 }),
+        t0: 0.0,
+    }
 }

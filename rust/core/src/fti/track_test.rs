@@ -100,21 +100,15 @@ mod tests {
     use crate::fti::closeness::Precomputed;
     use crate::fti::pipeline::refit;
     use crate::fti::sim;
-    use crate::fti::Problem;
     use crate::fti::TRACK_TEST_Z;
-    use crate::geometry::model::{Motion, Space, StateLayout, MAX_DIM};
+    use crate::geometry::model::MAX_DIM;
 
     #[test]
     fn a_stray_row_is_trimmed_and_a_mixed_track_dissolved() {
         let sc = sim::paper(11, true, 0, 8);
         let sensors = sc.sensors();
         let table = sc.measurements(&sensors);
-        let problem = Problem {
-            sensors,
-            measurements: table,
-            layout: StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 }),
-            t0: 0.0,
-        };
+        let problem = sim::spatial_problem(sensors, table);
         let pre = Precomputed::new(&sensors, &table, &sc.spreads(), 0.0).expect("valid");
         let truth = &sc.truth;
         let rows_of =
