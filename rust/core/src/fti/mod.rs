@@ -24,6 +24,7 @@
 pub mod candidates;
 pub mod closeness;
 pub mod descent;
+mod descent_options;
 pub mod detection;
 mod motion_gate;
 mod options;
@@ -42,10 +43,9 @@ mod tests;
 mod tests_missed;
 
 pub use closeness::{closeness, closeness_and_gradient, Precomputed, Spreads};
-pub use options::{
-    chi2_quantile, DescentOptions, InitiationOptions, Scaling, CHI2_2DOF_999, TRACK_TEST_Z,
-};
+pub use options::{DescentOptions, InitiationOptions, Scaling, CHI2_2DOF_999};
 pub use pipeline::initiate;
+pub use track_test::{chi2_quantile, TRACK_TEST_Z};
 
 use crate::data::{Measurements, Sensors};
 use crate::geometry::model::{Observation, StateLayout};

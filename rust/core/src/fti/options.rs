@@ -1,130 +1,13 @@
 //! The initiation's settings, built with validated `with_*` setters: [`InitiationOptions`] and
 //! the steepest-ascent search's [`DescentOptions`].
 
-use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+pub use super::descent_options::{DescentOptions, Scaling};
+use super::track_test::TRACK_TEST_Z;
+use crate::error::{CoreError, CoreResult};
 
 /// 99.9 % quantile of χ²(2): the default candidate gate in 3-D, where a candidate's 4
 /// measurements give 8 equations for 6 unknowns.
 pub const CHI2_2DOF_999: f64 = 13.815510557964274;
-
-/// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
-pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
-
-/// χ²(dof) quantile at standard-normal level `z` by Wilson–Hilferty (conservative, i.e.
-/// slightly high, at few degrees of freedom; within 3 % from 10).
-///
-/// ```
-/// use passive_assoc_core::fti::{chi2_quantile, TRACK_TEST_Z};
-/// // SciPy's chi2.isf(1e-6, k) is 27.63, 46.86 and 182.13 at k = 2, 10, 100.
-/// assert!((30.0..30.5).contains(&chi2_quantile(2.0, TRACK_TEST_Z)));
-/// assert!((46.86..48.3).contains(&chi2_quantile(10.0, TRACK_TEST_Z)));
-/// assert!((182.1..182.7).contains(&chi2_quantile(100.0, TRACK_TEST_Z)));
-/// ```
-pub fn chi2_quantile(dof: f64, z: f64) -> f64 {
-    let h = 2.0 / (9.0 * dof);
-    dof * (1.0 - h + z * h.sqrt()).powi(3)
-}
-
-/// The linear change of variables each descent works in. See [`descent`](super::descent).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Scaling {
-    /// `x = x_c + L·y` with `L·Lᵀ` the candidate fit's covariance (default).
-    Whitened,
-    /// `x_k = x_ck + σ_k·y_k` with σ the candidate fit's standard deviations.
-    Diagonal,
-}
-
-impl std::str::FromStr for Scaling {
-    type Err = UnknownOption;
-
-    /// `"whitened"` or `"diagonal"`.
-    fn from_str(value: &str) -> Result<Self, UnknownOption> {
-        let choices = [("whitened", Self::Whitened), ("diagonal", Self::Diagonal)];
-        parse_option(value, &choices, "'whitened' or 'diagonal'")
-    }
-}
-
-/// Settings of the steepest-ascent search (eq. 19), built with validated `with_*` setters.
-/// See [`descent`](super::descent) for the method.
-///
-/// ```
-/// use passive_assoc_core::fti::{DescentOptions, Scaling};
-/// let o = DescentOptions::default().with_max_iter(20).with_scaling(Scaling::Diagonal)
-///     .with_step_tol(1e-3).unwrap();
-/// assert_eq!((o.max_iter(), o.scaling(), o.step_tol()), (20, Scaling::Diagonal, 1e-3));
-/// assert!(DescentOptions::default().with_step_tol(0.0).is_err());
-/// assert!(DescentOptions::default().with_r_tol(-1.0).is_err());
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DescentOptions {
-    scaling: Scaling,
-    max_iter: usize,
-    step_tol: f64,
-    r_tol: f64,
-}
-
-impl Default for DescentOptions {
-    /// Whitened scaling, `max_iter = 100`, `step_tol = 1e-2` (scaled units), `r_tol = 1e-9`.
-    fn default() -> Self {
-        Self {
-            scaling: Scaling::Whitened,
-            max_iter: 100,
-            step_tol: 1e-2,
-            r_tol: 1e-9,
-        }
-    }
-}
-
-impl DescentOptions {
-    /// The change of variables: whitened (the default) or diagonal.
-    pub fn with_scaling(mut self, scaling: Scaling) -> Self {
-        self.scaling = scaling;
-        self
-    }
-
-    /// Iteration cap per descent (0 = keep the candidate fits as the optima).
-    pub fn with_max_iter(mut self, max_iter: usize) -> Self {
-        self.max_iter = max_iter;
-        self
-    }
-
-    /// Stop when an accepted step is shorter than this in scaled units (standard deviations
-    /// of the candidate fit; finite, `> 0`): far below the estimation noise; the final
-    /// Gauss-Newton refit supplies the precision.
-    pub fn with_step_tol(mut self, step_tol: f64) -> CoreResult<Self> {
-        positive("descent step_tol", Some(step_tol))?;
-        self.step_tol = step_tol;
-        Ok(self)
-    }
-
-    /// Stop when an accepted step raises R by less than `r_tol·R` (finite, `>= 0`).
-    pub fn with_r_tol(mut self, r_tol: f64) -> CoreResult<Self> {
-        if !(r_tol.is_finite() && r_tol >= 0.0) {
-            return Err(CoreError::out_of_range(
-                "descent r_tol",
-                "must be finite and >= 0",
-            ));
-        }
-        self.r_tol = r_tol;
-        Ok(self)
-    }
-
-    pub fn scaling(&self) -> Scaling {
-        self.scaling
-    }
-
-    pub fn max_iter(&self) -> usize {
-        self.max_iter
-    }
-
-    pub fn step_tol(&self) -> f64 {
-        self.step_tol
-    }
-
-    pub fn r_tol(&self) -> f64 {
-        self.r_tol
-    }
-}
 
 /// Every parameter of the initiation except the data, built with validated `with_*` setters.
 /// `Default` gives the recommended values:
@@ -417,7 +300,7 @@ impl InitiationOptions {
 }
 
 /// `Ok` for `None` or a finite positive value; otherwise the error naming `arg`.
-fn positive(arg: &'static str, value: Option<f64>) -> CoreResult<()> {
+pub(super) fn positive(arg: &'static str, value: Option<f64>) -> CoreResult<()> {
     match value {
         Some(v) if !(v.is_finite() && v > 0.0) => Err(CoreError::out_of_range(
             arg,

@@ -15,10 +15,27 @@
 
 use super::closeness::Precomputed;
 use super::detection::residual2;
-use super::options::chi2_quantile;
 use super::pipeline::refit;
 use super::{InitiationOptions, Problem, Track};
 use crate::geometry::model::MAX_DIM;
+
+/// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
+pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
+
+/// χ²(dof) quantile at standard-normal level `z` by Wilson–Hilferty (conservative, i.e.
+/// slightly high, at few degrees of freedom; within 3 % from 10).
+///
+/// ```
+/// use passive_assoc_core::fti::{chi2_quantile, TRACK_TEST_Z};
+/// // SciPy's chi2.isf(1e-6, k) is 27.63, 46.86 and 182.13 at k = 2, 10, 100.
+/// assert!((30.0..30.5).contains(&chi2_quantile(2.0, TRACK_TEST_Z)));
+/// assert!((46.86..48.3).contains(&chi2_quantile(10.0, TRACK_TEST_Z)));
+/// assert!((182.1..182.7).contains(&chi2_quantile(100.0, TRACK_TEST_Z)));
+/// ```
+pub fn chi2_quantile(dof: f64, z: f64) -> f64 {
+    let h = 2.0 / (9.0 * dof);
+    dof * (1.0 - h + z * h.sqrt()).powi(3)
+}
 
 /// Standard-normal level of an outlier row: χ²(angles) at 1 − 10⁻³.
 const OUTLIER_Z: f64 = 3.090_232_306_167_813;
