@@ -14,25 +14,20 @@ import time
 
 import numpy as np
 import passive_assoc as pa
+from passive_assoc.evaluation import track_targets
 
 
 def found_over_seeds(n: int, pd: float, seeds: int) -> None:
-    """Targets whose track holds at least two thirds of its rows' majority, and extra tracks."""
+    """Targets found (a track holds at least two thirds of its rows from it:
+    :func:`passive_assoc.evaluation.track_targets`) and the other tracks, over the seeds."""
     found = extra = 0
     for seed in range(seeds):
         scenario = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd)
         result = pa.FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
-        truth = scenario.measurements.truth
-        assert truth is not None
-        hit = set()
-        for track in result.tracks:
-            labels, counts = np.unique(truth[track.measurements], return_counts=True)
-            k = int(labels[np.argmax(counts)])
-            if k >= 0 and 3 * counts.max() >= 2 * len(track.measurements) and k not in hit:
-                hit.add(k)
-            else:
-                extra += 1
-        found += len(hit)
+        assert scenario.measurements.truth is not None
+        held = track_targets(result.labels, scenario.measurements.truth)
+        distinct = len(set(held.tolist()) - {-1})
+        found, extra = found + distinct, extra + len(held) - distinct
     print(f"{n} targets, Pd {pd}, {seeds} seeds: {found}/{n * seeds} targets found, {extra} other tracks")
 
 

@@ -22,6 +22,7 @@ CASE = r"""
 import json, resource, sys, time
 import numpy as np
 import passive_assoc as pa
+from passive_assoc.evaluation import track_targets
 from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
 
 n_targets, n_sensors, seed = (int(v) for v in sys.argv[1:4])
@@ -39,12 +40,7 @@ scenario = simulate(sensors, targets, times, clutter_per_scan=2 * n_targets, azi
 start = time.perf_counter()
 result = pa.FuzzyTrackInitiator().initiate(scenario.measurements, sensors, t0=0.0)
 seconds = time.perf_counter() - start
-truth = scenario.measurements.truth
-found = set()
-for track in result.tracks:
-    labels, counts = np.unique(truth[track.measurements], return_counts=True)
-    if labels[np.argmax(counts)] >= 0 and 3 * counts.max() >= 2 * len(track.measurements):
-        found.add(int(labels[np.argmax(counts)]))
+found = set(track_targets(result.labels, scenario.measurements.truth).tolist()) - {-1}
 print(json.dumps({
     "rows": len(scenario.measurements), "seconds": seconds, "tracks": len(result.tracks), "found": len(found),
     "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,

@@ -9,28 +9,22 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
 import passive_assoc as pa
+from passive_assoc.evaluation import track_targets
 from passive_assoc.experiments.fti import run_experiment, summarise
 from passive_assoc.fti import FuzzyTrackInitiator
 
 
 def planar(initiator: FuzzyTrackInitiator, n: int, pd: float, seeds: int, n_scans: int) -> tuple[int, int]:
-    """Targets found (a track holding ≥ 2/3 of its rows from it) and other tracks, over seeds."""
+    """Targets found (:func:`passive_assoc.evaluation.track_targets`) and other tracks, over seeds."""
     found = extra = 0
     for seed in range(seeds):
         scene = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd, n_scans=n_scans)
-        truth = scene.measurements.truth
-        assert truth is not None
-        hit: set[int] = set()
-        for track in initiator.initiate(scene.measurements, scene.sensors).tracks:
-            labels, counts = np.unique(truth[track.measurements], return_counts=True)
-            k = int(labels[np.argmax(counts)])
-            if k >= 0 and 3 * counts.max() >= 2 * len(track.measurements) and k not in hit:
-                hit.add(k)
-            else:
-                extra += 1
-        found += len(hit)
+        assert scene.measurements.truth is not None
+        result = initiator.initiate(scene.measurements, scene.sensors)
+        held = track_targets(result.labels, scene.measurements.truth)
+        distinct = len(set(held.tolist()) - {-1})
+        found, extra = found + distinct, extra + len(held) - distinct
     return found, extra
 
 

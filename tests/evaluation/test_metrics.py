@@ -196,3 +196,20 @@ def test_pairwise_from_labels_end_to_end() -> None:
     pred = same_cluster_pairs([0, 0, 1, 1, 1, -1])  # (0,1) right; (2,3),(2,4) wrong; (3,4) right
     s = pairwise_scores(pred, true)
     assert (s.tp, s.fp, s.fn) == (2, 2, 2) and s.f1 == 0.5
+
+
+def test_track_targets_names_the_target_of_each_track() -> None:
+    from passive_assoc.evaluation import track_targets
+
+    # Track 0: 2 of 3 rows are target 4's (exactly two thirds); track 1: target 0 and clutter
+    # tie, and a tie is no majority; track 2: all clutter; the last row is clutter.
+    labels = [0, 0, 0, 1, 1, 2, 2, -1]
+    truth = [4, 4, 1, 0, -1, -1, -1, 0]
+    assert track_targets(labels, truth).tolist() == [4, -1, -1]
+    assert track_targets(labels, truth, min_share=0.5).tolist() == [4, -1, -1]
+    assert track_targets(labels, truth, min_share=0.9).tolist() == [-1, -1, -1]
+    assert track_targets([], []).tolist() == []
+    with pytest.raises(ValueError, match="min_share"):
+        track_targets(labels, truth, min_share=0.0)
+    with pytest.raises(ValueError, match="truth"):
+        track_targets(labels, truth[:-1])

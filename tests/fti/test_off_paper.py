@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 import passive_assoc as pa
 import pytest
+from passive_assoc.evaluation import track_targets
 from passive_assoc.fti import FuzzyTrackInitiator, InitiationResult
 from passive_assoc.simulation import Scenario
 from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
@@ -20,13 +21,9 @@ def targets_tracked(result: InitiationResult, scenario: Scenario) -> list[int]:
     is the lowest share on the seeds below, 0.79 at Pd = 1)."""
     truth = scenario.measurements.truth
     assert truth is not None
-    found = []
-    for track in result.tracks:
-        labels, counts = np.unique(truth[track.measurements], return_counts=True)
-        k = int(labels[np.argmax(counts)])
-        assert k >= 0 and 3 * counts.max() >= 2 * len(track.measurements), (labels, counts)
-        found.append(k)
-    return sorted(found)
+    found = track_targets(result.labels, truth)
+    assert np.all(found >= 0), found
+    return sorted(found.tolist())
 
 
 def test_a_target_missed_in_an_outer_scan_is_initiated_by_the_second_pass() -> None:

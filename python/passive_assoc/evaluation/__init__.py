@@ -15,6 +15,7 @@ from .metrics import (
 )
 from .references import perfect_association_fit, target_crlbs
 from .track_scores import track_association_scores
+from .track_truth import track_targets
 
 __all__ = [
     "GospaResult",
@@ -28,4 +29,5 @@ __all__ = [
     "same_cluster_pairs",
     "target_crlbs",
     "track_association_scores",
+    "track_targets",
 ]
