@@ -4,7 +4,7 @@ support gate. Prints the time, the tracks, how many rows of each track are one t
 the stage counts.
 
     python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too]
-    python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20   # found per seed
+    python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9]   # found per seed
 """
 
 from __future__ import annotations
@@ -17,18 +17,19 @@ import passive_assoc as pa
 from passive_assoc.evaluation import track_targets
 
 
-def found_over_seeds(n: int, pd: float, seeds: int) -> None:
+def found_over_seeds(n: int, pd: float, seeds: int, n_detect: int | None = None) -> None:
     """Targets found (a track holds at least two thirds of its rows from it:
     :func:`passive_assoc.evaluation.track_targets`) and the other tracks, over the seeds."""
     found = extra = 0
     for seed in range(seeds):
         scenario = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd)
-        result = pa.FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+        result = pa.FuzzyTrackInitiator(n_detect=n_detect).initiate(scenario.measurements, scenario.sensors)
         assert scenario.measurements.truth is not None
         held = track_targets(result.labels, scenario.measurements.truth)
         distinct = len(set(held.tolist()) - {-1})
         found, extra = found + distinct, extra + len(held) - distinct
-    print(f"{n} targets, Pd {pd}, {seeds} seeds: {found}/{n * seeds} targets found, {extra} other tracks")
+    nd = "the data's Nd" if n_detect is None else f"Nd {n_detect}"
+    print(f"{n} targets, Pd {pd}, {seeds} seeds, {nd}: {found}/{n * seeds} targets found, {extra} other tracks")
 
 
 def main() -> None:
@@ -37,10 +38,11 @@ def main() -> None:
     parser.add_argument("--no-gate-too", action="store_true", help="also run with support_gate=False (slow)")
     parser.add_argument("--pd", type=float, default=1.0)
     parser.add_argument("--seeds", type=int, default=0, help="instead: targets found over seeds 0..N-1")
+    parser.add_argument("--n-detect", type=int, default=None, help="with --seeds: a fixed Nd (default: the data's)")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
-            found_over_seeds(n, args.pd, args.seeds)
+            found_over_seeds(n, args.pd, args.seeds, args.n_detect)
         return
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
