@@ -11,8 +11,9 @@ from .._validation import as_int_array
 def track_targets(labels: ArrayLike, truth: ArrayLike, min_share: float = 2 / 3) -> NDArray[np.int64]:
     """The target each track holds: for track k (the rows with ``labels == k``, as
     :attr:`InitiationResult.labels`), the true target whose rows make at least ``min_share`` of
-    it, or -1 (mostly clutter, or no majority; a tie with clutter is no majority). Rows where two targets cross can go to the
-    other's track, so a share below 1 is still that target's track.
+    it, or -1 (mostly clutter, or no majority; a tie with clutter is no majority). Rows where
+    two targets cross can go to the other's track, so a share below 1 is still that target's
+    track.
 
     >>> track_targets([0, 0, 0, 1, 1, -1], [2, 2, -1, -1, -1, 0]).tolist()
     [2, -1]
