@@ -1,4 +1,5 @@
-//! The shortest-augmenting-path cores behind [`super`] (the warm-started variant is the child `warm`).
+//! The shortest-augmenting-path cores behind [`super`]: the sparse solver here, the dense one in
+//! the child `dense`, the complete sparse assignment in `full`, the warm-started one in `warm`.
 //!
 //! Both solvers are the shortest-augmenting-path method of Jonker & Volgenant in the form of
 //! Crouse (2016, "On implementing 2D rectangular assignment algorithms"), the algorithm behind
@@ -11,10 +12,11 @@
 
 use super::SparseCosts;
 
+mod dense;
 mod full;
 mod init;
 mod warm;
-use crate::error::{CoreError, CoreResult};
+pub(super) use dense::dense;
 pub(super) use full::sparse_full;
 pub(super) use warm::{sparse_warm, WarmState};
 
@@ -22,140 +24,6 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 const NONE: usize = usize::MAX;
-
-/// Crouse's algorithm for `nr <= nc`; returns the column of each row. `cost` has no NaN or
-/// `-inf` (checked by the caller); `+inf` entries are forbidden pairs.
-pub(super) fn dense(nr: usize, nc: usize, cost: &[f64]) -> CoreResult<Vec<usize>> {
-    let mut w = DenseWork::new(nr, nc);
-    // Square and finite: Jonker & Volgenant's start assigns most rows cheaply, and the
-    // augmenting paths below run only for the rest. `+inf` entries would make its prices
-    // infinite, and a rectangular problem needs its free columns' prices at 0.
-    let rows = if nr == nc && nr > 1 && cost.iter().all(|c| c.is_finite()) {
-        w.seed(init::jv_init(nr, cost), cost)
-    } else {
-        (0..nr).collect()
-    };
-    for cur in rows {
-        let Some((sink, min_val)) = w.shortest_path(cur, cost) else {
-            return Err(CoreError::ill_posed(
-                "costs",
-                format!(
-                    "row {cur} cannot be assigned: +inf entries forbid every complete assignment"
-                ),
-            ));
-        };
-        w.update_duals(cur, min_val);
-        augment(sink, cur, &w.path, &mut w.row4col, &mut w.col4row);
-    }
-    Ok(w.col4row)
-}
-
-/// Working state of the dense solver, allocated once per solve.
-struct DenseWork {
-    nc: usize,
-    u: Vec<f64>,
-    v: Vec<f64>,
-    dist: Vec<f64>,
-    path: Vec<usize>,
-    col4row: Vec<usize>,
-    row4col: Vec<usize>,
-    in_sr: Vec<bool>,
-    in_sc: Vec<bool>,
-}
-
-impl DenseWork {
-    fn new(nr: usize, nc: usize) -> Self {
-        Self {
-            nc,
-            u: vec![0.0; nr],
-            v: vec![0.0; nc],
-            dist: vec![f64::INFINITY; nc],
-            path: vec![NONE; nc],
-            col4row: vec![NONE; nr],
-            row4col: vec![NONE; nc],
-            in_sr: vec![false; nr],
-            in_sc: vec![false; nc],
-        }
-    }
-
-    /// Starts from `init`'s prices and partial matching, with each assigned row's dual at its
-    /// reduced cost (feasible: `init` keeps every assigned row at its cheapest column); returns
-    /// the rows still free.
-    fn seed(&mut self, init: init::Init, cost: &[f64]) -> Vec<usize> {
-        let nc = self.nc;
-        for (i, &j) in init.col4row.iter().enumerate() {
-            if j != NONE {
-                self.u[i] = cost[i * nc + j] - init.v[j];
-            }
-        }
-        (self.v, self.col4row, self.row4col) = (init.v, init.col4row, init.row4col);
-        init.free
-    }
-
-    /// Dijkstra from row `cur` to the nearest free column over reduced costs; `None` if every
-    /// reachable column is forbidden. The O(nc) scan per step beats a heap on dense rows.
-    fn shortest_path(&mut self, cur: usize, cost: &[f64]) -> Option<(usize, f64)> {
-        let nc = self.nc;
-        self.in_sr.fill(false);
-        self.in_sc.fill(false);
-        self.dist.fill(f64::INFINITY);
-        let (mut i, mut min_val) = (cur, 0.0);
-        loop {
-            self.in_sr[i] = true;
-            let j;
-            (j, min_val) = self.relax_row(i, &cost[i * nc..(i + 1) * nc], min_val)?;
-            self.in_sc[j] = true;
-            if self.row4col[j] == NONE {
-                return Some((j, min_val));
-            }
-            i = self.row4col[j];
-        }
-    }
-
-    /// Relaxes every unscanned column through row `i`, reached at distance `reached`; returns
-    /// the nearest unscanned column and its distance. This loop is the whole cost of a dense
-    /// solve, so it walks the row and the per-column arrays in order (no gather through a list
-    /// of remaining columns: sequential reads let the prefetcher keep up), on plain slices.
-    fn relax_row(&mut self, i: usize, row: &[f64], reached: f64) -> Option<(usize, f64)> {
-        let base = reached - self.u[i];
-        // Split borrows into plain slices so the optimiser sees they do not alias.
-        let nc = self.nc;
-        let (dist, path) = (&mut self.dist[..nc], &mut self.path[..nc]);
-        let (v, row4col, scanned) = (&self.v[..nc], &self.row4col[..nc], &self.in_sc[..nc]);
-        let row = &row[..nc];
-        let (mut lowest, mut index) = (f64::INFINITY, NONE);
-        // Columns from the last, as scipy's first search scans them, so that ties resolve to
-        // the same columns on simple problems.
-        for j in (0..nc).rev() {
-            if scanned[j] {
-                continue;
-            }
-            let r = base + row[j] - v[j];
-            if r < dist[j] {
-                path[j] = i;
-                dist[j] = r;
-            }
-            let d = dist[j];
-            // On ties prefer a free column: the search can stop there.
-            if d < lowest || (d == lowest && row4col[j] == NONE) {
-                lowest = d;
-                index = j;
-            }
-        }
-        (lowest < f64::INFINITY).then_some((index, lowest))
-    }
-
-    /// Crouse's dual update: keeps reduced costs of assigned rows non-negative.
-    fn update_duals(&mut self, cur: usize, min_val: f64) {
-        self.u[cur] += min_val;
-        for r in (0..self.u.len()).filter(|&r| self.in_sr[r] && r != cur) {
-            self.u[r] += min_val - self.dist[self.col4row[r]];
-        }
-        for j in (0..self.nc).filter(|&j| self.in_sc[j]) {
-            self.v[j] -= min_val - self.dist[j];
-        }
-    }
-}
 
 /// Flips the alternating path ending at column `sink` back to row `cur`.
 fn augment(mut j: usize, cur: usize, path: &[usize], row4col: &mut [usize], col4row: &mut [usize]) {

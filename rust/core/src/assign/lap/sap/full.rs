@@ -14,7 +14,13 @@ pub(in crate::assign::lap) fn sparse_full(
     costs: &SparseCosts,
 ) -> Result<Vec<usize>, usize> {
     w.load_full(costs);
+    if costs.n_rows() == costs.n_cols() {
+        w.column_reduction();
+    }
     for cur in 0..costs.n_rows() {
+        if w.col4row[cur] != NONE {
+            continue; // given its column by the column reduction
+        }
         let Some((sink, min_val)) = w.shortest_path(cur) else {
             w.reset();
             return Err(cur);
@@ -43,5 +49,33 @@ impl SparseWork {
         }
         self.size_for(costs.n_rows(), costs.n_cols());
         debug_assert!(self.col4row.iter().all(|&j| j == NONE));
+    }
+
+    /// The first phase of Jonker & Volgenant on the stored entries of a square problem: each
+    /// column priced at its cheapest entry (`v_j`, row duals staying 0, so every reduced cost
+    /// is ≥ 0 and the matched ones 0, the invariant of the searches) and given to that row if
+    /// it has no column yet, columns from the last as in the dense start; the searches then run only for the rows
+    /// left free. Square only: in a
+    /// rectangular problem a column left free must keep dual 0.
+    fn column_reduction(&mut self) {
+        let n = self.col4row.len();
+        let mut cheapest = vec![NONE; n];
+        self.v.fill(f64::INFINITY);
+        for i in 0..n {
+            for p in self.offs[i]..self.offs[i + 1] {
+                let (j, c) = (self.cols[p], self.vals[p]);
+                if c < self.v[j] {
+                    (self.v[j], cheapest[j]) = (c, i);
+                }
+            }
+        }
+        for j in (0..n).rev() {
+            let i = cheapest[j];
+            if i == NONE {
+                self.v[j] = 0.0; // no entry: the search reports the column's row infeasible
+            } else if self.col4row[i] == NONE {
+                (self.col4row[i], self.row4col[j]) = (j, i);
+            }
+        }
     }
 }
