@@ -32,6 +32,7 @@ pub mod pipeline;
 pub mod scans;
 pub mod support;
 mod track_test;
+mod tracking_gate;
 
 #[cfg(test)]
 mod reference;

@@ -160,9 +160,14 @@ impl Run {
         let clock = Instant::now();
         let n_detect = options.n_detect_for(scans.len());
         let starts = match &self.support {
-            Some(table) => {
-                support::filter(problem, table, set.candidates, options.gate(), n_detect)
-            }
+            Some(table) => support::filter(
+                problem,
+                table,
+                scans,
+                set.candidates,
+                options.gate(),
+                n_detect,
+            ),
             None => set.candidates,
         };
         counts.supported = starts.len();

@@ -18,21 +18,22 @@
 
 use super::candidates::Candidate;
 use super::scans::Scans;
+use super::tracking_gate;
 use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, residual_rows, Observation, Space};
 
 /// One scan as the gate reads it: where and when, the angle stds, and the rows' angles
 /// `[azimuth, elevation]` (wrapped) sorted by azimuth.
-struct ScanAngles {
-    probe: Observation,
-    sigma: [f64; 2],
-    angles: Vec<[f64; 2]>,
+pub(super) struct ScanAngles {
+    pub(super) probe: Observation,
+    pub(super) sigma: [f64; 2],
+    pub(super) angles: Vec<[f64; 2]>,
 }
 
 /// Every scan of a table, prepared once per initiation.
 pub struct SupportTable {
-    scans: Vec<ScanAngles>,
+    pub(super) scans: Vec<ScanAngles>,
 }
 
 impl SupportTable {
@@ -110,7 +111,11 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
 }
 
 /// The rows of `sorted` (by wrapped azimuth) within `width` of `centre`, modulo 2π.
-fn azimuth_window(sorted: &[[f64; 2]], centre: f64, width: f64) -> impl Iterator<Item = &[f64; 2]> {
+pub(super) fn azimuth_window(
+    sorted: &[[f64; 2]],
+    centre: f64,
+    width: f64,
+) -> impl Iterator<Item = &[f64; 2]> {
     use std::f64::consts::PI;
     let range = |lo: f64, hi: f64| {
         let start = sorted.partition_point(|a| a[0] < lo);
@@ -130,10 +135,12 @@ fn azimuth_window(sorted: &[[f64; 2]], centre: f64, width: f64) -> impl Iterator
     main.iter().chain(wrapped)
 }
 
-/// The candidates (in order) that the support gate keeps.
+/// The candidates (in order) that the support gate keeps: the fixed gate above, then the
+/// [`tracking gate`](super::tracking_gate) on the survivors.
 pub fn filter(
     problem: &Problem<'_>,
     table: &SupportTable,
+    scans: &Scans,
     candidates: Vec<Candidate>,
     gate: f64,
     n_detect: usize,
@@ -141,7 +148,10 @@ pub fn filter(
     use rayon::prelude::*;
     let keep: Vec<bool> = candidates
         .par_iter()
-        .map(|c| table.supports(problem, c, gate, n_detect))
+        .map(|c| {
+            table.supports(problem, c, gate, n_detect)
+                && tracking_gate::confirms(problem, table, scans, c, gate, n_detect)
+        })
         .collect();
     candidates
         .into_iter()
