@@ -9,6 +9,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
 (peak RSS is per process) with a wall-clock cap; the defaults of `FuzzyTrackInitiator`.
 
     python3 benches/bench_initiation_scale.py [--targets 4 8 16] [--sensors 2 3] [--cap 120]
+    python3 benches/bench_initiation_scale.py --area-km 200 --v-max 250   # a wide scene
 """
 
 from __future__ import annotations
@@ -26,11 +27,12 @@ from passive_assoc.evaluation import track_targets
 from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
 
 n_targets, n_sensors, seed = (int(v) for v in sys.argv[1:4])
+area, v_max = float(sys.argv[4]) * 1e3, float(sys.argv[5])
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
 states = np.column_stack([
-    rng.uniform(0, 20e3 * max(n_sensors - 1, 1), n_targets), rng.uniform(1e3, 16e3, n_targets),
+    rng.uniform(0, max(20e3 * (n_sensors - 1), area), n_targets), rng.uniform(1e3, max(16e3, area), n_targets),
     np.full(n_targets, 1e3), speed * np.cos(heading), speed * np.sin(heading), np.zeros(n_targets),
 ])
 targets = [ConstantVelocityTarget(s, t0=0.0) for s in states]
@@ -38,7 +40,7 @@ times = [5.0 * j + 15.0 * np.arange(8) for j in range(n_sensors)]
 scenario = simulate(sensors, targets, times, clutter_per_scan=2 * n_targets, azimuth_window=(0, np.pi),
                     elevation_window=(0, np.pi / 2), t0=0.0, seed=seed)
 start = time.perf_counter()
-result = pa.FuzzyTrackInitiator().initiate(scenario.measurements, sensors, t0=0.0)
+result = pa.FuzzyTrackInitiator(v_max=v_max).initiate(scenario.measurements, sensors, t0=0.0)
 seconds = time.perf_counter() - start
 found = set(track_targets(result.labels, scenario.measurements.truth).tolist()) - {-1}
 print(json.dumps({
@@ -49,11 +51,13 @@ print(json.dumps({
 """
 
 
-def run_case(n_targets: int, n_sensors: int, seed: int, cap: float) -> dict | str | None:
+def run_case(
+    n_targets: int, n_sensors: int, seed: int, cap: float, area: float = 0.0, v_max: float = 500.0
+) -> dict | str | None:
     """The case's figures; its error's last line when it fails; None past the cap."""
     try:
         out = subprocess.run(
-            [sys.executable, "-c", CASE, str(n_targets), str(n_sensors), str(seed)],
+            [sys.executable, "-c", CASE, str(n_targets), str(n_sensors), str(seed), str(area), str(v_max)],
             capture_output=True,
             text=True,
             timeout=cap,
@@ -72,6 +76,8 @@ def main() -> None:
     parser.add_argument("--sensors", type=int, nargs="+", default=[2, 3])
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--cap", type=float, default=120.0, help="seconds per case before giving up")
+    parser.add_argument("--area-km", type=float, default=0.0, help="spread targets over this square instead (km)")
+    parser.add_argument("--v-max", type=float, default=500.0, help="the initiator's v_max (m/s); default its default")
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | searched | "
@@ -80,7 +86,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|---|---|")
     for n_sensors in args.sensors:
         for n_targets in args.targets:
-            case = run_case(n_targets, n_sensors, args.seed, args.cap)
+            case = run_case(n_targets, n_sensors, args.seed, args.cap, args.area_km, args.v_max)
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"
                 print(f"| {n_sensors} | {n_targets} | | {what} | | | | | | |")

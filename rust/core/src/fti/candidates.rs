@@ -3,8 +3,9 @@
 //!
 //! The product of the four scans is never materialised. The first-scan rays of a and b are
 //! paired and the pair-level rules applied; likewise the last-scan rays; then surviving
-//! first-pairs × last-pairs are combined under the v_max rule and fitted in chunks (in
-//! parallel, collected in order). The pruning rules, each optional:
+//! first-pairs × last-pairs are combined under the v_max rule (module `combine`: a grid over
+//! the meetings, parallel tests, a cap on the work) and fitted in chunks (in parallel,
+//! collected in order). The pruning rules, each optional:
 //!
 //! * **ray gate** (3-D only; `ray_gate` in σ): the two rays' closest-point distance must be
 //!   ≤ `ray_gate·√((σ_a·r_a)² + (σ_b·r_b)²) + v_max·|t_a − t_b|`. The first term is the
@@ -29,7 +30,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::motion_gate;
+use super::combine;
 use super::scans::Scans;
 use super::{InitiationOptions, Problem, StageCounts};
 use crate::error::{reserve_one, CoreError, CoreResult};
@@ -47,7 +48,7 @@ const CANDIDATE_STEP_SIGMAS: f64 = 0.1;
 
 /// Candidates fitted per parallel batch: large enough to feed every thread, small enough that
 /// the unfitted 4-tuples never take noticeable memory.
-const CHUNK: usize = 2048;
+pub(super) const CHUNK: usize = 2048;
 
 /// A fitted candidate: its rows (a-first, b-first, a-last, b-last), X0, the fit's standard
 /// deviations and the lower Cholesky factor of its covariance (the descent's scalings).
@@ -120,7 +121,7 @@ pub fn generate(
             .counts
             .behind
             .saturating_add(firsts.len().saturating_mul(lasts.len()));
-        combine(problem, &firsts, &lasts, options, &mut set)?;
+        combine::combine(problem, &firsts, &lasts, options, &mut set)?;
     }
     set.seconds_enumerate = start.elapsed().as_secs_f64() - set.seconds_fit;
     Ok(set)
@@ -222,63 +223,8 @@ fn ray_gate_passes(
     m.distance <= gate * noise + motion
 }
 
-/// Combines first- and last-scan ray pairs under the v_max rule and fits the survivors in
-/// chunks, appending the fitted candidates that pass the χ² gate to `set`.
-fn combine(
-    problem: &Problem<'_>,
-    firsts: &[RayPair],
-    lasts: &[RayPair],
-    options: &InitiationOptions,
-    set: &mut CandidateSet,
-) -> CoreResult<()> {
-    let mut chunk: Vec<(&RayPair, &RayPair)> = Vec::with_capacity(CHUNK);
-    for f in firsts {
-        if crate::parallel::interrupted() {
-            return Ok(()); // the binding raises KeyboardInterrupt; nothing partial escapes
-        }
-        for l in lasts {
-            if !speed_passes(f, l, options.v_max()) || !motion_gate::passes(problem, f, l, options)
-            {
-                continue;
-            }
-            set.counts.v_max += 1;
-            if set.counts.v_max > options.max_candidates() {
-                return Err(CoreError::CapExceeded {
-                    what: "candidates reaching the fitting stage",
-                    count: set.counts.v_max,
-                    cap: options.max_candidates(),
-                    hint:
-                        "tighten ray_gate or v_max, enable reject_behind, use fewer sensor pairs, \
-                           or raise max_candidates",
-                });
-            }
-            chunk.push((f, l));
-            if chunk.len() == CHUNK {
-                fit_chunk(problem, &chunk, options, set)?;
-                chunk.clear();
-                if crate::parallel::interrupted() {
-                    return Ok(());
-                }
-            }
-        }
-    }
-    fit_chunk(problem, &chunk, options, set)
-}
-
-fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) -> bool {
-    let Some(v_max) = v_max else { return true };
-    let (Some(f), Some(l)) = (first.meeting, last.meeting) else {
-        return false;
-    };
-    let distance = (0..3)
-        .map(|k| (l.point[k] - f.point[k]).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    distance <= v_max * (l.time - f.time)
-}
-
 /// Fits one chunk in parallel (collected in order) and applies the χ² gate.
-fn fit_chunk(
+pub(super) fn fit_chunk(
     problem: &Problem<'_>,
     chunk: &[(&RayPair, &RayPair)],
     options: &InitiationOptions,

@@ -23,6 +23,7 @@
 
 pub mod candidates;
 pub mod closeness;
+mod combine;
 pub mod descent;
 mod descent_options;
 pub mod detection;

@@ -1,0 +1,273 @@
+//! Combining a scan pair's first-scan ray pairs with its last-scan ray pairs under the
+//! `v_max` rule and the motion-corrected ray gate, then fitting the survivors in chunks.
+//!
+//! Each first pair is tested against the last pairs in parallel, in blocks, and the survivors
+//! are fitted in the order of a plain double loop, so the candidates do not depend on the
+//! thread count. Two things keep the work bounded (a project extension):
+//!
+//! * **A grid over the last meetings.** A last pair can pass `v_max` only if its meeting lies
+//!   within `v_max · (t_last − t_first)` of the first's, so the last meetings are binned in
+//!   cubes of that size (bounded over the whole scan pair) and a first pair is tested only
+//!   against the 3³ (3² in 2-D) cubes around its meeting. Where the scene is smaller than a
+//!   few cubes the grid cannot prune and every last pair is tested.
+//! * **A cap on the tests, known before any is made.** More than `WORK_PER_CANDIDATE ·
+//!   max_candidates` first × last tests for one scan pair is refused (`CapExceeded`) at once,
+//!   instead of running for minutes before the survivors reach `max_candidates`.
+
+use std::collections::HashMap;
+
+use rayon::prelude::*;
+
+use super::candidates::{fit_chunk, CandidateSet, RayPair, CHUNK};
+use super::motion_gate;
+use super::{InitiationOptions, Problem};
+use crate::error::{CoreError, CoreResult};
+use crate::geometry::model::Space;
+
+/// First × last tests allowed per allowed candidate (`max_candidates`): 10⁸ by default, about
+/// 20 s of testing on one core, while a survivor costs a fit of a few microseconds.
+const WORK_PER_CANDIDATE: usize = 200;
+
+/// First pairs tested together in parallel: their survivors are held until fitted.
+const BLOCK: usize = 64;
+
+/// Below this many cubes along the scene's longest side the grid prunes too little to pay.
+const MIN_CELLS_ACROSS: f64 = 4.0;
+
+/// Combines `firsts` × `lasts` (module doc) and fits the survivors into `set`.
+pub(super) fn combine(
+    problem: &Problem<'_>,
+    firsts: &[RayPair],
+    lasts: &[RayPair],
+    options: &InitiationOptions,
+    set: &mut CandidateSet,
+) -> CoreResult<()> {
+    let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
+    combine_with(problem, firsts, lasts, grid.as_ref(), options, set)
+}
+
+/// [`combine`] with the grid given (`None`: test every last pair).
+pub(super) fn combine_with(
+    problem: &Problem<'_>,
+    firsts: &[RayPair],
+    lasts: &[RayPair],
+    grid: Option<&Grid>,
+    options: &InitiationOptions,
+    set: &mut CandidateSet,
+) -> CoreResult<()> {
+    let near = |f: &RayPair| -> Vec<usize> {
+        match grid {
+            Some(g) => g.near(f),
+            None => (0..lasts.len()).collect(),
+        }
+    };
+    let work: usize = match grid {
+        Some(g) => firsts.par_iter().map(|f| g.count_near(f)).sum(),
+        None => firsts.len().saturating_mul(lasts.len()),
+    };
+    let cap = WORK_PER_CANDIDATE.saturating_mul(options.max_candidates());
+    if work > cap {
+        return Err(CoreError::CapExceeded {
+            what: "first × last ray-pair tests of one scan pair",
+            count: work,
+            cap,
+            hint: "set or lower v_max, tighten ray_gate, enable reject_behind, or raise \
+                   max_candidates (the cap is 200 tests per allowed candidate)",
+        });
+    }
+    let mut chunk: Vec<(&RayPair, &RayPair)> = Vec::with_capacity(CHUNK);
+    for block in firsts.chunks(BLOCK) {
+        if crate::parallel::interrupted() {
+            return Ok(()); // the binding raises KeyboardInterrupt; nothing partial escapes
+        }
+        let passing: Vec<Vec<usize>> = block
+            .par_iter()
+            .map(|f| {
+                let candidates = near(f);
+                let passes = |&l: &usize| {
+                    speed_passes(f, &lasts[l], options.v_max())
+                        && motion_gate::passes(problem, f, &lasts[l], options)
+                };
+                candidates.into_iter().filter(passes).collect()
+            })
+            .collect();
+        for (f, survivors) in block.iter().zip(passing) {
+            for l in survivors {
+                set.counts.v_max += 1;
+                if set.counts.v_max > options.max_candidates() {
+                    return Err(CoreError::CapExceeded {
+                        what: "candidates reaching the fitting stage",
+                        count: set.counts.v_max,
+                        cap: options.max_candidates(),
+                        hint: "tighten ray_gate or v_max, enable reject_behind, use fewer \
+                               sensor pairs, or raise max_candidates",
+                    });
+                }
+                chunk.push((f, &lasts[l]));
+                if chunk.len() == CHUNK {
+                    fit_chunk(problem, &chunk, options, set)?;
+                    chunk.clear();
+                }
+            }
+        }
+    }
+    fit_chunk(problem, &chunk, options, set)
+}
+
+pub(super) fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) -> bool {
+    let Some(v_max) = v_max else { return true };
+    let (Some(f), Some(l)) = (first.meeting, last.meeting) else {
+        return false;
+    };
+    let distance = (0..3)
+        .map(|k| (l.point[k] - f.point[k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    distance <= v_max * (l.time - f.time)
+}
+
+/// The last pairs' meetings binned in cubes of side `v_max · max(t_last − t_first)`.
+pub(super) struct Grid {
+    side: f64,
+    dims: usize,
+    cells: HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl Grid {
+    /// `None` when the grid cannot prune: no `v_max`, no meeting, an unbounded or
+    /// non-positive reach, or a scene fewer than [`MIN_CELLS_ACROSS`] cubes across.
+    pub(super) fn new(
+        space: Space,
+        firsts: &[RayPair],
+        lasts: &[RayPair],
+        v_max: Option<f64>,
+    ) -> Option<Self> {
+        let v_max = v_max?;
+        let times = |pairs: &[RayPair], pick: fn(f64, f64) -> f64, start: f64| {
+            (pairs.iter().filter_map(|p| p.meeting.map(|m| m.time))).fold(start, pick)
+        };
+        let earliest = times(firsts, f64::min, f64::INFINITY);
+        let latest = times(lasts, f64::max, f64::NEG_INFINITY);
+        let side = v_max * (latest - earliest);
+        if !(side.is_finite() && side > 0.0) {
+            return None;
+        }
+        let dims = space.position_dim();
+        let points = firsts.iter().chain(lasts).filter_map(|p| p.meeting);
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for m in points {
+            for k in 0..dims {
+                (lo[k], hi[k]) = (lo[k].min(m.point[k]), hi[k].max(m.point[k]));
+            }
+        }
+        let across = (0..dims).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) / side;
+        if across.is_nan() || across < MIN_CELLS_ACROSS {
+            return None;
+        }
+        let mut grid = Self {
+            side,
+            dims,
+            cells: HashMap::new(),
+        };
+        for (l, pair) in lasts.iter().enumerate() {
+            if let Some(m) = pair.meeting {
+                grid.cells.entry(grid.cell(&m.point)).or_default().push(l);
+            }
+        }
+        Some(grid)
+    }
+
+    fn cell(&self, point: &[f64; 3]) -> [i64; 3] {
+        // Saturating casts: a meeting far outside the scene lands in an edge cell, which
+        // only costs tests, never a missed pair (neighbours are still within one cube).
+        std::array::from_fn(|k| {
+            if k < self.dims {
+                (point[k] / self.side).floor() as i64
+            } else {
+                0
+            }
+        })
+    }
+
+    /// The cells around `f`'s meeting (none without one: it fails `v_max` anyway).
+    fn around(&self, f: &RayPair) -> impl Iterator<Item = &Vec<usize>> {
+        let centre = f.meeting.map(|m| self.cell(&m.point));
+        let reach = |k: usize| if k < self.dims { -1..=1 } else { 0..=0 };
+        let offsets = reach(0)
+            .flat_map(move |a| reach(1).flat_map(move |b| reach(2).map(move |c| [a, b, c])));
+        offsets.filter_map(move |d| {
+            let c = centre?;
+            let key = std::array::from_fn(|k| c[k].saturating_add(d[k]));
+            self.cells.get(&key)
+        })
+    }
+
+    /// The last pairs that may pass `v_max` with `f`, ascending.
+    fn near(&self, f: &RayPair) -> Vec<usize> {
+        let mut out: Vec<usize> = self.around(f).flatten().copied().collect();
+        out.sort_unstable();
+        out
+    }
+
+    fn count_near(&self, f: &RayPair) -> usize {
+        self.around(f).map(Vec::len).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fti::candidates::ray_pairs;
+    use crate::fti::scans::Scans;
+    use crate::fti::sim;
+    use crate::geometry::model::{Motion, StateLayout};
+
+    /// On cluttered 2-D and 3-D scenes with a `v_max` that reaches a few km, the grid prunes
+    /// the tests and finds exactly the candidates, in the same order, of testing every pair.
+    #[test]
+    fn the_grid_finds_exactly_the_candidates_of_the_full_scan() {
+        for (seed, planar) in [(1, true), (2, true), (3, false), (4, false)] {
+            let sc = if planar {
+                sim::planar(seed, true, 20, 8)
+            } else {
+                sim::paper(seed, true, 16, 8)
+            };
+            let sensors = sc.sensors();
+            let table = sc.measurements(&sensors);
+            let problem = Problem {
+                sensors,
+                measurements: table,
+                layout: StateLayout::new(sc.space, Motion::ConstantVelocity { t0: 0.0 }),
+                t0: 0.0,
+            };
+            let scans = Scans::new(&table, sensors.len());
+            let options = InitiationOptions::default()
+                .with_v_max(Some(60.0))
+                .expect("valid");
+            let ((a1, a2), (b1, b2)) = (
+                scans.first_last(0).expect("scans"),
+                scans.first_last(1).expect("scans"),
+            );
+            let pairs = |a: usize, b: usize| {
+                let rows = (scans.scan(a), scans.scan(b));
+                ray_pairs(&problem, rows.0, rows.1, &options)
+                    .expect("fits")
+                    .0
+            };
+            let (firsts, lasts) = (pairs(a1, b1), pairs(a2, b2));
+            let grid = Grid::new(sc.space, &firsts, &lasts, options.v_max()).expect("applies");
+            let tests: usize = firsts.iter().map(|f| grid.count_near(f)).sum();
+            assert!(
+                tests < firsts.len() * lasts.len() / 2,
+                "seed {seed}: {tests}"
+            );
+            let (mut with, mut without) = (CandidateSet::default(), CandidateSet::default());
+            combine_with(&problem, &firsts, &lasts, Some(&grid), &options, &mut with)
+                .expect("runs");
+            combine_with(&problem, &firsts, &lasts, None, &options, &mut without).expect("runs");
+            assert!(with.counts.v_max > 0, "seed {seed}: nothing to compare");
+            assert_eq!(with.counts.v_max, without.counts.v_max, "seed {seed}");
+            assert_eq!(with.candidates, without.candidates, "seed {seed}");
+        }
+    }
+}
