@@ -48,6 +48,14 @@ def test_three_sensors_in_2d_give_one_track_per_target(pd: float) -> None:
     assert len(fixed.tracks) > 3
 
 
+def test_issue_16s_eight_target_2d_scene_gives_one_track_per_target() -> None:
+    """``bearing_only_2d_scenario(3, n_targets=8, n_sensors=3, clutter_ratio=2)`` split two
+    targets between two tracks each (10 tracks) until split tracks were joined."""
+    scenario = pa.bearing_only_2d_scenario(3, n_targets=8, n_sensors=3, clutter_ratio=2)
+    result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    assert targets_tracked(result, scenario) == list(range(8))
+
+
 def test_two_sensors_and_four_scans_give_the_targets() -> None:
     """2 sensors x 4 scans = 8 reports per target: the paper's Nd = 9 cannot be reached (it
     gave 0 tracks and no warning; now it says why)."""

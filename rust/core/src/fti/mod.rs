@@ -32,6 +32,7 @@ mod options;
 pub mod pipeline;
 pub mod scans;
 pub mod support;
+mod track_join;
 mod track_test;
 mod tracking_gate;
 

@@ -11,6 +11,7 @@ use super::descent::{descend_all, merge};
 use super::detection::{classify, detect};
 use super::scans::{resolve_pairs, Scans};
 use super::support::{self, SupportTable};
+use super::track_join;
 use super::track_test;
 use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
@@ -96,6 +97,15 @@ pub fn initiate(
 
     let clock = Instant::now();
     let (mut tracks, mut labels) = final_tracks(&problem, &pre, &states, labels);
+    let n_detect = options.n_detect_for(scans.len());
+    if let Some(z) = options.track_test() {
+        let gate = options.gate();
+        if let Some(states) = track_join::joined(&problem, &pre, &scans, &tracks, n_detect, gate, z)
+        {
+            let relabelled = classify(&problem, &scans, &states, gate, options.one_per_scan())?;
+            (tracks, labels) = final_tracks(&problem, &pre, &states, relabelled);
+        }
+    }
     for _ in 0..options.refine_passes() {
         let refined: Vec<[f64; MAX_DIM]> = tracks.iter().map(|t| padded(&t.estimate)).collect();
         let relabelled = classify(
@@ -112,7 +122,6 @@ pub fn initiate(
     }
     // The track test runs once, on the refined tracks: an early classification can give a
     // target wrong rows that a refine pass then corrects.
-    let n_detect = options.n_detect_for(scans.len());
     let (tracks, labels) =
         track_test::tested(&problem, &pre, tracks, labels.len(), n_detect, options);
     seconds.final_fit = clock.elapsed().as_secs_f64();

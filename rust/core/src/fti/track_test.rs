@@ -71,7 +71,7 @@ pub(super) fn tested(
 
 /// `track` with its worst rows removed until its χ² passes, or `None` when that leaves it
 /// Nd rows or fewer (or its refit fails).
-fn trimmed(
+pub(super) fn trimmed(
     problem: &Problem<'_>,
     pre: &Precomputed,
     mut track: Track,
