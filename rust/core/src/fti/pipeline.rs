@@ -197,7 +197,7 @@ impl Run {
     }
 }
 
-fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
+pub(super) fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
     let mut x = [0.0; MAX_DIM];
     x[..estimate.len()].copy_from_slice(estimate);
     x

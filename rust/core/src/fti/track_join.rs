@@ -18,7 +18,7 @@
 
 use super::closeness::Precomputed;
 use super::detection::residual2;
-use super::pipeline::refit;
+use super::pipeline::{padded, refit};
 use super::scans::Scans;
 use super::track_test::trimmed;
 use super::{Problem, Track};
@@ -114,12 +114,6 @@ fn try_join(
     };
     let explains = |t: &Track| 2 * share(t) >= t.measurements.len();
     (kept.measurements.len() > most && explains(a) && explains(b)).then_some(kept)
-}
-
-fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
-    let mut x = [0.0; MAX_DIM];
-    x[..estimate.len()].copy_from_slice(estimate);
-    x
 }
 
 #[cfg(test)]
