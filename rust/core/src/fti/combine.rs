@@ -55,12 +55,6 @@ pub(super) fn combine_with(
     options: &InitiationOptions,
     set: &mut CandidateSet,
 ) -> CoreResult<()> {
-    let near = |f: &RayPair| -> Vec<usize> {
-        match grid {
-            Some(g) => g.near(f),
-            None => (0..lasts.len()).collect(),
-        }
-    };
     let work: usize = match grid {
         Some(g) => firsts.par_iter().map(|f| g.count_near(f)).sum(),
         None => firsts.len().saturating_mul(lasts.len()),
@@ -83,12 +77,14 @@ pub(super) fn combine_with(
         let passing: Vec<Vec<usize>> = block
             .par_iter()
             .map(|f| {
-                let candidates = near(f);
                 let passes = |&l: &usize| {
                     speed_passes(f, &lasts[l], options.v_max())
                         && motion_gate::passes(problem, f, &lasts[l], options)
                 };
-                candidates.into_iter().filter(passes).collect()
+                match grid {
+                    Some(g) => g.near(f).into_iter().filter(passes).collect(),
+                    None => (0..lasts.len()).filter(passes).collect(),
+                }
             })
             .collect();
         for (f, survivors) in block.iter().zip(passing) {
