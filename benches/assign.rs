@@ -8,11 +8,13 @@
 //!   ~38 000 candidates): nearly every report pair of two sensors is a candidate at one shared
 //!   cost, and ~0.7·n² triples, many nearly as cheap as the true ones;
 //! * warm-started against cold inner 2-D solves on that shape, S = 3 and 4;
-//! * the gated shape with the end-of-solve polish on and off (`with_polish`), in one run.
+//! * the gated shape with the end-of-solve polish on and off (`with_polish`), in one run;
+//! * the complete sparse LAP (SciPy sparse input) on 1000² uniform costs with 2 % of the
+//!   entries allowed plus the diagonal, as `benches/bench_lap.py`'s gated case.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use passive_assoc_core::assign::lagrangian::{self, LagrangianOptions, WarmStart};
-use passive_assoc_core::assign::lap::solve_dense;
+use passive_assoc_core::assign::lap::{solve_dense, solve_sparse_complete, SparseCosts};
 use passive_assoc_core::assign::SdProblem;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -30,6 +32,22 @@ fn dense_lap(c: &mut Criterion) {
             b.iter(|| solve_dense(n, n, black_box(costs)))
         });
     }
+    group.finish();
+}
+
+fn sparse_lap(c: &mut Criterion) {
+    let n = 1000usize;
+    let (mut keep_rng, mut cost_rng) = (ChaCha8Rng::seed_from_u64(7), ChaCha8Rng::seed_from_u64(8));
+    let entries: Vec<(usize, usize, f64)> = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .filter(|&(i, j)| i == j || keep_rng.random_bool(0.02))
+        .map(|(i, j)| (i, j, cost_rng.random::<f64>()))
+        .collect();
+    let costs = SparseCosts::from_triplets(n, n, &entries).expect("valid triplets");
+    let mut group = c.benchmark_group("lap_sparse_gated");
+    group.bench_with_input(BenchmarkId::from_parameter(n), &costs, |b, costs| {
+        b.iter(|| solve_sparse_complete(black_box(costs)))
+    });
     group.finish();
 }
 
@@ -183,6 +201,7 @@ fn sd_lagrangian_polish(c: &mut Criterion) {
 criterion_group!(
     benches,
     dense_lap,
+    sparse_lap,
     sd_lagrangian,
     sd_lagrangian_warm,
     sd_lagrangian_polish
