@@ -189,7 +189,9 @@ class FuzzyTrackInitiator:
         over the whole gate (χ²/dof near 8); a target's are noise. Default 1e-6.
     max_candidates : int
         Refuse (ValueError) rather than exhaust memory when more candidates than this reach
-        the fitting stage.
+        the fitting stage, or rather than run for minutes when pairing one scan pair's
+        first-scan and last-scan ray pairs would take more than 200 times this many tests
+        (the count is known before any test is made).
     n_threads : int, optional
         Threads; default all cores. Results are identical for any value.
     """

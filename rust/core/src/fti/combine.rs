@@ -24,8 +24,9 @@ use super::{InitiationOptions, Problem};
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;
 
-/// First × last tests allowed per allowed candidate (`max_candidates`): 10⁸ by default, about
-/// 20 s of testing on one core, while a survivor costs a fit of a few microseconds.
+/// First × last tests allowed per allowed candidate (`max_candidates`): a test costs a small
+/// fraction of the fit a survivor costs, so this allows far more testing than fitting, and
+/// still refuses in well under a minute (docs/methods.md §1).
 const WORK_PER_CANDIDATE: usize = 200;
 
 /// First pairs tested together in parallel: their survivors are held until fitted.

@@ -2,9 +2,8 @@
 //!
 //! Why: two nearby optima can both pass detection on one target's rows, each filling the scans
 //! the other took with clutter, and the final classification then shares the target's rows
-//! between two tracks (on `bearing_only_2d_scenario(3, n_targets=8, n_sensors=3,
-//! clutter_ratio=2)` two targets were each split so: 12 and 11 of one target's 24 rows). Each
-//! half fits its own rows well, so no test on the halves can see it.
+//! between two tracks (two targets of issue 16's 8-target 2-D scene, docs/methods.md §1).
+//! Each half fits its own rows well, so no test on the halves can see it.
 //!
 //! How: two tracks whose predicted angles come within the gate of each other in some scan
 //! (they compete for rows there) are tried as one: the rows of both, one per scan (the nearer

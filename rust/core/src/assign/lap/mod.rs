@@ -98,7 +98,7 @@ const SPARSE_MAX_SHARE: f64 = 0.5;
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
 /// whether any is invalid (NaN, `-inf`, or finite beyond ±[`MAX_ABS_COST`](super::MAX_ABS_COST)).
 /// The checks, the sparse-path test and the solver's all-finite test each read the whole matrix
-/// before; at 100² those four reads took about 15 % of a solve (perf, uniform costs).
+/// before, a visible share of a small solve's time (docs/performance.md, issue 18).
 struct EntryScan {
     finite: usize,
     bad: bool,
