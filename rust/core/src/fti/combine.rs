@@ -220,9 +220,11 @@ mod tests {
     use crate::geometry::model::{Motion, StateLayout};
 
     /// On cluttered 2-D and 3-D scenes with a `v_max` that reaches a few km, the grid prunes
-    /// the tests and finds exactly the candidates, in the same order, of testing every pair.
+    /// the tests and finds exactly the candidates, in the same order, of testing every pair;
+    /// and a cap below the tests it needs refuses before testing anything.
     #[test]
     fn the_grid_finds_exactly_the_candidates_of_the_full_scan() {
+        let mut capped = 0;
         for (seed, planar) in [(1, true), (2, true), (3, false), (4, false)] {
             let sc = if planar {
                 sim::planar(seed, true, 20, 8)
@@ -265,6 +267,18 @@ mod tests {
             assert!(with.counts.v_max > 0, "seed {seed}: nothing to compare");
             assert_eq!(with.counts.v_max, without.counts.v_max, "seed {seed}");
             assert_eq!(with.candidates, without.candidates, "seed {seed}");
+            // The work is capped before any test: 200 tests per allowed candidate.
+            if tests >= 400 {
+                capped += 1;
+                let few = options.with_max_candidates(tests / 400).expect("valid");
+                let mut none = CandidateSet::default();
+                match combine_with(&problem, &firsts, &lasts, Some(&grid), &few, &mut none) {
+                    Err(CoreError::CapExceeded { count, .. }) => assert_eq!(count, tests),
+                    other => panic!("seed {seed}: {other:?}"),
+                }
+                assert!(none.candidates.is_empty() && none.counts.v_max == 0);
+            }
         }
+        assert_eq!(capped, 2, "the cap was checked on the 2-D scenes");
     }
 }
