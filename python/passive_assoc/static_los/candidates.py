@@ -35,7 +35,9 @@ ENUMERATION_CONSTRAINTS: dict[str, list[Constraint]] = {
 
 def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) -> NDArray[np.float64]:
     arr = as_float_array(name, value)
-    arr = np.broadcast_to(arr, (n,)).copy() if arr.ndim == 0 or arr.shape == (1,) else arr
+    # np.full, not broadcast_to(...).copy(): a scalar is the common case, and this runs on
+    # every static solve.
+    arr = np.full(n, arr.reshape(-1)[0]) if arr.ndim == 0 or arr.shape == (1,) else arr
     if arr.shape != (n,):
         raise ValueError(f"{name}: expected a scalar or {n} values (one per sensor), got shape {arr.shape}")
     bad = ~((arr > low) & (arr < high))
@@ -74,17 +76,32 @@ def expected_false_alarms(counts: NDArray[np.int64], p_false: float) -> NDArray[
     false alarm look like a target to eq. 2 (issue 16: a ghost at it and a true target split).
     """
     base = p_false * np.maximum(counts, 1)
-    excess = counts - np.median(counts, axis=-1, keepdims=True)
+    excess = counts - _median_last_axis(counts)
     expected: NDArray[np.float64] = np.maximum(base, excess)
     return expected
 
 
+def _median_last_axis(counts: NDArray[np.int64]) -> NDArray[np.float64]:
+    """``np.median(counts, axis=-1, keepdims=True)`` by one sort: every static solve calls
+    this, and ``np.median``'s own overhead was a fifth of a tiny scan's time."""
+    ordered = np.sort(counts, axis=-1)
+    n = ordered.shape[-1]
+    middle = ordered[..., n // 2 : n // 2 + 1].astype(np.float64)
+    if n % 2 == 0 and n > 0:
+        middle = 0.5 * (middle + ordered[..., n // 2 - 1 : n // 2])
+    return middle
+
+
 def _spans(sensor: NDArray[np.int64], values: NDArray[np.float64], counts: NDArray[np.int64]) -> NDArray[np.float64]:
-    """Per sensor, max − min of its values; π for a sensor without values."""
-    low, high = np.full(len(counts), np.inf), np.full(len(counts), -np.inf)
-    np.minimum.at(low, sensor, values)
-    np.maximum.at(high, sensor, values)
-    spans: NDArray[np.float64] = np.where(counts > 0, high - low, np.pi)
+    """Per sensor, max − min of its values; π for a sensor without values. One sort by
+    (sensor, value) gives each sensor's least and greatest value at the ends of its run
+    (``ufunc.at`` cost more than the sort on the small scans every solve sees)."""
+    order = np.lexsort((values, sensor))
+    ends = np.cumsum(counts)
+    present = counts > 0
+    spans = np.full(len(counts), np.pi)
+    ordered = values[order]
+    spans[present] = ordered[ends[present] - 1] - ordered[ends[present] - counts[present]]
     return spans
 
 
