@@ -62,3 +62,21 @@ def test_the_default_density_counts_the_excess_report() -> None:
     assert density[1] == pytest.approx(1.0 / (bearings.max() - bearings.min()))
     others = table.azimuth[table.sensor == 0]
     assert density[0] == pytest.approx(0.05 * 3 / (others.max() - others.min()))
+
+
+def test_the_sort_based_median_and_spans_equal_numpys() -> None:
+    """The per-solve helpers replaced np.median and ufunc.at for speed; same values."""
+    from passive_assoc.static_los.candidates import _median_last_axis, _spans
+
+    rng = np.random.default_rng(1)
+    for shape in [(1,), (2,), (3,), (4,), (7, 5), (6, 4), (5, 1)]:
+        counts = rng.integers(0, 20, size=shape)
+        assert np.array_equal(_median_last_axis(counts), np.median(counts, axis=-1, keepdims=True))
+    for _ in range(300):
+        n_sensors, n = int(rng.integers(1, 6)), int(rng.integers(0, 12))
+        sensor, values = rng.integers(0, n_sensors, n), rng.normal(size=n)
+        counts = np.bincount(sensor, minlength=n_sensors)
+        low, high = np.full(n_sensors, np.inf), np.full(n_sensors, -np.inf)
+        np.minimum.at(low, sensor, values)
+        np.maximum.at(high, sensor, values)
+        assert np.array_equal(_spans(sensor, values, counts), np.where(counts > 0, high - low, np.pi))
