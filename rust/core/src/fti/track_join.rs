@@ -37,10 +37,14 @@ pub(super) fn joined(
 ) -> Option<Vec<[f64; MAX_DIM]>> {
     let mut states: Vec<Option<[f64; MAX_DIM]>> =
         tracks.iter().map(|t| Some(padded(&t.estimate))).collect();
+    let predicted: Vec<Vec<[f64; 2]>> = tracks
+        .iter()
+        .map(|t| predictions(problem, scans, t))
+        .collect();
     let mut used = vec![false; tracks.len()];
     for a in 0..tracks.len() {
         for b in a + 1..tracks.len() {
-            if used[a] || used[b] || !compete(problem, scans, &tracks[a], &tracks[b], gate) {
+            if used[a] || used[b] || !compete(problem, scans, &predicted[a], &predicted[b], gate) {
                 continue;
             }
             let Some(join) = try_join(problem, pre, scans, &tracks[a], &tracks[b], n_detect, z)
@@ -55,17 +59,34 @@ pub(super) fn joined(
         .then(|| states.into_iter().flatten().collect())
 }
 
-/// Whether the two tracks' predicted angles come within `gate` σ of each other, in every
-/// angle, in some scan.
-fn compete(problem: &Problem<'_>, scans: &Scans, a: &Track, b: &Track, gate: f64) -> bool {
+/// A track's predicted angles in every scan (once per track, not once per pair).
+fn predictions(problem: &Problem<'_>, scans: &Scans, t: &Track) -> Vec<[f64; 2]> {
     let layout = &problem.layout;
+    (0..scans.len())
+        .map(|k| {
+            let probe = problem.observation(scans.scan(k)[0]);
+            predict(
+                layout.space,
+                &probe.sensor,
+                &layout.position(&t.estimate, probe.time),
+            )
+        })
+        .collect()
+}
+
+/// Whether two tracks' predicted angles (`ha`, `hb`, per scan) come within `gate` σ of each
+/// other, in every angle, in some scan.
+fn compete(
+    problem: &Problem<'_>,
+    scans: &Scans,
+    ha: &[[f64; 2]],
+    hb: &[[f64; 2]],
+    gate: f64,
+) -> bool {
+    let angles = problem.layout.space.angles();
     (0..scans.len()).any(|k| {
-        let probe = problem.observation(scans.scan(k)[0]);
-        let [ha, hb] = [a, b].map(|t| {
-            let target = layout.position(&t.estimate, probe.time);
-            predict(layout.space, &probe.sensor, &target)
-        });
-        (0..layout.space.angles()).all(|c| wrap(ha[c] - hb[c]).abs() <= gate * probe.sigma[c])
+        let sigma = problem.observation(scans.scan(k)[0]).sigma;
+        (0..angles).all(|c| wrap(ha[k][c] - hb[k][c]).abs() <= gate * sigma[c])
     })
 }
 
@@ -86,18 +107,12 @@ fn try_join(
     };
     let x = &larger.estimate;
     // One row per scan: the nearer to the larger track's state.
-    let mut rows: Vec<usize> = a
-        .measurements
-        .iter()
-        .chain(&b.measurements)
-        .copied()
+    let mut keyed: Vec<(usize, f64, usize)> = (a.measurements.iter().chain(&b.measurements))
+        .map(|&m| (scans.scan_of[m], residual2(problem, x, m), m))
         .collect();
-    rows.sort_by(|&p, &q| {
-        let key = |m: usize| (scans.scan_of[m], residual2(problem, x, m));
-        let ((sp, dp), (sq, dq)) = (key(p), key(q));
-        sp.cmp(&sq).then(dp.total_cmp(&dq)).then(p.cmp(&q))
-    });
-    rows.dedup_by_key(|m| scans.scan_of[*m]);
+    keyed.sort_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)).then(p.2.cmp(&q.2)));
+    keyed.dedup_by_key(|k| k.0);
+    let mut rows: Vec<usize> = keyed.into_iter().map(|k| k.2).collect();
     rows.sort_unstable();
     let most = a.measurements.len().max(b.measurements.len());
     if rows.len() <= most {
@@ -121,7 +136,7 @@ mod tests {
     use crate::fti::sim;
     use crate::fti::TRACK_TEST_Z;
 
-    /// One target's rows shared between two tracks (alternate scans, one stray row each)
+    /// One target's rows shared between two tracks (even and odd scans)
     /// are joined; two targets' own tracks are not.
     #[test]
     fn a_split_target_is_joined_and_two_targets_are_not() {

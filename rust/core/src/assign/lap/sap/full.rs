@@ -54,8 +54,8 @@ impl SparseWork {
     /// The first phase of Jonker & Volgenant on the stored entries of a square problem: each
     /// column priced at its cheapest entry (`v_j`, row duals staying 0, so every reduced cost
     /// is ≥ 0 and the matched ones 0, the invariant of the searches) and given to that row if
-    /// it has no column yet, columns from the last as in the dense start; the searches then run only for the rows
-    /// left free. Square only: in a
+    /// it has no column yet, columns from the last as in the dense start (`init.rs`, on a
+    /// dense matrix); the searches then run only for the rows left free. Square only: in a
     /// rectangular problem a column left free must keep dual 0.
     fn column_reduction(&mut self) {
         let n = self.col4row.len();
