@@ -18,6 +18,7 @@ import argparse
 import json
 import subprocess
 import sys
+import time
 
 CASE = r"""
 import json, resource, sys, time
@@ -54,7 +55,9 @@ print(json.dumps({
 def run_case(
     n_targets: int, n_sensors: int, seed: int, cap: float, area: float = 0.0, v_max: float = 500.0
 ) -> dict | str | None:
-    """The case's figures; its error's last line when it fails; None past the cap."""
+    """The case's figures; its error's last line and how long the refusal took when it fails;
+    None past the cap."""
+    start = time.perf_counter()
     try:
         out = subprocess.run(
             [sys.executable, "-c", CASE, str(n_targets), str(n_sensors), str(seed), str(area), str(v_max)],
@@ -66,7 +69,7 @@ def run_case(
     except subprocess.TimeoutExpired:
         return None
     except subprocess.CalledProcessError as err:
-        return err.stderr.strip().splitlines()[-1]
+        return f"after {time.perf_counter() - start:.2f} s (process included): {err.stderr.strip().splitlines()[-1]}"
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -81,7 +84,7 @@ def main() -> None:
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | searched | "
-        "time in fit / search / detection |"
+        "time in candidates / fit / search / detection |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for n_sensors in args.sensors:
@@ -94,7 +97,7 @@ def main() -> None:
             st, c = case["stages"], case["counts"]
             shares = " / ".join(
                 f"{100 * st[k] / case['seconds']:.0f} %" if case["seconds"] > 0 else "-"
-                for k in ("fit", "descent", "detection")
+                for k in ("candidates", "fit", "descent", "detection")
             )
             print(
                 f"| {n_sensors} | {n_targets} | {case['rows']} | {case['seconds']:.3g} | {case['peak_mb']:.0f} | "
