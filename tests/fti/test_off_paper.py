@@ -39,13 +39,29 @@ def test_a_target_missed_in_an_outer_scan_is_initiated_by_the_second_pass() -> N
 @pytest.mark.parametrize("pd", [1.0, 0.9])
 def test_three_sensors_in_2d_give_one_track_per_target(pd: float) -> None:
     """24 scans: the paper's fixed Nd = 9 gave 4-7 tracks for 3 targets on these seeds; the
-    default Nd (from the number of scans) gives the 3."""
+    default Nd (from the number of scans) gives the 3. Since the coverage test (part of the
+    track test) Nd = 9 also gives 3 on the last seed; without the track test it does not."""
     for seed in range(10):
         scenario = pa.bearing_only_2d_scenario(seed, pd=pd)
         result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
         assert targets_tracked(result, scenario) == [0, 1, 2], seed
-    fixed = FuzzyTrackInitiator(n_detect=9).initiate(scenario.measurements, scenario.sensors)
+    fixed = FuzzyTrackInitiator(n_detect=9, track_test=None).initiate(scenario.measurements, scenario.sensors)
     assert len(fixed.tracks) > 3
+
+
+def test_rows_a_poor_first_pass_track_took_go_back_to_the_second_pass() -> None:
+    """Seed 9 at Pd 0.9: target 2 has no first-pass candidate (missed in an outer scan), and a
+    poor first-pass optimum 11 km short in range took 12 of its 20 reports; the track test
+    dissolves that track, and its rows must reach the second pass, which finds the target."""
+    scenario = pa.bearing_only_2d_scenario(9, pd=0.9)
+    truth = scenario.measurements.truth
+    assert truth is not None
+    result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    own = [t for t in result.tracks if np.mean(truth[t.measurements] == 2) > 0.5]
+    assert len(own) == 1
+    assert np.sum(truth[own[0].measurements] == 2) == np.sum(truth == 2) == 20
+    true_state = scenario.targets[2].initial_state
+    assert np.hypot(*(own[0].state[:2] - true_state[:2])) < 500.0
 
 
 def test_issue_16s_eight_target_2d_scene_gives_one_track_per_target() -> None:
@@ -87,9 +103,11 @@ def test_a_scene_where_no_candidate_survives_warns_and_says_why() -> None:
 
 
 def test_the_track_test_dissolves_a_track_threaded_through_clutter() -> None:
-    """5 targets, 3 sensors in 2-D, 10 clutter bearings per scan: a search can thread 15 of 24
-    scans' clutter (more than Nd = 14). Its refit χ² is far above a target's."""
-    scenario = pa.bearing_only_2d_scenario(10, n_targets=5, n_sensors=3, clutter_ratio=2)
+    """5 targets, 3 sensors in 2-D, 10 clutter bearings per scan: a search can thread 16 of 24
+    scans' clutter (more than Nd = 14). Its refit χ² is far above a target's. (Seed 10 showed
+    this until the tracking gate's score removed that track's candidates before any search;
+    seeds 8, 14 and 16 of 0-39 still make one.)"""
+    scenario = pa.bearing_only_2d_scenario(8, n_targets=5, n_sensors=3, clutter_ratio=2)
     truth = scenario.measurements.truth
     assert truth is not None
     off = FuzzyTrackInitiator(track_test=None).initiate(scenario.measurements, scenario.sensors)

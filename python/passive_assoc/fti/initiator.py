@@ -181,12 +181,17 @@ class FuzzyTrackInitiator:
         angles, with the candidate fit's own uncertainty added (a project extension; False =
         the paper, every candidate is searched). Such a candidate cannot become a target, and
         in 2-D, where four bearings fit exactly and no χ² gate exists, nearly every candidate
-        is of that kind (docs/methods.md §1).
+        is of that kind. The gate also follows each candidate as a tracker would, and requires
+        the measurements it finds to be at least as likely from it as from clutter at the
+        scan's local density (docs/methods.md §1, *Tracking gate*).
     track_test : float or None
         Dissolve a final track whose ML refit χ² is above the χ²(dof) quantile at this tail
         probability (dof = angles − state dimension); its measurements become clutter (a
         project extension; None: off). A track threaded through clutter has residuals spread
-        over the whole gate (χ²/dof near 8); a target's are noise. Default 1e-6.
+        over the whole gate (χ²/dof near 8); a target's are noise. With it on, a track seen in
+        far fewer of its sensors' scans than the scene's median track is dissolved too (the
+        coverage test), and the second candidate pass may reuse the measurements of first-pass
+        tracks the test dissolves (docs/methods.md §1). Default 1e-6.
     max_candidates : int
         Refuse (ValueError) rather than exhaust memory when more candidates than this reach
         the fitting stage, or rather than run for minutes when pairing one scan pair's

@@ -24,6 +24,7 @@
 pub mod candidates;
 pub mod closeness;
 mod combine;
+mod coverage_test;
 pub mod descent;
 mod descent_options;
 pub mod detection;

@@ -72,6 +72,7 @@ pub fn initiate(
         .flat_map(|&p| scans.scan_slots(p, depth, true))
         .collect();
     if !inner.is_empty() {
+        free_dissolved(&problem, &pre, &scans, &states, options, &mut available)?;
         let mask = available.clone();
         states.extend(run.pass(
             &problem,
@@ -96,34 +97,7 @@ pub fn initiate(
     seconds.detection += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let (mut tracks, mut labels) = final_tracks(&problem, &pre, &states, labels);
-    let n_detect = options.n_detect_for(scans.len());
-    if let Some(z) = options.track_test() {
-        let gate = options.gate();
-        if let Some(states) = track_join::joined(&problem, &pre, &scans, &tracks, n_detect, gate, z)
-        {
-            let relabelled = classify(&problem, &scans, &states, gate, options.one_per_scan())?;
-            (tracks, labels) = final_tracks(&problem, &pre, &states, relabelled);
-        }
-    }
-    for _ in 0..options.refine_passes() {
-        let refined: Vec<[f64; MAX_DIM]> = tracks.iter().map(|t| padded(&t.estimate)).collect();
-        let relabelled = classify(
-            &problem,
-            &scans,
-            &refined,
-            options.gate(),
-            options.one_per_scan(),
-        )?;
-        if relabelled == labels {
-            break;
-        }
-        (tracks, labels) = final_tracks(&problem, &pre, &refined, relabelled);
-    }
-    // The track test runs once, on the refined tracks: an early classification can give a
-    // target wrong rows that a refine pass then corrects.
-    let (tracks, labels) =
-        track_test::tested(&problem, &pre, tracks, labels.len(), n_detect, options);
+    let (tracks, labels) = finished(&problem, &pre, &scans, &states, labels, options)?;
     seconds.final_fit = clock.elapsed().as_secs_f64();
 
     Ok(Initiation {
@@ -195,6 +169,75 @@ impl Run {
         self.counts.accumulate(&counts);
         Ok(accepted.iter().map(|&i| optima[i].x).collect())
     }
+}
+
+/// Gives pass 2 the rows of pass-1 targets that the end of the pipeline ([`finished`]) would
+/// dissolve: such a target is usually a poor optimum that took a real target's rows in pass 1
+/// (that target missed in an outer scan, so its own candidate exists only in pass 2), and
+/// without its rows pass 2 cannot find it. Rows trimmed from a surviving track stay taken:
+/// they lie in a target's gate, and freed they would only seed candidates that climb back to
+/// it. The pass-1 states stay; the final classification and test decide.
+fn free_dissolved(
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    scans: &Scans,
+    states: &[[f64; MAX_DIM]],
+    options: &InitiationOptions,
+    available: &mut [bool],
+) -> CoreResult<()> {
+    if options.track_test().is_none() || states.is_empty() {
+        return Ok(());
+    }
+    let (gate, one_per_scan) = (options.gate(), options.one_per_scan());
+    let classified = classify(problem, scans, states, gate, one_per_scan)?;
+    let (_, kept) = finished(problem, pre, scans, states, classified.clone(), options)?;
+    let mut survived = vec![false; states.len()];
+    for (&was, &is) in classified.iter().zip(&kept) {
+        if let (Ok(s), true) = (usize::try_from(was), is >= 0) {
+            survived[s] = true;
+        }
+    }
+    for (m, &was) in classified.iter().enumerate() {
+        if usize::try_from(was).is_ok_and(|s| !survived[s]) {
+            available[m] = true;
+        }
+    }
+    Ok(())
+}
+
+/// From classified states to the result's tracks: the final fit, the joining of split tracks,
+/// the refine passes and the track test.
+fn finished(
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    scans: &Scans,
+    states: &[[f64; MAX_DIM]],
+    labels: Vec<i64>,
+    options: &InitiationOptions,
+) -> CoreResult<(Vec<Track>, Vec<i64>)> {
+    let (gate, one_per_scan) = (options.gate(), options.one_per_scan());
+    let (mut tracks, mut labels) = final_tracks(problem, pre, states, labels);
+    let n_detect = options.n_detect_for(scans.len());
+    if let Some(z) = options.track_test() {
+        if let Some(states) = track_join::joined(problem, pre, scans, &tracks, n_detect, gate, z) {
+            let relabelled = classify(problem, scans, &states, gate, one_per_scan)?;
+            (tracks, labels) = final_tracks(problem, pre, &states, relabelled);
+        }
+    }
+    for _ in 0..options.refine_passes() {
+        let refined: Vec<[f64; MAX_DIM]> = tracks.iter().map(|t| padded(&t.estimate)).collect();
+        let relabelled = classify(problem, scans, &refined, gate, one_per_scan)?;
+        if relabelled == labels {
+            break;
+        }
+        (tracks, labels) = final_tracks(problem, pre, &refined, relabelled);
+    }
+    // The track test runs once, on the refined tracks: an early classification can give a
+    // target wrong rows that a refine pass then corrects.
+    let n_rows = labels.len();
+    Ok(track_test::tested(
+        problem, pre, scans, tracks, n_rows, n_detect, options,
+    ))
 }
 
 pub(super) fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {

@@ -110,6 +110,21 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
     azimuth_window(&scan.angles, predicted[0], widths[0]).any(in_elevation)
 }
 
+/// How many rows of `scan` lie within `half` of `centre` in each angle (azimuth modulo 2π;
+/// elevation only in 3-D).
+pub(super) fn rows_in_box(
+    scan: &ScanAngles,
+    centre: &[f64; 2],
+    half: &[f64; 2],
+    space: Space,
+) -> usize {
+    let in_elevation =
+        |angles: &&[f64; 2]| space == Space::Planar || wrap(angles[1] - centre[1]).abs() <= half[1];
+    azimuth_window(&scan.angles, centre[0], half[0])
+        .filter(in_elevation)
+        .count()
+}
+
 /// The rows of `sorted` (by wrapped azimuth) within `width` of `centre`, modulo 2π.
 pub(super) fn azimuth_window(
     sorted: &[[f64; 2]],

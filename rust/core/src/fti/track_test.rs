@@ -14,8 +14,10 @@
 //! target with a stray row loses the row; a clutter track cannot shed rows until it fits.
 
 use super::closeness::Precomputed;
+use super::coverage_test;
 use super::detection::residual2;
 use super::pipeline::refit;
+use super::scans::Scans;
 use super::{InitiationOptions, Problem, Track};
 use crate::geometry::model::MAX_DIM;
 
@@ -44,10 +46,12 @@ const OUTLIER_Z: f64 = 3.090_232_306_167_813;
 /// 10⁻⁵ in docs/methods.md §1 (*Track test*).
 const TRIMMED_Z: f64 = 3.719_016_485_455_709;
 
-/// The tracks that pass (trimmed), relabelled; every other row is clutter.
+/// The tracks that pass (trimmed, then the coverage test of module `coverage_test`),
+/// relabelled; every other row is clutter.
 pub(super) fn tested(
     problem: &Problem<'_>,
     pre: &Precomputed,
+    scans: &Scans,
     tracks: Vec<Track>,
     n_rows: usize,
     n_detect: usize,
@@ -55,10 +59,12 @@ pub(super) fn tested(
 ) -> (Vec<Track>, Vec<i64>) {
     let kept: Vec<Track> = match options.track_test() {
         None => tracks,
-        Some(z) => tracks
-            .into_iter()
-            .filter_map(|t| trimmed(problem, pre, t, n_detect, z))
-            .collect(),
+        Some(z) => {
+            let trimmed = (tracks.into_iter())
+                .filter_map(|t| trimmed(problem, pre, t, n_detect, z))
+                .collect();
+            coverage_test::covered(problem, scans, trimmed)
+        }
     };
     let mut labels = vec![-1i64; n_rows];
     for (k, track) in kept.iter().enumerate() {
