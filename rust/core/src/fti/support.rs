@@ -89,10 +89,21 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
     let x = &c.estimate[..d];
     let target = layout.position(x, scan.probe.time);
     let predicted = predict(layout.space, &scan.probe.sensor, &target);
+    let any_within = |widths: [f64; 2]| {
+        let in_elevation = |angles: &[f64; 2]| {
+            layout.space == Space::Planar || wrap(angles[1] - predicted[1]).abs() <= widths[1]
+        };
+        azimuth_window(&scan.angles, predicted[0], widths[0]).any(in_elevation)
+    };
+    // The window only widens with the candidate's spread, so a row within `gate·σ` supports
+    // the scan whatever the spread: most supported scans end here, before the gradient.
+    if any_within(scan.sigma.map(|s| gate * s)) {
+        return true;
+    }
     let Some(rows) = residual_rows(layout, x, &scan.probe) else {
         return true; // on the sensor's axis: the angles are undefined, do not prune
     };
-    let widths: [f64; 2] = std::array::from_fn(|a| {
+    any_within(std::array::from_fn(|a| {
         if a >= rows.count {
             return f64::INFINITY;
         }
@@ -103,11 +114,7 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
             })
             .sum();
         gate * (scan.sigma[a] * scan.sigma[a] + spread).sqrt()
-    });
-    let in_elevation = |angles: &[f64; 2]| {
-        layout.space == Space::Planar || wrap(angles[1] - predicted[1]).abs() <= widths[1]
-    };
-    azimuth_window(&scan.angles, predicted[0], widths[0]).any(in_elevation)
+    }))
 }
 
 /// How many rows of `scan` lie within `half` of `centre` in each angle (azimuth modulo 2π;
