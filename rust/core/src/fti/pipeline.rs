@@ -142,7 +142,10 @@ impl Run {
 
         let clock = Instant::now();
         let n_detect = options.n_detect_for(scans.len());
-        let starts = match &self.support {
+        // Pass 2's detection counts only the rows still free, so its gates do too.
+        let masked = (self.support.is_some() && mask.is_some())
+            .then(|| SupportTable::of_rows(problem, scans, mask));
+        let starts = match masked.as_ref().or(self.support.as_ref()) {
             Some(table) => support::filter(
                 problem,
                 table,

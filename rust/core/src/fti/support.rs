@@ -38,12 +38,18 @@ pub struct SupportTable {
 
 impl SupportTable {
     pub fn new(problem: &Problem<'_>, scans: &Scans) -> Self {
+        Self::of_rows(problem, scans, None)
+    }
+
+    /// The table of the rows that are `available` (every row when `None`): pass 2's gates
+    /// count only the rows its detection may still take.
+    pub fn of_rows(problem: &Problem<'_>, scans: &Scans, available: Option<&[bool]>) -> Self {
         let scans = (0..scans.len())
             .map(|k| {
                 let rows = scans.scan(k);
                 let first = problem.observation(rows[0]);
-                let mut angles: Vec<[f64; 2]> = rows
-                    .iter()
+                let mut angles: Vec<[f64; 2]> = (rows.iter())
+                    .filter(|&&m| available.is_none_or(|a| a[m]))
                     .map(|&m| problem.observation(m).angles.map(wrap))
                     .collect();
                 angles.sort_by(|a, b| a[0].total_cmp(&b[0]));
