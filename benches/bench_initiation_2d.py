@@ -3,7 +3,7 @@ n_sensors=3, clutter_ratio=2)`` with the default `FuzzyTrackInitiator`, with and
 support gate. Prints the time, the tracks, how many rows of each track are one target's, and
 the stage counts.
 
-    python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too]
+    python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
     python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9]   # found per seed
 """
 
@@ -39,6 +39,7 @@ def main() -> None:
     parser.add_argument("--pd", type=float, default=1.0)
     parser.add_argument("--seeds", type=int, default=0, help="instead: targets found over seeds 0..N-1")
     parser.add_argument("--n-detect", type=int, default=None, help="with --seeds: a fixed Nd (default: the data's)")
+    parser.add_argument("--candidate-scans", type=int, default=4, help="candidate_scans (1: pass 1 only)")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
@@ -48,7 +49,8 @@ def main() -> None:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):
             start = time.perf_counter()
-            result = pa.FuzzyTrackInitiator(support_gate=gate).initiate(scenario.measurements, scenario.sensors)
+            initiator = pa.FuzzyTrackInitiator(support_gate=gate, candidate_scans=args.candidate_scans)
+            result = initiator.initiate(scenario.measurements, scenario.sensors)
             seconds = time.perf_counter() - start
             truth = scenario.measurements.truth
             assert truth is not None
