@@ -86,8 +86,8 @@ mod tests {
     use crate::fti::closeness::Precomputed;
     use crate::fti::pipeline::refit;
     use crate::fti::scans::Scans;
-    use crate::fti::{sim, Problem};
-    use crate::geometry::model::{Motion, Space, StateLayout, MAX_DIM};
+    use crate::fti::sim;
+    use crate::geometry::model::MAX_DIM;
 
     /// Two 2-D targets, three sensors, 8 scans: each target's rows, one target's rows from two
     /// sensors only (out of the third's view), and every other scan of one target (a track
@@ -97,12 +97,7 @@ mod tests {
         let sc = sim::planar(3, true, 0, 8);
         let sensors = sc.sensors();
         let table = sc.measurements(&sensors);
-        let problem = Problem {
-            sensors,
-            measurements: table,
-            layout: StateLayout::new(Space::Planar, Motion::ConstantVelocity { t0: 0.0 }),
-            t0: 0.0,
-        };
+        let problem = sim::problem(sensors, table);
         let pre = Precomputed::new(&sensors, &table, &sc.spreads(), 0.0).expect("valid");
         let scans = Scans::new(&table, sensors.len());
         let rows_of = |i: i64, keep: &dyn Fn(usize) -> bool| -> Vec<usize> {

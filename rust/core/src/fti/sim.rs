@@ -215,6 +215,17 @@ pub fn planar(seed: u64, noisy: bool, clutter: usize, n_scans: usize) -> Scenari
     sc
 }
 
+/// The constant-velocity problem of a table in its sensors' space, epoch 0 (the simulations'
+/// t0).
+pub fn problem<'a>(sensors: Sensors<'a>, measurements: Measurements<'a>) -> Problem<'a> {
+    Problem {
+        sensors,
+        measurements,
+        layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0: 0.0 }),
+        t0: 0.0,
+    }
+}
+
 /// The 3-D constant-velocity problem of a table with epoch 0 (the simulations' t0).
 pub fn spatial_problem<'a>(sensors: Sensors<'a>, measurements: Measurements<'a>) -> Problem<'a> {
     Problem {

@@ -276,7 +276,6 @@ mod tests {
     use super::*;
     use crate::fti::pipeline::candidates_of;
     use crate::fti::{sim, InitiationOptions};
-    use crate::geometry::model::{Motion, StateLayout};
 
     /// In 2-D with clutter (where the χ² gate has no information): every candidate made of
     /// one target's four rows passes, and the gate removes candidates the fixed gate keeps.
@@ -290,12 +289,7 @@ mod tests {
             let options = InitiationOptions::default();
             let (candidates, _, scans, _) =
                 candidates_of(&sensors, &table, 0.0, &options).expect("runs");
-            let problem = Problem {
-                sensors,
-                measurements: table,
-                layout: StateLayout::new(Space::Planar, Motion::ConstantVelocity { t0: 0.0 }),
-                t0: 0.0,
-            };
+            let problem = sim::problem(sensors, table);
             let support = SupportTable::new(&problem, &scans);
             let n_detect = options.n_detect_for(scans.len());
             for c in &candidates {
