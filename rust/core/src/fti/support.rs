@@ -96,10 +96,9 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
     let target = layout.position(x, scan.probe.time);
     let predicted = predict(layout.space, &scan.probe.sensor, &target);
     let any_within = |widths: [f64; 2]| {
-        let in_elevation = |angles: &[f64; 2]| {
-            layout.space == Space::Planar || wrap(angles[1] - predicted[1]).abs() <= widths[1]
-        };
-        azimuth_window(&scan.angles, predicted[0], widths[0]).any(in_elevation)
+        in_box(scan, predicted, widths, layout.space)
+            .next()
+            .is_some()
     };
     // The window only widens with the candidate's spread, so a row within `gate·σ` supports
     // the scan whatever the spread: most supported scans end here, before the gradient.
@@ -123,19 +122,17 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
     }))
 }
 
-/// How many rows of `scan` lie within `half` of `centre` in each angle (azimuth modulo 2π;
-/// elevation only in 3-D).
-pub(super) fn rows_in_box(
+/// The rows of `scan` within `half` of `centre` in each angle (azimuth modulo 2π; elevation
+/// only in 3-D).
+pub(super) fn in_box(
     scan: &ScanAngles,
-    centre: &[f64; 2],
-    half: &[f64; 2],
+    centre: [f64; 2],
+    half: [f64; 2],
     space: Space,
-) -> usize {
-    let in_elevation =
-        |angles: &&[f64; 2]| space == Space::Planar || wrap(angles[1] - centre[1]).abs() <= half[1];
-    azimuth_window(&scan.angles, centre[0], half[0])
-        .filter(in_elevation)
-        .count()
+) -> impl Iterator<Item = &[f64; 2]> {
+    azimuth_window(&scan.angles, centre[0], half[0]).filter(move |angles| {
+        space == Space::Planar || wrap(angles[1] - centre[1]).abs() <= half[1]
+    })
 }
 
 /// The rows of `sorted` (by wrapped azimuth) within `width` of `centre`, modulo 2π.

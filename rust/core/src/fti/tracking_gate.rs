@@ -38,7 +38,7 @@ use std::f64::consts::PI;
 
 use super::candidates::Candidate;
 use super::scans::Scans;
-use super::support::{azimuth_window, rows_in_box, ScanAngles, SupportTable};
+use super::support::{azimuth_window, in_box, ScanAngles, SupportTable};
 use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, residual_rows, Space, MAX_DIM};
@@ -167,7 +167,7 @@ impl Prediction {
     /// deviations around the prediction, the row being scored left out, and at least one.
     fn clutter_density(&self, scan: &ScanAngles, space: Space) -> f64 {
         let half: [f64; 2] = std::array::from_fn(|a| DENSITY_WIDTH * self.variance[a].sqrt());
-        let rows = rows_in_box(scan, &self.angles, &half, space);
+        let rows = in_box(scan, self.angles, half, space).count();
         let mut area = (2.0 * half[0]).min(2.0 * PI);
         if space == Space::Spatial {
             area *= (2.0 * half[1]).min(PI);
