@@ -6,6 +6,10 @@
 //!   line is measurement-evaluations per second (ns per evaluation = 1e3 / Melem/s).
 //! * `descent/one`: one steepest-ascent search from the candidate nearest target 1.
 //! * `pipeline/paper_2x_clutter_1_thread`: the whole initiation on one thread.
+//! * `pipeline_dense/planar_8_targets_1_thread`: the whole initiation on one thread of a dense
+//!   2-D scene like issue 16's (3 sensors 15 km apart, 8 targets 20–40 km out, 16 clutter
+//!   bearings per sensor and scan over [0, π], 8 scans; 576 rows), where the support and
+//!   tracking gates are most of the time.
 
 use std::f64::consts::PI;
 use std::hint::black_box;
@@ -84,6 +88,50 @@ fn paper_run(seed: u64) -> Table {
             }
             for _ in 0..8 {
                 push(PI * rng.uniform(), 0.5 * PI * rng.uniform());
+            }
+        }
+    }
+    table
+}
+
+const PLANAR_POSITIONS: [f64; 9] = [-15_000.0, 0.0, 0.0, 0.0, 0.0, 0.0, 15_000.0, 0.0, 0.0];
+const PLANAR_SIGMAS: [f64; 3] = [SIGMA; 3];
+const PLANAR_SPREADS: [f64; 3] = [2.0 * SIGMA; 3];
+
+/// A dense 2-D scene: 8 constant-velocity targets at random (x in ±10 km, y in 20–40 km,
+/// 100–200 m/s), 3 synchronous sensors, 8 scans 10 s apart, 16 clutter bearings a scan.
+fn planar_run(seed: u64) -> Table {
+    let layout = StateLayout::new(Space::Planar, Motion::ConstantVelocity { t0: 0.0 });
+    let mut rng = Rng(seed);
+    let targets: Vec<[f64; 4]> = (0..8)
+        .map(|_| {
+            let (speed, heading) = (100.0 + 100.0 * rng.uniform(), 2.0 * PI * rng.uniform());
+            let x = -10_000.0 + 20_000.0 * rng.uniform();
+            let y = 20_000.0 + 20_000.0 * rng.uniform();
+            [x, y, speed * heading.cos(), speed * heading.sin()]
+        })
+        .collect();
+    let mut table = Table {
+        sensor: vec![],
+        time: vec![],
+        azimuth: vec![],
+        elevation: vec![],
+    };
+    for k in 0..8 {
+        for j in 0..3usize {
+            let time = 10.0 * k as f64;
+            let s = [PLANAR_POSITIONS[3 * j], 0.0, 0.0];
+            let mut bearings: Vec<f64> = targets
+                .iter()
+                .map(|t| predict(Space::Planar, &s, &layout.position(t, time))[0])
+                .map(|a| a + SIGMA * rng.normal())
+                .collect();
+            bearings.extend((0..16).map(|_| PI * rng.uniform()));
+            for a in bearings {
+                table.sensor.push(j as i64);
+                table.time.push(time);
+                table.azimuth.push(a);
+                table.elevation.push(0.0);
             }
         }
     }
@@ -204,6 +252,40 @@ fn bench_pipeline(c: &mut Criterion) {
         .build()
         .expect("pool");
     group.bench_function("paper_2x_clutter_1_thread", |b| {
+        b.iter(|| pool.install(|| initiate(&sensors, &rows, &spreads, 0.0, black_box(&options))))
+    });
+    group.finish();
+
+    let table = planar_run(16);
+    let sensors = Sensors::new(
+        Space::Planar,
+        &PLANAR_POSITIONS,
+        &PLANAR_SIGMAS,
+        &PLANAR_SIGMAS,
+    )
+    .expect("valid sensors");
+    let rows = Measurements::new(
+        &sensors,
+        &table.sensor,
+        &table.time,
+        &table.azimuth,
+        &table.elevation,
+    )
+    .expect("valid table");
+    let spreads =
+        Spreads::new(Space::Planar, 3, &PLANAR_SPREADS, &PLANAR_SPREADS).expect("valid spreads");
+    let probe = pool
+        .install(|| initiate(&sensors, &rows, &spreads, 0.0, &options))
+        .expect("runs");
+    println!(
+        "pipeline_dense: {} tracks; counts {:?}; seconds {:?}",
+        probe.tracks.len(),
+        probe.stage_counts,
+        probe.stage_seconds
+    );
+    let mut group = c.benchmark_group("pipeline_dense");
+    group.sample_size(10);
+    group.bench_function("planar_8_targets_1_thread", |b| {
         b.iter(|| pool.install(|| initiate(&sensors, &rows, &spreads, 0.0, black_box(&options))))
     });
     group.finish();
