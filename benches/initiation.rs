@@ -51,12 +51,22 @@ impl Rng {
     }
 }
 
-/// The measurement table of one paper run: (sensor, time, azimuth, elevation).
+/// The measurement table of one run: (sensor, time, azimuth, elevation).
+#[derive(Default)]
 struct Table {
     sensor: Vec<i64>,
     time: Vec<f64>,
     azimuth: Vec<f64>,
     elevation: Vec<f64>,
+}
+
+impl Table {
+    fn push(&mut self, sensor: usize, time: f64, [azimuth, elevation]: [f64; 2]) {
+        self.sensor.push(sensor as i64);
+        self.time.push(time);
+        self.azimuth.push(azimuth);
+        self.elevation.push(elevation);
+    }
 }
 
 const POSITIONS: [f64; 6] = [0.0, 0.0, 0.0, 20_000.0, 0.0, 0.0];
@@ -66,28 +76,21 @@ const SPREADS: [f64; 2] = [2.0 * SIGMA, 2.0 * SIGMA];
 fn paper_run(seed: u64) -> Table {
     let layout = StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 });
     let mut rng = Rng(seed);
-    let mut table = Table {
-        sensor: vec![],
-        time: vec![],
-        azimuth: vec![],
-        elevation: vec![],
-    };
+    let mut table = Table::default();
     for k in 0..8 {
         for j in 0..2usize {
             let time = 15.0 * k as f64 + 5.0 * j as f64;
             let s = [POSITIONS[3 * j], POSITIONS[3 * j + 1], POSITIONS[3 * j + 2]];
-            let mut push = |a: f64, e: f64| {
-                table.sensor.push(j as i64);
-                table.time.push(time);
-                table.azimuth.push(a);
-                table.elevation.push(e);
-            };
             for target in &TARGETS {
                 let [a, e] = predict(Space::Spatial, &s, &layout.position(target, time));
-                push(a + SIGMA * rng.normal(), e + SIGMA * rng.normal());
+                table.push(
+                    j,
+                    time,
+                    [a + SIGMA * rng.normal(), e + SIGMA * rng.normal()],
+                );
             }
             for _ in 0..8 {
-                push(PI * rng.uniform(), 0.5 * PI * rng.uniform());
+                table.push(j, time, [PI * rng.uniform(), 0.5 * PI * rng.uniform()]);
             }
         }
     }
@@ -111,12 +114,7 @@ fn planar_run(seed: u64) -> Table {
             [x, y, speed * heading.cos(), speed * heading.sin()]
         })
         .collect();
-    let mut table = Table {
-        sensor: vec![],
-        time: vec![],
-        azimuth: vec![],
-        elevation: vec![],
-    };
+    let mut table = Table::default();
     for k in 0..8 {
         for j in 0..3usize {
             let time = 10.0 * k as f64;
@@ -128,10 +126,7 @@ fn planar_run(seed: u64) -> Table {
                 .collect();
             bearings.extend((0..16).map(|_| PI * rng.uniform()));
             for a in bearings {
-                table.sensor.push(j as i64);
-                table.time.push(time);
-                table.azimuth.push(a);
-                table.elevation.push(0.0);
+                table.push(j, time, [a, 0.0]);
             }
         }
     }
@@ -139,8 +134,19 @@ fn planar_run(seed: u64) -> Table {
 }
 
 fn views(table: &Table) -> (Sensors<'_>, Measurements<'_>, Spreads<'_>) {
-    let sensors =
-        Sensors::new(Space::Spatial, &POSITIONS, &SIGMAS, &SIGMAS).expect("valid sensors");
+    views_in(table, Space::Spatial, &POSITIONS, &SIGMAS, &SPREADS)
+}
+
+/// The validated views of `table` for sensors at `positions` (3 per sensor) with equal angle
+/// stds and spreads in both angles.
+fn views_in<'a>(
+    table: &'a Table,
+    space: Space,
+    positions: &'a [f64],
+    sigmas: &'a [f64],
+    spreads: &'a [f64],
+) -> (Sensors<'a>, Measurements<'a>, Spreads<'a>) {
+    let sensors = Sensors::new(space, positions, sigmas, sigmas).expect("valid sensors");
     let rows = Measurements::new(
         &sensors,
         &table.sensor,
@@ -149,7 +155,7 @@ fn views(table: &Table) -> (Sensors<'_>, Measurements<'_>, Spreads<'_>) {
         &table.elevation,
     )
     .expect("valid table");
-    let spreads = Spreads::new(Space::Spatial, 2, &SPREADS, &SPREADS).expect("valid spreads");
+    let spreads = Spreads::new(space, sigmas.len(), spreads, spreads).expect("valid spreads");
     (sensors, rows, spreads)
 }
 
@@ -257,23 +263,13 @@ fn bench_pipeline(c: &mut Criterion) {
     group.finish();
 
     let table = planar_run(16);
-    let sensors = Sensors::new(
+    let (sensors, rows, spreads) = views_in(
+        &table,
         Space::Planar,
         &PLANAR_POSITIONS,
         &PLANAR_SIGMAS,
-        &PLANAR_SIGMAS,
-    )
-    .expect("valid sensors");
-    let rows = Measurements::new(
-        &sensors,
-        &table.sensor,
-        &table.time,
-        &table.azimuth,
-        &table.elevation,
-    )
-    .expect("valid table");
-    let spreads =
-        Spreads::new(Space::Planar, 3, &PLANAR_SPREADS, &PLANAR_SPREADS).expect("valid spreads");
+        &PLANAR_SPREADS,
+    );
     let probe = pool
         .install(|| initiate(&sensors, &rows, &spreads, 0.0, &options))
         .expect("runs");
