@@ -27,7 +27,7 @@ use super::{Problem, Track};
 const LEVEL: f64 = 1e-4;
 
 /// Tracks needed before their median coverage is taken as the detection probability.
-pub(super) const MIN_TRACKS: usize = 3;
+const MIN_TRACKS: usize = 3;
 
 /// The tracks whose coverage passes (module doc), in order.
 pub(super) fn covered(problem: &Problem<'_>, scans: &Scans, tracks: Vec<Track>) -> Vec<Track> {

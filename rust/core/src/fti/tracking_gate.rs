@@ -49,7 +49,7 @@ pub const MAX_BRANCHES: usize = 32;
 
 /// Half-width, in predicted standard deviations, of the box in which a scan's clutter density
 /// is counted: four times the 5σ gate, so the rows of the gate itself are a small part of it.
-pub(super) const DENSITY_WIDTH: f64 = 20.0;
+const DENSITY_WIDTH: f64 = 20.0;
 
 type Matrix = [[f64; MAX_DIM]; MAX_DIM];
 
