@@ -21,7 +21,7 @@ use super::scans::Scans;
 use super::tracking_gate;
 use super::Problem;
 use crate::geometry::angles::wrap;
-use crate::geometry::model::{predict, residual_rows, Observation, Space};
+use crate::geometry::model::{gradient_rows, predict, Observation, Space};
 
 /// One scan as the gate reads it: where and when, the angle stds, and the rows' angles
 /// `[azimuth, elevation]` (wrapped) sorted by azimuth.
@@ -65,19 +65,29 @@ impl SupportTable {
     }
 
     /// Whether more than `n_detect` scans support `candidate` at gate `gate` (σ units).
+    ///
+    /// The candidate's own four scans are visited last: the count and so the answer do not
+    /// depend on the order, and its own rows nearly always support it, so a candidate that
+    /// fails is usually rejected before reaching them.
     pub fn supports(
         &self,
         problem: &Problem<'_>,
+        scans: &Scans,
         candidate: &Candidate,
         gate: f64,
         n_detect: usize,
     ) -> bool {
+        let own = candidate.rows.map(|r| scans.scan_of[r]);
+        let n = self.scans.len();
+        let order = (0..n)
+            .filter(|k| !own.contains(k))
+            .chain((0..n).filter(|k| own.contains(k)));
         let mut supported = 0usize;
-        for (k, scan) in self.scans.iter().enumerate() {
-            if supported + (self.scans.len() - k) <= n_detect {
+        for (at, k) in order.enumerate() {
+            if supported + (n - at) <= n_detect {
                 return false; // even every remaining scan would not be enough
             }
-            if scan_supports(problem, scan, candidate, gate) {
+            if scan_supports(problem, &self.scans[k], candidate, gate) {
                 supported += 1;
                 if supported > n_detect {
                     return true;
@@ -95,31 +105,74 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
     let x = &c.estimate[..d];
     let target = layout.position(x, scan.probe.time);
     let predicted = predict(layout.space, &scan.probe.sensor, &target);
-    let any_within = |widths: [f64; 2]| {
-        in_box(scan, predicted, widths, layout.space)
+    let neighbours = Neighbours::around(&scan.angles, predicted[0]);
+    let any_within = |widths: [f64; 2]| match layout.space {
+        Space::Planar => neighbours.any_within(widths[0]),
+        Space::Spatial => in_box(scan, predicted, widths, layout.space)
             .next()
-            .is_some()
+            .is_some(),
     };
     // The window only widens with the candidate's spread, so a row within `gate·σ` supports
     // the scan whatever the spread: most supported scans end here, before the gradient.
     if any_within(scan.sigma.map(|s| gate * s)) {
         return true;
     }
-    let Some(rows) = residual_rows(layout, x, &scan.probe) else {
+    let Some((count, gradient)) = gradient_rows(layout, x, &scan.probe) else {
         return true; // on the sensor's axis: the angles are undefined, do not prune
     };
     any_within(std::array::from_fn(|a| {
-        if a >= rows.count {
+        if a >= count {
             return f64::INFINITY;
         }
         let spread: f64 = (0..d)
             .map(|j| {
-                let gl: f64 = (0..d).map(|i| rows.gradient[a][i] * c.factor[i][j]).sum();
+                let gl: f64 = (0..d).map(|i| gradient[a][i] * c.factor[i][j]).sum();
                 gl * gl
             })
             .sum();
         gate * (scan.sigma[a] * scan.sigma[a] + spread).sqrt()
     }))
+}
+
+/// Where `centre` falls among a scan's rows sorted by azimuth. In 2-D a window holds a row
+/// exactly when the nearest row on either side (modulo 2π) is in it, so the fixed gate's two
+/// windows need one binary search instead of two each (this test is most of the gate's work
+/// on dense 2-D scenes).
+struct Neighbours<'s> {
+    sorted: &'s [[f64; 2]],
+    centre: f64,
+    /// The first row at or above `centre`.
+    above: usize,
+}
+
+impl<'s> Neighbours<'s> {
+    fn around(sorted: &'s [[f64; 2]], centre: f64) -> Self {
+        let above = sorted.partition_point(|a| a[0] < centre);
+        Self {
+            sorted,
+            centre,
+            above,
+        }
+    }
+
+    /// Whether [`azimuth_window`] of `width` around the centre holds a row; the same
+    /// comparisons on the only rows that can decide it, so the same answer.
+    fn any_within(&self, width: f64) -> bool {
+        use std::f64::consts::PI;
+        let sorted = self.sorted;
+        let (Some(first), Some(last)) = (sorted.first(), sorted.last()) else {
+            return false;
+        };
+        if width >= PI || width.is_nan() {
+            return true;
+        }
+        let (lo, hi) = (self.centre - width, self.centre + width);
+        let below = self.above.checked_sub(1).map(|i| &sorted[i]);
+        sorted.get(self.above).is_some_and(|a| a[0] <= hi)
+            || below.is_some_and(|a| a[0] >= lo)
+            || (lo < -PI && last[0] >= lo + 2.0 * PI)
+            || (hi > PI && first[0] <= hi - 2.0 * PI)
+    }
 }
 
 /// The rows of `scan` within `half` of `centre` in each angle (azimuth modulo 2π; elevation
@@ -174,7 +227,7 @@ pub fn filter(
     let keep: Vec<bool> = candidates
         .par_iter()
         .map(|c| {
-            table.supports(problem, c, gate, n_detect)
+            table.supports(problem, scans, c, gate, n_detect)
                 && tracking_gate::confirms(problem, table, scans, c, gate, n_detect)
         })
         .collect();
@@ -187,7 +240,7 @@ pub fn filter(
 
 #[cfg(test)]
 mod tests {
-    use super::azimuth_window;
+    use super::{azimuth_window, Neighbours};
     use crate::fti::sim;
     use crate::fti::tests::run;
     use crate::fti::InitiationOptions;
@@ -205,6 +258,25 @@ mod tests {
         assert_eq!(found(-PI + 0.01, 0.1), vec![-3.1, 3.1]);
         assert_eq!(found(0.0, 0.5), vec![0.0]);
         assert_eq!(found(0.0, 4.0).len(), 4);
+    }
+
+    /// The one-search test agrees with the window it replaces, around and across ±π, on
+    /// both edges of each window (rows exactly at `centre ± width`).
+    #[test]
+    fn neighbours_agree_with_the_azimuth_window() {
+        let sorted = [[-3.1, 0.0], [-1.0, 0.0], [0.0, 0.0], [0.5, 0.0], [3.1, 0.0]];
+        for centre in [-PI, -3.12, -2.0, -0.5, 0.0, 0.25, 1.0, 3.0, 3.13, PI] {
+            let neighbours = Neighbours::around(&sorted, centre);
+            let edges = sorted.iter().map(|a| (a[0] - centre).abs());
+            for width in [0.0, 0.01, 0.1, 0.3, 1.0, 3.0, 3.2, f64::NAN]
+                .into_iter()
+                .chain(edges)
+            {
+                let expected = azimuth_window(&sorted, centre, width).next().is_some();
+                assert_eq!(neighbours.any_within(width), expected, "{centre} ± {width}");
+            }
+        }
+        assert!(!Neighbours::around(&[], 0.0).any_within(1.0));
     }
 
     #[test]

@@ -41,7 +41,7 @@ use super::scans::Scans;
 use super::support::{azimuth_window, in_box, ScanAngles, SupportTable};
 use super::Problem;
 use crate::geometry::angles::wrap;
-use crate::geometry::model::{predict, residual_rows, Space, MAX_DIM};
+use crate::geometry::model::{gradient_rows, predict, Space, MAX_DIM};
 
 /// Rows tried at the one ambiguous wide scan. The true row lies within the gate; past this
 /// many nearer rows the window is so crowded that the candidate is kept untested instead.
@@ -91,22 +91,37 @@ impl Belief {
         std::array::from_fn(|i| (0..self.dim).map(|j| self.p[i][j] * g[j]).sum())
     }
 
+    /// The summed spread `∇h·P·∇hᵀ` of `scan`'s angles (infinite on the sensor's axis):
+    /// [`predict`](Self::predict)'s without the angles, to order the scans.
+    fn spread(&self, problem: &Problem<'_>, scan: &ScanAngles) -> f64 {
+        let x = &self.x[..self.dim];
+        let Some((count, gradient)) = gradient_rows(&problem.layout, x, &scan.probe) else {
+            return f64::INFINITY;
+        };
+        (0..count)
+            .map(|a| {
+                let pg = self.p_times(&gradient[a]);
+                (0..self.dim).map(|i| gradient[a][i] * pg[i]).sum::<f64>()
+            })
+            .sum()
+    }
+
     /// The prediction of `scan`, or `None` on the sensor's axis (angles undefined).
     fn predict(&self, problem: &Problem<'_>, scan: &ScanAngles) -> Option<Prediction> {
         let layout = &problem.layout;
         let x = &self.x[..self.dim];
         let target = layout.position(x, scan.probe.time);
-        let rows = residual_rows(layout, x, &scan.probe)?;
+        let (count, gradient) = gradient_rows(layout, x, &scan.probe)?;
         let spread: [f64; 2] = std::array::from_fn(|a| {
-            let pg = self.p_times(&rows.gradient[a]);
-            (0..self.dim).map(|i| rows.gradient[a][i] * pg[i]).sum()
+            let pg = self.p_times(&gradient[a]);
+            (0..self.dim).map(|i| gradient[a][i] * pg[i]).sum()
         });
         Some(Prediction {
             angles: predict(layout.space, &scan.probe.sensor, &target),
-            gradient: rows.gradient,
+            gradient,
             variance: std::array::from_fn(|a| scan.sigma[a] * scan.sigma[a] + spread[a]),
             spread,
-            count: rows.count,
+            count,
         })
     }
 
@@ -198,12 +213,7 @@ pub fn confirms(
     own.dedup();
     let mut order: Vec<(f64, usize)> = (0..table.scans.len())
         .filter(|k| own.binary_search(k).is_err())
-        .map(|k| {
-            let spread = belief
-                .predict(problem, &table.scans[k])
-                .map_or(f64::INFINITY, |p| p.spread[..p.count].iter().sum::<f64>());
-            (spread, k)
-        })
+        .map(|k| (belief.spread(problem, &table.scans[k]), k))
         .collect();
     order.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
     let walk = Walk {
@@ -295,7 +305,7 @@ mod tests {
             for c in &candidates {
                 let owner = sc.truth[c.rows[0]];
                 let is_true = owner >= 0 && c.rows.iter().all(|&m| sc.truth[m] == owner);
-                if !support.supports(&problem, c, options.gate(), n_detect) {
+                if !support.supports(&problem, &scans, c, options.gate(), n_detect) {
                     assert!(!is_true, "the fixed gate lost a true candidate");
                     continue;
                 }

@@ -304,6 +304,25 @@ pub fn residual_rows(
     Some(rows)
 }
 
+/// The state gradients of [`residual_rows`] without the residuals (so without an
+/// arctangent), for callers that need only how sure a prediction is: `(count, gradient)`.
+#[inline]
+pub fn gradient_rows(
+    layout: &StateLayout,
+    state: &[f64],
+    obs: &Observation,
+) -> Option<(usize, [[f64; MAX_DIM]; 2])> {
+    let target = layout.position(state, obs.time);
+    let los = line_of_sight(layout.space, &obs.sensor, &target)?;
+    let count = layout.space.angles();
+    let mut gradient = [[0.0; MAX_DIM]; 2];
+    for (c, row) in gradient.iter_mut().enumerate().take(count) {
+        let w = obs.inv_sigma[c];
+        *row = layout.state_gradient(&los.gradient[c].map(|g| g * w), obs.time);
+    }
+    Some((count, gradient))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -316,6 +335,21 @@ mod tests {
             StateLayout::new(Space::Planar, cv),
             StateLayout::new(Space::Spatial, cv),
         ]
+    }
+
+    #[test]
+    fn gradient_rows_are_the_residual_rows_gradients() {
+        let state = [1200.0, 8000.0, 900.0, 150.0, -80.0, 5.0];
+        let obs = Observation::new([300.0, -200.0, 10.0], 37.0, [1.2, 0.1], [0.005, 0.007]);
+        for layout in layouts() {
+            let d = layout.dim();
+            let rows = residual_rows(&layout, &state[..d], &obs).expect("regular geometry");
+            let (count, gradient) = gradient_rows(&layout, &state[..d], &obs).expect("regular");
+            assert_eq!((count, gradient), (rows.count, rows.gradient));
+        }
+        let on_axis = Observation::new([1200.0, 8000.0, 0.0], 0.0, [0.0; 2], [1.0; 2]);
+        let planar = StateLayout::new(Space::Planar, Motion::Static);
+        assert!(gradient_rows(&planar, &state[..2], &on_axis).is_none());
     }
 
     #[test]
