@@ -202,7 +202,7 @@ fn bench_descent(c: &mut Criterion) {
         .iter()
         .flat_map(|&p| scans.scan_slots(p, 1, false))
         .collect();
-    let set = generate(&problem, &scans, &outer, None, &options).expect("candidates");
+    let set = generate(&problem, &scans, &outer, None, &options, None).expect("candidates");
     let truth = TARGETS[0];
     let nearest = set
         .candidates

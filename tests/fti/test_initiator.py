@@ -87,6 +87,9 @@ def test_paper_run_with_clutter_finds_the_four_targets(assert_partition: Partiti
     # candidate_scans=4 over what pass 1 left: every target row is taken, 8 clutter rows a scan.
     assert counts["raw"] == 12**4 + 15 * 8**4 and counts["detected"] == 4
     assert all(a >= b for a, b in pairwise(list(counts.values())[:6]))  # the pruning stages only remove
+    seconds = result.diagnostics.stage_seconds
+    assert list(seconds) == ["candidates", "fit", "support", "descent", "detection", "final"]
+    assert all(s >= 0.0 for s in seconds.values())
 
 
 def test_thread_count_does_not_change_the_result() -> None:

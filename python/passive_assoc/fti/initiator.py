@@ -49,7 +49,7 @@ STAGE_COUNT_NAMES = (
     "detected",
 )
 #: The timed stages (``stage_seconds`` calls the last one ``"final"``).
-STAGE_SECOND_NAMES = ("candidates", "fit", "descent", "detection", "final_fit")
+STAGE_SECOND_NAMES = ("candidates", "fit", "support", "descent", "detection", "final_fit")
 
 
 @dataclass(frozen=True)

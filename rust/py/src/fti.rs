@@ -89,6 +89,7 @@ pub struct StageCounts {
 pub struct StageSeconds {
     candidates: f64,
     fit: f64,
+    support: f64,
     descent: f64,
     detection: f64,
     final_fit: f64,
@@ -163,6 +164,7 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
     let CoreSeconds {
         candidates,
         fit,
+        support,
         descent,
         detection,
         final_fit,
@@ -194,6 +196,7 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
             StageSeconds {
                 candidates,
                 fit,
+                support,
                 descent,
                 detection,
                 final_fit,

@@ -20,6 +20,7 @@ use rayon::prelude::*;
 
 use super::candidates::{fit_chunk, CandidateSet, RayPair, CHUNK};
 use super::motion_gate;
+use super::support::Gate;
 use super::{InitiationOptions, Problem};
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;
@@ -41,10 +42,11 @@ pub(super) fn combine(
     firsts: &[RayPair],
     lasts: &[RayPair],
     options: &InitiationOptions,
+    gate: Option<&Gate<'_>>,
     set: &mut CandidateSet,
 ) -> CoreResult<()> {
     let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
-    combine_with(problem, firsts, lasts, grid.as_ref(), options, set)
+    combine_with(problem, firsts, lasts, grid.as_ref(), options, gate, set)
 }
 
 /// [`combine`] with the grid given (`None`: test every last pair).
@@ -54,6 +56,7 @@ pub(super) fn combine_with(
     lasts: &[RayPair],
     grid: Option<&Grid>,
     options: &InitiationOptions,
+    gate: Option<&Gate<'_>>,
     set: &mut CandidateSet,
 ) -> CoreResult<()> {
     let work: usize = match grid {
@@ -102,13 +105,13 @@ pub(super) fn combine_with(
                 }
                 chunk.push((f, &lasts[l]));
                 if chunk.len() == CHUNK {
-                    fit_chunk(problem, &chunk, options, set)?;
+                    fit_chunk(problem, &chunk, options, gate, set)?;
                     chunk.clear();
                 }
             }
         }
     }
-    fit_chunk(problem, &chunk, options, set)
+    fit_chunk(problem, &chunk, options, gate, set)
 }
 
 pub(super) fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) -> bool {
@@ -261,9 +264,26 @@ mod tests {
                 "seed {seed}: {tests}"
             );
             let (mut with, mut without) = (CandidateSet::default(), CandidateSet::default());
-            combine_with(&problem, &firsts, &lasts, Some(&grid), &options, &mut with)
-                .expect("runs");
-            combine_with(&problem, &firsts, &lasts, None, &options, &mut without).expect("runs");
+            combine_with(
+                &problem,
+                &firsts,
+                &lasts,
+                Some(&grid),
+                &options,
+                None,
+                &mut with,
+            )
+            .expect("runs");
+            combine_with(
+                &problem,
+                &firsts,
+                &lasts,
+                None,
+                &options,
+                None,
+                &mut without,
+            )
+            .expect("runs");
             assert!(with.counts.v_max > 0, "seed {seed}: nothing to compare");
             assert_eq!(with.counts.v_max, without.counts.v_max, "seed {seed}");
             assert_eq!(with.candidates, without.candidates, "seed {seed}");
@@ -272,7 +292,15 @@ mod tests {
                 capped += 1;
                 let few = options.with_max_candidates(tests / 400).expect("valid");
                 let mut none = CandidateSet::default();
-                match combine_with(&problem, &firsts, &lasts, Some(&grid), &few, &mut none) {
+                match combine_with(
+                    &problem,
+                    &firsts,
+                    &lasts,
+                    Some(&grid),
+                    &few,
+                    None,
+                    &mut none,
+                ) {
                     Err(CoreError::CapExceeded { count, .. }) => assert_eq!(count, tests),
                     other => panic!("seed {seed}: {other:?}"),
                 }

@@ -137,6 +137,8 @@ impl StageCounts {
 pub struct StageSeconds {
     pub candidates: f64,
     pub fit: f64,
+    /// The support gate (fixed and tracking), run on each chunk of fitted candidates.
+    pub support: f64,
     pub descent: f64,
     pub detection: f64,
     pub final_fit: f64,
@@ -144,10 +146,11 @@ pub struct StageSeconds {
 
 impl StageSeconds {
     /// `(name, seconds)`; the names are the binding's dictionary keys.
-    pub fn entries(&self) -> [(&'static str, f64); 5] {
+    pub fn entries(&self) -> [(&'static str, f64); 6] {
         [
             ("candidates", self.candidates),
             ("fit", self.fit),
+            ("support", self.support),
             ("descent", self.descent),
             ("detection", self.detection),
             ("final", self.final_fit),

@@ -10,7 +10,7 @@ use super::closeness::{closeness, Precomputed, Spreads};
 use super::descent::{descend_all, merge};
 use super::detection::{classify, detect};
 use super::scans::{resolve_pairs, Scans};
-use super::support::{self, SupportTable};
+use super::support::{Gate, SupportTable};
 use super::track_join;
 use super::track_test;
 use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
@@ -134,29 +134,27 @@ impl Run {
         options: &InitiationOptions,
         available: &mut [bool],
     ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-        let set = candidates::generate(problem, scans, slots, mask, options)?;
+        let clock = Instant::now();
+        // Pass 2's detection counts only the rows still free, so its gates do too.
+        let masked = (self.support.is_some() && mask.is_some())
+            .then(|| SupportTable::of_rows(problem, scans, mask));
+        let gate = masked.as_ref().or(self.support.as_ref()).map(|table| Gate {
+            table,
+            scans,
+            gate: options.gate(),
+            n_detect: options.n_detect_for(scans.len()),
+        });
+        self.seconds.support += clock.elapsed().as_secs_f64();
+
+        let set = candidates::generate(problem, scans, slots, mask, options, gate.as_ref())?;
         stop_if_interrupted()?;
         let mut counts = set.counts;
         self.seconds.candidates += set.seconds_enumerate;
         self.seconds.fit += set.seconds_fit;
+        self.seconds.support += set.seconds_support;
 
         let clock = Instant::now();
-        let n_detect = options.n_detect_for(scans.len());
-        // Pass 2's detection counts only the rows still free, so its gates do too.
-        let masked = (self.support.is_some() && mask.is_some())
-            .then(|| SupportTable::of_rows(problem, scans, mask));
-        let starts = match masked.as_ref().or(self.support.as_ref()) {
-            Some(table) => support::filter(
-                problem,
-                table,
-                scans,
-                set.candidates,
-                options.gate(),
-                n_detect,
-            ),
-            None => set.candidates,
-        };
-        counts.supported = starts.len();
+        let starts = set.candidates;
         let optima = descend_all(pre, &starts, options.descent());
         stop_if_interrupted()?;
         let order = merge(&optima, problem.layout.dim(), options.merge_tol());
@@ -339,7 +337,7 @@ pub(crate) fn candidates_of(
         .iter()
         .flat_map(|&p| scans.scan_slots(p, 1, false))
         .collect();
-    let set = candidates::generate(&problem, &scans, &slots, None, options)?;
+    let set = candidates::generate(&problem, &scans, &slots, None, options, None)?;
     stop_if_interrupted()?;
     Ok((set.candidates, set.counts, scans, pairs))
 }

@@ -213,29 +213,22 @@ pub(super) fn azimuth_window(
     main.iter().chain(wrapped)
 }
 
-/// The candidates (in order) that the support gate keeps: the fixed gate above, then the
-/// [`tracking gate`](super::tracking_gate) on the survivors.
-pub fn filter(
-    problem: &Problem<'_>,
-    table: &SupportTable,
-    scans: &Scans,
-    candidates: Vec<Candidate>,
-    gate: f64,
-    n_detect: usize,
-) -> Vec<Candidate> {
-    use rayon::prelude::*;
-    let keep: Vec<bool> = candidates
-        .par_iter()
-        .map(|c| {
-            table.supports(problem, scans, c, gate, n_detect)
-                && tracking_gate::confirms(problem, table, scans, c, gate, n_detect)
-        })
-        .collect();
-    candidates
-        .into_iter()
-        .zip(keep)
-        .filter_map(|(c, k)| k.then_some(c))
-        .collect()
+/// The support gate as the fitting stage applies it to each fitted candidate: the fixed gate
+/// above, then the [`tracking gate`](super::tracking_gate) on the survivors.
+pub struct Gate<'a> {
+    pub table: &'a SupportTable,
+    pub scans: &'a Scans,
+    /// Half-width in standard deviations.
+    pub gate: f64,
+    pub n_detect: usize,
+}
+
+impl Gate<'_> {
+    pub fn keeps(&self, problem: &Problem<'_>, c: &Candidate) -> bool {
+        let (table, scans, gate, n_detect) = (self.table, self.scans, self.gate, self.n_detect);
+        table.supports(problem, scans, c, gate, n_detect)
+            && tracking_gate::confirms(problem, table, scans, c, gate, n_detect)
+    }
 }
 
 #[cfg(test)]

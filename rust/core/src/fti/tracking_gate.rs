@@ -147,25 +147,53 @@ impl Belief {
 
 impl Prediction {
     /// The rows of `scan` within `gate` σ in each angle, nearest (normalised) first.
-    fn hits<'s>(&self, scan: &'s ScanAngles, space: Space, gate: f64) -> Vec<(f64, &'s [f64; 2])> {
-        let width = |a: usize| gate * self.variance[a].sqrt();
-        let mut hits: Vec<(f64, &[f64; 2])> =
-            azimuth_window(&scan.angles, self.angles[0], width(0))
-                .filter_map(|angles| {
-                    let mut d2 = 0.0;
-                    let pairs = angles.iter().zip(&self.angles).take(self.count);
-                    for (a, (&z, &h)) in pairs.enumerate() {
-                        let y = wrap(z - h);
-                        if a == 1 && space == Space::Spatial && y.abs() > width(1) {
-                            return None;
-                        }
-                        d2 += y * y / self.variance[a];
-                    }
-                    Some((d2, angles))
-                })
-                .collect();
+    fn hits(&self, scan: &ScanAngles, space: Space, gate: f64) -> Vec<(f64, [f64; 2])> {
+        let mut hits: Vec<(f64, [f64; 2])> = self.gated(scan, space, gate).collect();
         hits.sort_by(|p, q| p.0.total_cmp(&q.0));
         hits
+    }
+
+    /// [`hits`](Self::hits)' first entry and length, without collecting them: nearly every
+    /// step of the walk needs only these (the sort is stable, so the first of equally near
+    /// rows in window order is the nearest in both).
+    fn nearest(
+        &self,
+        scan: &ScanAngles,
+        space: Space,
+        gate: f64,
+    ) -> Option<((f64, [f64; 2]), usize)> {
+        let mut best: Option<(f64, [f64; 2])> = None;
+        let mut count = 0;
+        for hit in self.gated(scan, space, gate) {
+            count += 1;
+            if best.is_none_or(|b| hit.0.total_cmp(&b.0).is_lt()) {
+                best = Some(hit);
+            }
+        }
+        best.map(|b| (b, count))
+    }
+
+    /// The rows of `scan` within `gate` σ in each angle with their normalised squared
+    /// distances, in window order.
+    fn gated<'a>(
+        &'a self,
+        scan: &'a ScanAngles,
+        space: Space,
+        gate: f64,
+    ) -> impl Iterator<Item = (f64, [f64; 2])> + 'a {
+        let width = move |a: usize| gate * self.variance[a].sqrt();
+        azimuth_window(&scan.angles, self.angles[0], width(0)).filter_map(move |angles| {
+            let mut d2 = 0.0;
+            let pairs = angles.iter().zip(&self.angles).take(self.count);
+            for (a, (&z, &h)) in pairs.enumerate() {
+                let y = wrap(z - h);
+                if a == 1 && space == Space::Spatial && y.abs() > width(1) {
+                    return None;
+                }
+                d2 += y * y / self.variance[a];
+            }
+            Some((d2, *angles))
+        })
     }
 
     /// Log-likelihood ratio of a row at normalised squared distance `d2`: the target's
@@ -256,22 +284,22 @@ impl Walk<'_> {
                 supported += 1; // on the sensor's axis: do not prune, as the fixed gate
                 continue;
             };
-            let hits = pred.hits(scan, space, self.gate);
-            let Some(&(d2, nearest)) = hits.first() else {
+            let Some(((d2, nearest), count)) = pred.nearest(scan, space, self.gate) else {
                 continue; // a miss: not priced, as the detection probability is unknown
             };
             supported += 1;
-            if hits.len() == 1 || branched || !pred.wide(&scan.sigma) {
+            if count == 1 || branched || !pred.wide(&scan.sigma) {
                 score += pred.log_ratio(d2, scan, space);
-                belief.update(&pred, nearest, &scan.sigma);
+                belief.update(&pred, &nearest, &scan.sigma);
                 continue;
             }
+            let hits = pred.hits(scan, space, self.gate);
             if hits.len() > MAX_BRANCHES {
                 return true; // too crowded to test: keep the candidate
             }
             return hits.iter().any(|&(d2, angles)| {
                 let mut branch = belief.clone();
-                branch.update(&pred, angles, &scan.sigma);
+                branch.update(&pred, &angles, &scan.sigma);
                 let score = score + pred.log_ratio(d2, scan, space);
                 self.from(at + 1, branch, supported, score, true)
             });
