@@ -3,7 +3,7 @@ n_sensors=3, clutter_ratio=2)`` with the default `FuzzyTrackInitiator`, with and
 support gate. Prints the time, the tracks, how many rows of each track are one target's, and
 the stage counts.
 
-    python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
+    python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K] [--repeat N]
     python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9]   # found per seed
 """
 
@@ -40,6 +40,7 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=0, help="instead: targets found over seeds 0..N-1")
     parser.add_argument("--n-detect", type=int, default=None, help="with --seeds: a fixed Nd (default: the data's)")
     parser.add_argument("--candidate-scans", type=int, default=4, help="candidate_scans (1: pass 1 only)")
+    parser.add_argument("--repeat", type=int, default=1, help="initiations per case: the median and range are printed")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
@@ -48,20 +49,26 @@ def main() -> None:
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):
-            start = time.perf_counter()
             initiator = pa.FuzzyTrackInitiator(support_gate=gate, candidate_scans=args.candidate_scans)
-            result = initiator.initiate(scenario.measurements, scenario.sensors)
-            seconds = time.perf_counter() - start
+            times = []
+            for _ in range(args.repeat):
+                start = time.perf_counter()
+                result = initiator.initiate(scenario.measurements, scenario.sensors)
+                times.append(time.perf_counter() - start)
             truth = scenario.measurements.truth
             assert truth is not None
             kinds = []
             for track in result.tracks:
                 labels, counts = np.unique(truth[track.measurements], return_counts=True)
                 kinds.append(f"{int(labels[np.argmax(counts)])}:{counts.max()}/{len(track.measurements)}")
+            spread = f" (median of {len(times)}, {min(times):.2f}-{max(times):.2f})" if len(times) > 1 else ""
             print(
-                f"{n} targets, {len(scenario.measurements)} rows, support_gate={gate}: {seconds:.2f} s, "
+                f"{n} targets, {len(scenario.measurements)} rows, support_gate={gate}: "
+                f"{float(np.median(times)):.2f} s{spread}, "
                 f"{len(result.tracks)} tracks (majority target:rows) {' '.join(kinds)}"
             )
+            seconds = ", ".join(f"{k} {v:.3f}" for k, v in result.diagnostics.stage_seconds.items())
+            print(f"  stage seconds (last run) {seconds}")
             print(f"  stage counts {result.diagnostics.stage_counts}")
 
 
