@@ -306,7 +306,9 @@ pub fn residual_rows(
 
 /// The state gradients of [`residual_rows`] without the residuals (so without an
 /// arctangent), for callers that need only how sure a prediction is: `(count, gradient)`.
-#[inline]
+// Always inlined: the support gates call it millions of times a run, and out of line its
+// 100-byte result and the layout's branches cost more than its arithmetic.
+#[inline(always)]
 pub fn gradient_rows(
     layout: &StateLayout,
     state: &[f64],
