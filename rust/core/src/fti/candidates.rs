@@ -74,11 +74,25 @@ pub(super) struct Meeting {
     distance: f64,
 }
 
-/// Two rows of one scan pair and their meeting (`None` for parallel rays).
+/// Two rows of one scan pair, as the model sees them, and their meeting (`None` for
+/// parallel rays). The observations are built once here: each costs a sine and a cosine per
+/// angle, and every candidate and motion-gate test of the pair reads them.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RayPair {
     pub(super) rows: [usize; 2],
+    pub(super) observations: [Observation; 2],
     pub(super) meeting: Option<Meeting>,
+}
+
+impl RayPair {
+    pub(super) fn of(problem: &Problem<'_>, ra: usize, rb: usize) -> Self {
+        let observations = [problem.observation(ra), problem.observation(rb)];
+        Self {
+            rows: [ra, rb],
+            meeting: meet(problem.layout.space, &observations),
+            observations,
+        }
+    }
 }
 
 /// The candidates that survive every enabled rule, with stage counts and timings.
@@ -143,13 +157,15 @@ pub(super) fn ray_pairs(
     let mut passed_ray = 0usize;
     for &ra in rows_a {
         for &rb in rows_b {
-            let meeting = meet(problem, ra, rb);
-            if !ray_gate_passes(problem, ra, rb, meeting.as_ref(), options) {
+            let pair = RayPair::of(problem, ra, rb);
+            if !ray_gate_passes(problem, &pair, options) {
                 continue;
             }
             passed_ray += 1;
             if options.reject_behind()
-                && !meeting.is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
+                && !pair
+                    .meeting
+                    .is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
             {
                 continue;
             }
@@ -162,20 +178,16 @@ pub(super) fn ray_pairs(
                 });
             }
             reserve_one(&mut out, "ray pairs of one scan pair", OOM_HINT)?;
-            out.push(RayPair {
-                rows: [ra, rb],
-                meeting,
-            });
+            out.push(pair);
         }
     }
     Ok((out, passed_ray))
 }
 
-/// Meeting of the lines of sight of rows `ra` and `rb` (different sensors).
-pub(super) fn meet(problem: &Problem<'_>, ra: usize, rb: usize) -> Option<Meeting> {
-    let (oa, ob) = (problem.observation(ra), problem.observation(rb));
+/// Meeting of the lines of sight of two observations (of different sensors).
+fn meet(space: Space, [oa, ob]: &[Observation; 2]) -> Option<Meeting> {
     let time = 0.5 * (oa.time + ob.time);
-    match problem.layout.space {
+    match space {
         Space::Planar => {
             let (sa, sb) = ([oa.sensor[0], oa.sensor[1]], [ob.sensor[0], ob.sensor[1]]);
             let (p, range_a, range_b) = intersect_bearings(&sa, oa.angles[0], &sb, ob.angles[0])?;
@@ -202,26 +214,22 @@ pub(super) fn meet(problem: &Problem<'_>, ra: usize, rb: usize) -> Option<Meetin
     }
 }
 
-fn ray_gate_passes(
-    problem: &Problem<'_>,
-    ra: usize,
-    rb: usize,
-    meeting: Option<&Meeting>,
-    options: &InitiationOptions,
-) -> bool {
+fn ray_gate_passes(problem: &Problem<'_>, pair: &RayPair, options: &InitiationOptions) -> bool {
     let Some(gate) = options.ray_gate() else {
         return true;
     };
     if problem.layout.space == Space::Planar {
         return true; // lines in the plane always meet: the rule is vacuous
     }
-    let (oa, ob) = (problem.observation(ra), problem.observation(rb));
+    let [oa, ob] = &pair.observations;
     let motion = match options.v_max() {
         Some(v) => v * (oa.time - ob.time).abs(),
         None if oa.time != ob.time => return true, // unbounded motion between the samples
         None => 0.0,
     };
-    let Some(m) = meeting else { return false };
+    let Some(m) = pair.meeting else {
+        return false;
+    };
     let (sa, sb) = (oa.sigma[0].max(oa.sigma[1]), ob.sigma[0].max(ob.sigma[1]));
     let noise = ((sa * m.range_a).powi(2) + (sb * m.range_b).powi(2)).sqrt();
     m.distance <= gate * noise + motion
@@ -285,7 +293,8 @@ pub(super) fn fit_candidate(
     last: &RayPair,
 ) -> Option<Candidate> {
     let rows = [first.rows[0], first.rows[1], last.rows[0], last.rows[1]];
-    let obs: [Observation; 4] = rows.map(|r| problem.observation(r));
+    let [f, l] = [&first.observations, &last.observations];
+    let obs: [Observation; 4] = [f[0], f[1], l[0], l[1]];
     let initial = match (first.meeting, last.meeting) {
         (Some(f), Some(l)) => start_from_meetings(problem, &f, &l),
         _ => pseudo_linear_state(&problem.layout, &obs)?,

@@ -40,37 +40,24 @@ pub(super) fn passes(
         return true;
     }
     let v: [f64; 3] = std::array::from_fn(|k| (l.point[k] - f.point[k]) / span);
-    let (noise_f, noise_l) = (noise(problem, first), noise(problem, last));
+    let (noise_f, noise_l) = (noise(first), noise(last));
     let dv = (noise_f + noise_l) / span;
     [(first, noise_f), (last, noise_l)]
         .iter()
-        .all(|&(pair, noise)| corrected_distance_passes(problem, pair, &v, gate, noise, dv))
+        .all(|&(pair, noise)| corrected_distance_passes(pair, &v, gate, noise, dv))
 }
 
 /// Lateral spread of the pair's meeting from angle noise, as the ray gate computes it.
-fn noise(problem: &Problem<'_>, pair: &RayPair) -> f64 {
-    let (oa, ob) = (
-        problem.observation(pair.rows[0]),
-        problem.observation(pair.rows[1]),
-    );
+fn noise(pair: &RayPair) -> f64 {
+    let [oa, ob] = &pair.observations;
     let (sa, sb) = (oa.sigma[0].max(oa.sigma[1]), ob.sigma[0].max(ob.sigma[1]));
     pair.meeting.map_or(f64::INFINITY, |m| {
         ((sa * m.range_a).powi(2) + (sb * m.range_b).powi(2)).sqrt()
     })
 }
 
-fn corrected_distance_passes(
-    problem: &Problem<'_>,
-    pair: &RayPair,
-    v: &[f64; 3],
-    gate: f64,
-    noise: f64,
-    dv: f64,
-) -> bool {
-    let (oa, ob) = (
-        problem.observation(pair.rows[0]),
-        problem.observation(pair.rows[1]),
-    );
+fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64, dv: f64) -> bool {
+    let [oa, ob] = &pair.observations;
     let dt = oa.time - ob.time;
     let shifted: [f64; 3] = std::array::from_fn(|k| ob.sensor[k] + v[k] * dt);
     let ua = direction(oa.angles[0], oa.angles[1]);

@@ -1,7 +1,7 @@
 //! The unpruned paper algorithm, written as four nested loops, and the test that the
 //! pipeline with every pruning rule off is exactly it.
 
-use super::candidates::{fit_candidate, meet, Candidate, RayPair};
+use super::candidates::{fit_candidate, Candidate, RayPair};
 use super::pipeline::candidates_of;
 use super::scans::Scans;
 use super::sim;
@@ -19,14 +19,8 @@ pub fn all_fitted(problem: &Problem<'_>, scans: &Scans, pairs: &[[usize; 2]]) ->
             for &rb1 in scans.scan(b1) {
                 for &ra2 in scans.scan(a2) {
                     for &rb2 in scans.scan(b2) {
-                        let f = RayPair {
-                            rows: [ra1, rb1],
-                            meeting: meet(problem, ra1, rb1),
-                        };
-                        let l = RayPair {
-                            rows: [ra2, rb2],
-                            meeting: meet(problem, ra2, rb2),
-                        };
+                        let f = RayPair::of(problem, ra1, rb1);
+                        let l = RayPair::of(problem, ra2, rb2);
                         out.extend(fit_candidate(problem, &f, &l));
                     }
                 }
