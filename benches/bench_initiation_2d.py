@@ -3,7 +3,8 @@ n_sensors=3, clutter_ratio=2)`` with the default `FuzzyTrackInitiator`, with and
 support gate. Prints the time, the tracks, how many rows of each track are one target's, and
 the stage counts.
 
-    python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K] [--repeat N]
+    python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
+        [--repeat N] [--threads T]
     python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9]   # found per seed
 """
 
@@ -41,6 +42,7 @@ def main() -> None:
     parser.add_argument("--n-detect", type=int, default=None, help="with --seeds: a fixed Nd (default: the data's)")
     parser.add_argument("--candidate-scans", type=int, default=4, help="candidate_scans (1: pass 1 only)")
     parser.add_argument("--repeat", type=int, default=1, help="initiations per case: the median and range are printed")
+    parser.add_argument("--threads", type=int, default=None, help="n_threads (default: every core)")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
@@ -49,7 +51,9 @@ def main() -> None:
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):
-            initiator = pa.FuzzyTrackInitiator(support_gate=gate, candidate_scans=args.candidate_scans)
+            initiator = pa.FuzzyTrackInitiator(
+                support_gate=gate, candidate_scans=args.candidate_scans, n_threads=args.threads
+            )
             times = []
             for _ in range(args.repeat):
                 start = time.perf_counter()

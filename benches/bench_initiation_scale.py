@@ -10,6 +10,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
 
     python3 benches/bench_initiation_scale.py [--targets 4 8 16] [--sensors 2 3] [--cap 120]
     python3 benches/bench_initiation_scale.py --area-km 200 --v-max 250   # a wide scene
+    python3 benches/bench_initiation_scale.py --targets 32 --max-candidates 5000000   # past the default cap
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from passive_assoc.evaluation import track_targets
 from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
 
 n_targets, n_sensors, seed = (int(v) for v in sys.argv[1:4])
-area, v_max = float(sys.argv[4]) * 1e3, float(sys.argv[5])
+area, v_max, max_candidates = float(sys.argv[4]) * 1e3, float(sys.argv[5]), int(sys.argv[6])
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
@@ -41,7 +42,8 @@ times = [5.0 * j + 15.0 * np.arange(8) for j in range(n_sensors)]
 scenario = simulate(sensors, targets, times, clutter_per_scan=2 * n_targets, azimuth_window=(0, np.pi),
                     elevation_window=(0, np.pi / 2), t0=0.0, seed=seed)
 start = time.perf_counter()
-result = pa.FuzzyTrackInitiator(v_max=v_max).initiate(scenario.measurements, sensors, t0=0.0)
+options = {"max_candidates": max_candidates} if max_candidates else {}
+result = pa.FuzzyTrackInitiator(v_max=v_max, **options).initiate(scenario.measurements, sensors, t0=0.0)
 seconds = time.perf_counter() - start
 found = set(track_targets(result.labels, scenario.measurements.truth).tolist()) - {-1}
 print(json.dumps({
@@ -53,14 +55,20 @@ print(json.dumps({
 
 
 def run_case(
-    n_targets: int, n_sensors: int, seed: int, cap: float, area: float = 0.0, v_max: float = 500.0
+    n_targets: int,
+    n_sensors: int,
+    seed: int,
+    cap: float,
+    area: float = 0.0,
+    v_max: float = 500.0,
+    max_candidates: int = 0,
 ) -> dict | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
     start = time.perf_counter()
     try:
         out = subprocess.run(
-            [sys.executable, "-c", CASE, str(n_targets), str(n_sensors), str(seed), str(area), str(v_max)],
+            [sys.executable, "-c", CASE, *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates))],
             capture_output=True,
             text=True,
             timeout=cap,
@@ -81,23 +89,24 @@ def main() -> None:
     parser.add_argument("--cap", type=float, default=120.0, help="seconds per case before giving up")
     parser.add_argument("--area-km", type=float, default=0.0, help="spread targets over this square instead (km)")
     parser.add_argument("--v-max", type=float, default=500.0, help="the initiator's v_max (m/s); default its default")
+    parser.add_argument("--max-candidates", type=int, default=0, help="the initiator's max_candidates (0: its default)")
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | searched | "
-        "time in candidates / fit / search / detection |"
+        "time in candidates / fit / support gate / search / detection |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for n_sensors in args.sensors:
         for n_targets in args.targets:
-            case = run_case(n_targets, n_sensors, args.seed, args.cap, args.area_km, args.v_max)
+            case = run_case(n_targets, n_sensors, args.seed, args.cap, args.area_km, args.v_max, args.max_candidates)
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"
                 print(f"| {n_sensors} | {n_targets} | | {what} | | | | | | |")
                 continue
             st, c = case["stages"], case["counts"]
             shares = " / ".join(
-                f"{100 * st[k] / case['seconds']:.0f} %" if case["seconds"] > 0 else "-"
-                for k in ("candidates", "fit", "descent", "detection")
+                f"{100 * st.get(k, 0.0) / case['seconds']:.0f} %" if case["seconds"] > 0 else "-"
+                for k in ("candidates", "fit", "support", "descent", "detection")
             )
             print(
                 f"| {n_sensors} | {n_targets} | {case['rows']} | {case['seconds']:.3g} | {case['peak_mb']:.0f} | "

@@ -193,7 +193,8 @@ class FuzzyTrackInitiator:
         coverage test), and the second candidate pass may reuse the measurements of first-pass
         tracks the test dissolves (docs/methods.md §1). Default 1e-6.
     max_candidates : int
-        Refuse (ValueError) rather than exhaust memory when more candidates than this reach
+        Refuse (ValueError) rather than run for long (and, with ``support_gate=False``, which
+        stores every fitted candidate, exhaust memory) when more candidates than this reach
         the fitting stage, or rather than run for minutes when pairing one scan pair's
         first-scan and last-scan ray pairs would take more than 200 times this many tests
         (the count is known before any test is made).
