@@ -5,7 +5,7 @@ the stage counts.
 
     python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
         [--repeat N] [--threads T]
-    python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9]   # found per seed
+    python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9] [--gate-pd 0.9]
 """
 
 from __future__ import annotations
@@ -18,19 +18,21 @@ import passive_assoc as pa
 from passive_assoc.evaluation import track_targets
 
 
-def found_over_seeds(n: int, pd: float, seeds: int, n_detect: int | None = None) -> None:
+def found_over_seeds(n: int, pd: float, seeds: int, n_detect: int | None = None, gate_pd: float | None = None) -> None:
     """Targets found (a track holds at least two thirds of its rows from it:
     :func:`passive_assoc.evaluation.track_targets`) and the other tracks, over the seeds."""
     found = extra = 0
     for seed in range(seeds):
         scenario = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd)
-        result = pa.FuzzyTrackInitiator(n_detect=n_detect).initiate(scenario.measurements, scenario.sensors)
+        initiator = pa.FuzzyTrackInitiator(n_detect=n_detect, gate_pd=gate_pd)
+        result = initiator.initiate(scenario.measurements, scenario.sensors)
         assert scenario.measurements.truth is not None
         held = track_targets(result.labels, scenario.measurements.truth)
         distinct = len(set(held.tolist()) - {-1})
         found, extra = found + distinct, extra + len(held) - distinct
     nd = "the data's Nd" if n_detect is None else f"Nd {n_detect}"
-    print(f"{n} targets, Pd {pd}, {seeds} seeds, {nd}: {found}/{n * seeds} targets found, {extra} other tracks")
+    priced = "" if gate_pd is None else f", misses priced at Pd {gate_pd}"
+    print(f"{n} targets, Pd {pd}, {seeds} seeds, {nd}{priced}: {found}/{n * seeds} targets found, {extra} other tracks")
 
 
 def main() -> None:
@@ -43,16 +45,17 @@ def main() -> None:
     parser.add_argument("--candidate-scans", type=int, default=4, help="candidate_scans (1: pass 1 only)")
     parser.add_argument("--repeat", type=int, default=1, help="initiations per case: the median and range are printed")
     parser.add_argument("--threads", type=int, default=None, help="n_threads (default: every core)")
+    parser.add_argument("--gate-pd", type=float, default=None, help="gate_pd: price misses (default: not priced)")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
-            found_over_seeds(n, args.pd, args.seeds, args.n_detect)
+            found_over_seeds(n, args.pd, args.seeds, args.n_detect, args.gate_pd)
         return
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):
             initiator = pa.FuzzyTrackInitiator(
-                support_gate=gate, candidate_scans=args.candidate_scans, n_threads=args.threads
+                support_gate=gate, candidate_scans=args.candidate_scans, n_threads=args.threads, gate_pd=args.gate_pd
             )
             times = []
             for _ in range(args.repeat):

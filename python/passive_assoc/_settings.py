@@ -64,6 +64,7 @@ class InitiationSettings:
     candidate_scans: int
     support_gate: bool
     track_test_z: float | None
+    gate_pd: float | None
     n_threads: int | None
 
 

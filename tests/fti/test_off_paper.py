@@ -116,3 +116,19 @@ def test_the_track_test_dissolves_a_track_threaded_through_clutter() -> None:
     result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
     assert targets_tracked(result, scenario) == [0, 1, 2, 3, 4]
     assert set(clutter_only[0].measurements) <= set(result.clutter)
+
+
+def test_pricing_misses_removes_the_clutter_tracks_of_a_dense_2d_scene() -> None:
+    """8 targets, 3 sensors, Pd 0.9, 16 clutter bearings a scan (seed 0): by default every target
+    is tracked and 4 other tracks are mostly clutter; with misses priced at an
+    assumed Pd of 0.9 (``gate_pd``) those candidates' walks miss too often to be searched, and
+    the same 8 targets are the only tracks."""
+    scenario = pa.bearing_only_2d_scenario(0, n_targets=8, n_sensors=3, clutter_ratio=2, pd=0.9)
+    truth = scenario.measurements.truth
+    assert truth is not None
+    default = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    held = track_targets(default.labels, truth)
+    assert set(held.tolist()) - {-1} == set(range(8)) and len(held) > 8
+    priced = FuzzyTrackInitiator(gate_pd=0.9).initiate(scenario.measurements, scenario.sensors)
+    assert targets_tracked(priced, scenario) == list(range(8))
+    assert priced.diagnostics.stage_counts["supported"] < default.diagnostics.stage_counts["supported"]

@@ -289,6 +289,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="coordinates of the closeness search (default whitened; diagonal = METHODS wording)",
     )
     parser.add_argument(
+        "--gate-pd",
+        type=finite_float,
+        default=None,
+        help="detection probability the tracking gate assumes to price misses (default: not priced)",
+    )
+    parser.add_argument(
         "--plot", metavar="FILE", type=output_file, help="save the run-0 picture and RMS-vs-CRLB bars (PNG/PDF)"
     )
     parser.add_argument("--json", metavar="FILE", type=output_file, help="save every printed figure as JSON")
@@ -302,6 +308,7 @@ def main(args: argparse.Namespace) -> int:
         refine_passes=args.refine_passes,
         candidate_scans=args.candidate_scans,
         descent_scaling=args.descent_scaling,
+        gate_pd=args.gate_pd,
     )
     runs, scenario, result, crlbs = run_experiment(
         args.runs, args.seed, args.workers, args.pd, args.clutter_ratio, initiator
@@ -317,6 +324,7 @@ def main(args: argparse.Namespace) -> int:
         "refine_passes": args.refine_passes,
         "candidate_scans": args.candidate_scans,
         "descent_scaling": args.descent_scaling,
+        "gate_pd": args.gate_pd,
     }
     print_table2(summary["run0_estimates"], scenario.true_states)
     print_report(summary, settings)

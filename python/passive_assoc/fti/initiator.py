@@ -184,6 +184,13 @@ class FuzzyTrackInitiator:
         is of that kind. The gate also follows each candidate as a tracker would, and requires
         the measurements it finds to be at least as likely from it as from clutter at the
         scan's local density (docs/methods.md §1, *Tracking gate*).
+    gate_pd : float or None
+        Detection probability the tracking gate assumes when a scan's gate holds no
+        measurement: each such miss lowers the candidate's score by ``log(1 - gate_pd)``, as a
+        target is missed there with probability ``1 - gate_pd`` and clutter always is (a
+        project extension, opt-in; None: misses are not priced). On dense 2-D scenes it
+        removes most clutter tracks; docs/methods.md §1 (*Misses priced*) has the measurements
+        and what it costs at low Pd. Default None.
     track_test : float or None
         Dissolve a final track whose ML refit χ² is above the χ²(dof) quantile at this tail
         probability (dof = angles − state dimension); its measurements become clutter (a
@@ -218,6 +225,7 @@ class FuzzyTrackInitiator:
     refine_passes: int = 2
     candidate_scans: int = 4
     support_gate: bool = True
+    gate_pd: float | None = None
     track_test: float | None = 1e-6
     max_candidates: int = 500_000
     n_threads: int | None = None
@@ -240,6 +248,7 @@ class FuzzyTrackInitiator:
         "refine_passes": [Interval(int, 0, None)],
         "candidate_scans": [Interval(int, 1, None)],
         "support_gate": [Boolean()],
+        "gate_pd": [Interval(float, 0.0, 1.0, closed="neither"), None],
         "track_test": [Interval(float, 0.0, 0.5, closed="neither"), None],
         "max_candidates": [Interval(int, 1, None)],
         "n_threads": [Interval(int, 1, None), None],
@@ -307,6 +316,7 @@ class FuzzyTrackInitiator:
             candidate_scans=self.candidate_scans,
             support_gate=self.support_gate,
             track_test_z=None if self.track_test is None else float(-ndtri(self.track_test)),
+            gate_pd=self.gate_pd,
             n_threads=self.n_threads,
         )
         out = _core.initiate(table, network, self._pairs(network.n_sensors), (spread_az, spread_el), settings)

@@ -42,6 +42,7 @@ pub struct InitiationSettings {
     candidate_scans: i64,
     support_gate: bool,
     track_test_z: Option<f64>,
+    gate_pd: Option<f64>,
     n_threads: Option<i64>,
 }
 
@@ -65,7 +66,8 @@ impl InitiationSettings {
             .with_refine_passes(count("refine_passes", self.refine_passes, 0)?)
             .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?
             .with_support_gate(self.support_gate)
-            .with_track_test(self.track_test_z)?)
+            .with_track_test(self.track_test_z)?
+            .with_gate_pd(self.gate_pd)?)
     }
 }
 

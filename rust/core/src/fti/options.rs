@@ -29,6 +29,7 @@ pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 /// | `track_test` | z = 4.753 (tail 10⁻⁶) | see [`with_track_test`](Self::with_track_test) |
 /// | `support_gate` | on | see [`support`](super::support) |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
+/// | `gate_pd` | `None` | misses not priced; see [`with_gate_pd`](Self::with_gate_pd) |
 ///
 /// Every scalar is checked by its setter; the pairs need the data and are checked by
 /// [`initiate`](super::initiate).
@@ -45,6 +46,7 @@ pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 /// assert!(InitiationOptions::default().with_gate(0.0).is_err());
 /// assert!(InitiationOptions::default().with_n_detect(Some(0)).is_err());
 /// assert_eq!(InitiationOptions::default().n_detect_for(16), 9);
+/// assert!(InitiationOptions::default().with_gate_pd(Some(1.0)).is_err());
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitiationOptions {
@@ -63,6 +65,7 @@ pub struct InitiationOptions {
     candidate_scans: usize,
     support_gate: bool,
     track_test: Option<f64>,
+    gate_pd: Option<f64>,
 }
 
 impl Default for InitiationOptions {
@@ -87,6 +90,7 @@ impl Default for InitiationOptions {
             candidate_scans: 4,
             support_gate: true,
             track_test: Some(TRACK_TEST_Z),
+            gate_pd: None,
         }
     }
 }
@@ -226,6 +230,26 @@ impl InitiationOptions {
         positive("track_test", z)?;
         self.track_test = z;
         Ok(self)
+    }
+
+    /// The detection probability the tracking gate assumes when it prices a scan whose gate
+    /// holds no row (project extension, opt-in; in (0, 1), `None` = misses are not priced).
+    /// Each such scan then adds `ln(1 − pd)` to the candidate's score: a target is missed
+    /// there with probability 1 − pd, clutter always "misses". See
+    /// module `tracking_gate` and docs/methods.md §1.
+    pub fn with_gate_pd(mut self, pd: Option<f64>) -> CoreResult<Self> {
+        if let Some(p) = pd.filter(|p| !(*p > 0.0 && *p < 1.0)) {
+            return Err(CoreError::out_of_range(
+                "gate_pd",
+                format!("{p} must be in (0, 1)"),
+            ));
+        }
+        self.gate_pd = pd;
+        Ok(self)
+    }
+
+    pub fn gate_pd(&self) -> Option<f64> {
+        self.gate_pd
     }
 
     pub fn track_test(&self) -> Option<f64> {

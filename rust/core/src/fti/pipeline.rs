@@ -143,6 +143,7 @@ impl Run {
             scans,
             gate: options.gate(),
             n_detect: options.n_detect_for(scans.len()),
+            miss_score: options.gate_pd().map_or(0.0, |pd| (1.0 - pd).ln()),
         });
         self.seconds.support += clock.elapsed().as_secs_f64();
 

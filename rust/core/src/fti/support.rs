@@ -221,13 +221,16 @@ pub struct Gate<'a> {
     /// Half-width in standard deviations.
     pub gate: f64,
     pub n_detect: usize,
+    /// What the tracking gate adds to the score per scan without a row: `ln(1 − gate_pd)`,
+    /// or 0 when misses are not priced.
+    pub miss_score: f64,
 }
 
 impl Gate<'_> {
     pub fn keeps(&self, problem: &Problem<'_>, c: &Candidate) -> bool {
         let (table, scans, gate, n_detect) = (self.table, self.scans, self.gate, self.n_detect);
         table.supports(problem, scans, c, gate, n_detect)
-            && tracking_gate::confirms(problem, table, scans, c, gate, n_detect)
+            && tracking_gate::confirms(problem, self, c)
     }
 }
 

@@ -28,17 +28,17 @@
 //! in a box of ±[`DENSITY_WIDTH`] predicted standard deviations, the scored row left out and
 //! at least one counted), and the candidate must not end with a negative sum: the rows it
 //! found are at least as likely from a target as from clutter (a candidate with no scan
-//! beyond its own four has no score, and the count alone decides). Misses are not priced: the detection
-//! probability is unknown (METHODS §1). The own four scans add nothing (their rows are in
-//! the fit). On the paper's scene it removes 3 of the 24 candidates a run that the count
+//! beyond its own four has no score, and the count alone decides). Misses are not priced by
+//! default: the detection probability is unknown (METHODS §1); with `gate_pd` = p each scan
+//! without a row in the gate adds `ln(1 − p)` ([`Gate::miss_score`]). The own four scans
+//! add nothing (their rows are in the fit). On the paper's scene it removes 3 of the 24 candidates a run that the count
 //! passes and no figure `reproduce fti` prints at Pd = 1 changes; on issue 16's 2-D scene of
 //! 8 targets the searches go from 60 952 to 6 978 (docs/methods.md §1, *Tracking gate*).
 
 use std::f64::consts::PI;
 
 use super::candidates::Candidate;
-use super::scans::Scans;
-use super::support::{azimuth_window, in_box, ScanAngles, SupportTable};
+use super::support::{azimuth_window, in_box, Gate, ScanAngles, SupportTable};
 use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{gradient_rows, predict, Space, MAX_DIM};
@@ -226,14 +226,8 @@ impl Prediction {
 
 /// Whether `c` finds a row in more than `n_detect` scans, updated as it goes, and the rows
 /// it finds are likelier from it than from clutter (module doc).
-pub fn confirms(
-    problem: &Problem<'_>,
-    table: &SupportTable,
-    scans: &Scans,
-    c: &Candidate,
-    gate: f64,
-    n_detect: usize,
-) -> bool {
+pub fn confirms(problem: &Problem<'_>, gating: &Gate<'_>, c: &Candidate) -> bool {
+    let (table, scans) = (gating.table, gating.scans);
     let dim = problem.layout.dim();
     let belief = Belief::of(c, dim);
     let mut own: Vec<usize> = c.rows.iter().map(|&r| scans.scan_of[r]).collect();
@@ -248,8 +242,9 @@ pub fn confirms(
         problem,
         table,
         order: &order,
-        gate,
-        n_detect,
+        gate: gating.gate,
+        n_detect: gating.n_detect,
+        miss_score: gating.miss_score,
     };
     walk.from(0, belief, own.len(), 0.0, false)
 }
@@ -261,6 +256,7 @@ struct Walk<'a> {
     order: &'a [(f64, usize)],
     gate: f64,
     n_detect: usize,
+    miss_score: f64,
 }
 
 impl Walk<'_> {
@@ -285,7 +281,9 @@ impl Walk<'_> {
                 continue;
             };
             let Some(((d2, nearest), count)) = pred.nearest(scan, space, self.gate) else {
-                continue; // a miss: not priced, as the detection probability is unknown
+                // A miss: priced only at an assumed detection probability (`gate_pd`).
+                score += self.miss_score;
+                continue;
             };
             supported += 1;
             if count == 1 || branched || !pred.wide(&scan.sigma) {
@@ -316,10 +314,12 @@ mod tests {
     use crate::fti::{sim, InitiationOptions};
 
     /// In 2-D with clutter (where the χ² gate has no information): every candidate made of
-    /// one target's four rows passes, and the gate removes candidates the fixed gate keeps.
+    /// one target's four rows passes, and the gate removes candidates the fixed gate keeps;
+    /// pricing misses at an assumed Pd of 0.9 keeps every true candidate too, and only
+    /// removes more (a priced walk's score is never higher).
     #[test]
     fn keeps_every_true_candidate_and_removes_some_the_fixed_gate_keeps() {
-        let (mut fixed, mut tracked, mut true_ones) = (0, 0, 0);
+        let (mut fixed, mut tracked, mut priced, mut true_ones) = (0, 0, 0, 0);
         for seed in 0..4 {
             let sc = sim::planar(seed, true, 12, 8);
             let sensors = sc.sensors();
@@ -338,12 +338,22 @@ mod tests {
                     continue;
                 }
                 fixed += 1;
-                let kept = confirms(&problem, &support, &scans, c, options.gate(), n_detect);
+                let gating = |miss_score| Gate {
+                    table: &support,
+                    scans: &scans,
+                    gate: options.gate(),
+                    n_detect,
+                    miss_score,
+                };
+                let kept = confirms(&problem, &gating(0.0), c);
+                let kept_priced = confirms(&problem, &gating(0.1f64.ln()), c);
+                assert!(kept || !kept_priced, "pricing misses kept a candidate");
                 tracked += usize::from(kept);
+                priced += usize::from(kept_priced);
                 if is_true {
                     true_ones += 1;
                     assert!(
-                        kept,
+                        kept && kept_priced,
                         "seed {seed}: target {owner}'s own candidate was removed"
                     );
                 }
@@ -351,5 +361,6 @@ mod tests {
         }
         assert!(true_ones >= 8, "{true_ones} true candidates");
         assert!(tracked < fixed, "kept {tracked} of {fixed}");
+        assert!(priced < tracked, "priced kept {priced} of {tracked}");
     }
 }
