@@ -83,7 +83,13 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     kw = dict(kw)
     table, network, rest = _objects(args, kw.pop("ndim"))
     settings = InitiationSettings(
-        **kw, descent_scaling="whitened", refine_passes=2, candidate_scans=4, support_gate=True, track_test_z=4.75
+        **kw,
+        descent_scaling="whitened",
+        refine_passes=2,
+        candidate_scans=4,
+        support_gate=True,
+        track_test_z=4.75,
+        gate_pd=None,
     )
     spreads = (rest["spread_azimuth"], rest["spread_elevation"])
     return _core.initiate(table, network, rest["pairs"], spreads, settings)
