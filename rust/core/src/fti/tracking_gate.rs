@@ -31,14 +31,15 @@
 //! beyond its own four has no score, and the count alone decides). Misses are not priced by
 //! default: the detection probability is unknown (METHODS §1); with `gate_pd` = p each scan
 //! without a row in the gate adds `ln(1 − p)` ([`Gate::miss_score`]). The own four scans
-//! add nothing (their rows are in the fit). On the paper's scene it removes 3 of the 24 candidates a run that the count
-//! passes and no figure `reproduce fti` prints at Pd = 1 changes; on issue 16's 2-D scene of
-//! 8 targets the searches go from 60 952 to 6 978 (docs/methods.md §1, *Tracking gate*).
+//! add nothing (their rows are in the fit). On the paper's scene it removes 3 of the 24
+//! candidates a run that the count passes and no figure `reproduce fti` prints at Pd = 1
+//! changes; on issue 16's 2-D scene of 8 targets the searches go from 60 952 to 6 978
+//! (docs/methods.md §1, *Tracking gate*).
 
 use std::f64::consts::PI;
 
 use super::candidates::Candidate;
-use super::support::{azimuth_window, in_box, Gate, ScanAngles, SupportTable};
+use super::support::{azimuth_window, in_box, Gate, ScanAngles};
 use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{gradient_rows, predict, Space, MAX_DIM};
@@ -240,11 +241,8 @@ pub fn confirms(problem: &Problem<'_>, gating: &Gate<'_>, c: &Candidate) -> bool
     order.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
     let walk = Walk {
         problem,
-        table,
+        gating,
         order: &order,
-        gate: gating.gate,
-        n_detect: gating.n_detect,
-        miss_score: gating.miss_score,
     };
     walk.from(0, belief, own.len(), 0.0, false)
 }
@@ -252,11 +250,8 @@ pub fn confirms(problem: &Problem<'_>, gating: &Gate<'_>, c: &Candidate) -> bool
 /// The fixed inputs of one candidate's walk over its ordered scans.
 struct Walk<'a> {
     problem: &'a Problem<'a>,
-    table: &'a SupportTable,
+    gating: &'a Gate<'a>,
     order: &'a [(f64, usize)],
-    gate: f64,
-    n_detect: usize,
-    miss_score: f64,
 }
 
 impl Walk<'_> {
@@ -272,17 +267,17 @@ impl Walk<'_> {
     ) -> bool {
         let space = self.problem.layout.space;
         for (at, &(_, k)) in self.order.iter().enumerate().skip(start) {
-            if supported + (self.order.len() - at) <= self.n_detect {
+            if supported + (self.order.len() - at) <= self.gating.n_detect {
                 return false; // even every remaining scan would not be enough
             }
-            let scan = &self.table.scans[k];
+            let scan = &self.gating.table.scans[k];
             let Some(pred) = belief.predict(self.problem, scan) else {
                 supported += 1; // on the sensor's axis: do not prune, as the fixed gate
                 continue;
             };
-            let Some(((d2, nearest), count)) = pred.nearest(scan, space, self.gate) else {
+            let Some(((d2, nearest), count)) = pred.nearest(scan, space, self.gating.gate) else {
                 // A miss: priced only at an assumed detection probability (`gate_pd`).
-                score += self.miss_score;
+                score += self.gating.miss_score;
                 continue;
             };
             supported += 1;
@@ -291,7 +286,7 @@ impl Walk<'_> {
                 belief.update(&pred, &nearest, &scan.sigma);
                 continue;
             }
-            let hits = pred.hits(scan, space, self.gate);
+            let hits = pred.hits(scan, space, self.gating.gate);
             if hits.len() > MAX_BRANCHES {
                 return true; // too crowded to test: keep the candidate
             }
@@ -303,7 +298,7 @@ impl Walk<'_> {
             });
         }
         // A candidate with no scan beyond its own four has no score (0): the count decides.
-        supported > self.n_detect && score >= 0.0
+        supported > self.gating.n_detect && score >= 0.0
     }
 }
 
@@ -311,6 +306,7 @@ impl Walk<'_> {
 mod tests {
     use super::*;
     use crate::fti::pipeline::candidates_of;
+    use crate::fti::support::SupportTable;
     use crate::fti::{sim, InitiationOptions};
 
     /// In 2-D with clutter (where the χ² gate has no information): every candidate made of
