@@ -11,6 +11,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
     python3 benches/bench_initiation_scale.py [--targets 4 8 16] [--sensors 2 3] [--cap 120]
     python3 benches/bench_initiation_scale.py --area-km 200 --v-max 250   # a wide scene
     python3 benches/bench_initiation_scale.py --targets 32 --max-candidates 5000000   # past the default cap
+    python3 benches/bench_initiation_scale.py --gate-pd 0.9   # misses priced (opt-in)
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
 
 n_targets, n_sensors, seed = (int(v) for v in sys.argv[1:4])
 area, v_max, max_candidates = float(sys.argv[4]) * 1e3, float(sys.argv[5]), int(sys.argv[6])
+gate_pd = float(sys.argv[7]) if sys.argv[7] != "None" else None
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
@@ -43,6 +45,7 @@ scenario = simulate(sensors, targets, times, clutter_per_scan=2 * n_targets, azi
                     elevation_window=(0, np.pi / 2), t0=0.0, seed=seed)
 start = time.perf_counter()
 options = {"max_candidates": max_candidates} if max_candidates else {}
+options["gate_pd"] = gate_pd
 result = pa.FuzzyTrackInitiator(v_max=v_max, **options).initiate(scenario.measurements, sensors, t0=0.0)
 seconds = time.perf_counter() - start
 found = set(track_targets(result.labels, scenario.measurements.truth).tolist()) - {-1}
@@ -62,13 +65,14 @@ def run_case(
     area: float = 0.0,
     v_max: float = 500.0,
     max_candidates: int = 0,
+    gate_pd: float | None = None,
 ) -> dict | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
     start = time.perf_counter()
     try:
         out = subprocess.run(
-            [sys.executable, "-c", CASE, *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates))],
+            [sys.executable, "-c", CASE, *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd))],
             capture_output=True,
             text=True,
             timeout=cap,
@@ -90,6 +94,7 @@ def main() -> None:
     parser.add_argument("--area-km", type=float, default=0.0, help="spread targets over this square instead (km)")
     parser.add_argument("--v-max", type=float, default=500.0, help="the initiator's v_max (m/s); default its default")
     parser.add_argument("--max-candidates", type=int, default=0, help="the initiator's max_candidates (0: its default)")
+    parser.add_argument("--gate-pd", type=float, default=None, help="the initiator's gate_pd (default: not priced)")
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | searched | "
