@@ -83,7 +83,7 @@ mod tests {
             let sc = sim::paper(seed, true, 8, 8);
             let sensors = sc.sensors();
             let table = sc.measurements(&sensors);
-            let problem = sim::spatial_problem(sensors, table);
+            let problem = sim::problem(sensors, table);
             let scans = Scans::new(&table, 2);
             let [a1, b1, a2, b2] = scans.scan_slots([0, 1], 1, false)[0].map(|k| scans.scan(k));
             // The pairs the pipeline combines: past the ray gate and the behind-sensor rule.

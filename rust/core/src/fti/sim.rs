@@ -225,13 +225,3 @@ pub fn problem<'a>(sensors: Sensors<'a>, measurements: Measurements<'a>) -> Prob
         t0: 0.0,
     }
 }
-
-/// The 3-D constant-velocity problem of a table with epoch 0 (the simulations' t0).
-pub fn spatial_problem<'a>(sensors: Sensors<'a>, measurements: Measurements<'a>) -> Problem<'a> {
-    Problem {
-        sensors,
-        measurements,
-        layout: StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 }),
-        t0: 0.0,
-    }
-}

@@ -131,7 +131,7 @@ mod tests {
         let sc = sim::paper(11, true, 0, 8);
         let sensors = sc.sensors();
         let table = sc.measurements(&sensors);
-        let problem = sim::spatial_problem(sensors, table);
+        let problem = sim::problem(sensors, table);
         let pre = Precomputed::new(&sensors, &table, &sc.spreads(), 0.0).expect("valid");
         let truth = &sc.truth;
         let rows_of =
