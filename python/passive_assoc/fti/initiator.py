@@ -186,9 +186,9 @@ class FuzzyTrackInitiator:
         scan's local density (docs/methods.md §1, *Tracking gate*).
     gate_pd : float or None
         Detection probability the tracking gate assumes when a scan's gate holds no
-        measurement: each such miss lowers the candidate's score by ``log(1 - gate_pd)``, as a
-        target is missed there with probability ``1 - gate_pd`` and clutter always is (a
-        project extension, opt-in; None: misses are not priced). On dense 2-D scenes it
+        measurement: each such miss adds ``log(1 - gate_pd)`` (negative) to the candidate's
+        score, as a target is missed there with probability ``1 - gate_pd`` and clutter always
+        is (a project extension, opt-in; None: misses are not priced). On dense 2-D scenes it
         removes most clutter tracks; docs/methods.md §1 (*Misses priced*) has the measurements
         and what it costs at low Pd. Default None.
     track_test : float or None

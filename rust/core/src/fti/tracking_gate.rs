@@ -99,12 +99,13 @@ impl Belief {
         let Some((count, gradient)) = gradient_rows(&problem.layout, x, &scan.probe) else {
             return f64::INFINITY;
         };
-        (0..count)
-            .map(|a| {
-                let pg = self.p_times(&gradient[a]);
-                (0..self.dim).map(|i| gradient[a][i] * pg[i]).sum::<f64>()
-            })
-            .sum()
+        gradient[..count].iter().map(|g| self.spread_of(g)).sum()
+    }
+
+    /// `g·P·gᵀ` for a gradient row `g`.
+    fn spread_of(&self, g: &[f64; MAX_DIM]) -> f64 {
+        let pg = self.p_times(g);
+        (0..self.dim).map(|i| g[i] * pg[i]).sum()
     }
 
     /// The prediction of `scan`, or `None` on the sensor's axis (angles undefined).
@@ -113,10 +114,7 @@ impl Belief {
         let x = &self.x[..self.dim];
         let target = layout.position(x, scan.probe.time);
         let (count, gradient) = gradient_rows(layout, x, &scan.probe)?;
-        let spread: [f64; 2] = std::array::from_fn(|a| {
-            let pg = self.p_times(&gradient[a]);
-            (0..self.dim).map(|i| gradient[a][i] * pg[i]).sum()
-        });
+        let spread: [f64; 2] = gradient.each_ref().map(|g| self.spread_of(g));
         Some(Prediction {
             angles: predict(layout.space, &scan.probe.sensor, &target),
             gradient,
