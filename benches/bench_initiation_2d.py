@@ -11,11 +11,23 @@ the stage counts.
 from __future__ import annotations
 
 import argparse
+import resource
 import time
 
 import numpy as np
 import passive_assoc as pa
 from passive_assoc.evaluation import track_targets
+
+
+def priced(gate_pd: float | None) -> dict[str, float]:
+    """``gate_pd`` only when given, so the bench also runs on builds from before the option
+    (the same-run comparisons in docs/performance.md run it on an older package)."""
+    return {} if gate_pd is None else {"gate_pd": gate_pd}
+
+
+def peak_rss_mb() -> float:
+    """The process's peak resident memory so far (Linux reports kB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
 def found_over_seeds(n: int, pd: float, seeds: int, n_detect: int | None = None, gate_pd: float | None = None) -> None:
@@ -24,15 +36,17 @@ def found_over_seeds(n: int, pd: float, seeds: int, n_detect: int | None = None,
     found = extra = 0
     for seed in range(seeds):
         scenario = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd)
-        initiator = pa.FuzzyTrackInitiator(n_detect=n_detect, gate_pd=gate_pd)
+        initiator = pa.FuzzyTrackInitiator(n_detect=n_detect, **priced(gate_pd))
         result = initiator.initiate(scenario.measurements, scenario.sensors)
         assert scenario.measurements.truth is not None
         held = track_targets(result.labels, scenario.measurements.truth)
         distinct = len(set(held.tolist()) - {-1})
         found, extra = found + distinct, extra + len(held) - distinct
     nd = "the data's Nd" if n_detect is None else f"Nd {n_detect}"
-    priced = "" if gate_pd is None else f", misses priced at Pd {gate_pd}"
-    print(f"{n} targets, Pd {pd}, {seeds} seeds, {nd}{priced}: {found}/{n * seeds} targets found, {extra} other tracks")
+    pricing = "" if gate_pd is None else f", misses priced at Pd {gate_pd}"
+    print(
+        f"{n} targets, Pd {pd}, {seeds} seeds, {nd}{pricing}: {found}/{n * seeds} targets found, {extra} other tracks"
+    )
 
 
 def main() -> None:
@@ -55,9 +69,9 @@ def main() -> None:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):
             initiator = pa.FuzzyTrackInitiator(
-                support_gate=gate, candidate_scans=args.candidate_scans, n_threads=args.threads, gate_pd=args.gate_pd
+                support_gate=gate, candidate_scans=args.candidate_scans, n_threads=args.threads, **priced(args.gate_pd)
             )
-            times = []
+            times, rss_before = [], peak_rss_mb()
             for _ in range(args.repeat):
                 start = time.perf_counter()
                 result = initiator.initiate(scenario.measurements, scenario.sensors)
@@ -77,6 +91,7 @@ def main() -> None:
             seconds = ", ".join(f"{k} {v:.3f}" for k, v in result.diagnostics.stage_seconds.items())
             print(f"  stage seconds (last run) {seconds}")
             print(f"  stage counts {result.diagnostics.stage_counts}")
+            print(f"  peak RSS of the process {rss_before:.0f} MB before the initiations, {peak_rss_mb():.0f} MB after")
 
 
 if __name__ == "__main__":

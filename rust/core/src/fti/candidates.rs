@@ -238,7 +238,7 @@ fn ray_gate_passes(problem: &Problem<'_>, pair: &RayPair, options: &InitiationOp
 /// Fits one chunk in parallel (collected in order), applies the χ² gate and then the support
 /// `gate` (when on), and keeps the survivors. Gating each chunk as it is fitted, instead of
 /// every candidate after all are fitted, keeps only the survivors in memory (6 145 of the
-/// 465 152 fitted on issue 16's 2-D scene, each ≈ 0.45 kB; peak RSS 207 → 111 MB).
+/// 465 152 fitted on issue 16's 2-D scene, each ≈ 0.45 kB; peak RSS 208 → 111 MB).
 pub(super) fn fit_chunk(
     problem: &Problem<'_>,
     chunk: &[(&RayPair, &RayPair)],
