@@ -29,7 +29,7 @@ pub use options::{LagrangianOptions, WarmStart, WARM_MIN_SIZE};
 pub use order::SensorOrder;
 
 use options::MIN_STEP_SCALE;
-use recovery::{polish, Recovery};
+use recovery::Recovery;
 use relaxation::Relaxation;
 
 use crate::assign::{closes_gap, relative_gap, Limit, SdProblem, SdSolution, Termination};
@@ -116,7 +116,7 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
     );
     if options.polish() && unfinished {
         // Compound moves the per-iteration search cannot make (module `recovery::polish`).
-        best = polish(problem, &best.0);
+        best = recovery.polish(problem, &best.0);
         if closes_gap(best.1, dual_bound) {
             termination = Termination::Optimal;
         } else if relative_gap(best.1, dual_bound) <= options.gap_tol() {

@@ -9,11 +9,11 @@
 use super::reduced::{keep_min, modified, EMPTY};
 use crate::assign::lap::{SparseCosts, SparseSolver};
 use crate::assign::SdProblem;
-pub(super) use polish::polish;
+use rustc_hash::FxHashSet;
 use search::Search;
-use std::collections::HashSet;
 
 mod polish;
+mod ranked;
 mod search;
 
 const NONE: usize = usize::MAX;
@@ -36,9 +36,10 @@ pub(super) struct Recovery {
     live: Vec<(usize, usize)>,
     stage: Stage,
     search: Search,
-    /// Pair sets (S = 3) and local-search starts already handled, sorted.
-    seen_pairs: HashSet<Vec<usize>>,
-    seen_starts: HashSet<Vec<usize>>,
+    /// Pair sets (S = 3) and local-search starts already handled, sorted. Fx hashing: each
+    /// iteration inserts into both, and SipHash cost more than the lookups.
+    seen_pairs: FxHashSet<Vec<usize>>,
+    seen_starts: FxHashSet<Vec<usize>>,
 }
 
 impl Recovery {
@@ -75,8 +76,8 @@ impl Recovery {
             live: Vec::new(),
             stage: Stage::default(),
             search: Search::new(problem),
-            seen_pairs: HashSet::new(),
-            seen_starts: HashSet::new(),
+            seen_pairs: FxHashSet::default(),
+            seen_starts: FxHashSet::default(),
         }
     }
 
@@ -119,6 +120,12 @@ impl Recovery {
             }
         }
         best
+    }
+
+    /// The compound-move polish of feasible `chosen` ([`polish`]), in the scan order the
+    /// per-iteration search already built.
+    pub(super) fn polish(&self, problem: &SdProblem, chosen: &[usize]) -> (Vec<usize>, f64) {
+        polish::polish_ranked(problem, &self.search.ranked, chosen)
     }
 
     /// Feasible recovery by successive 2-D assignments: keep the sensor-0/1 pairs of the

@@ -115,8 +115,9 @@ impl Relaxation {
     }
 
     /// Cost minus multipliers of every entry, summed as [`super::reduced::modified`] does, so the
-    /// values are bit-identical to it. The loop runs over every tuple each iteration, so
-    /// common sensor counts get a copy with the width known at compile time.
+    /// values are bit-identical to it, and each pair's cheapest tuple. The loop runs over every
+    /// tuple each iteration, so common sensor counts get a copy with the width known at
+    /// compile time, and the pairs' minima are taken in the same pass.
     fn modify(&mut self, mult: &[Vec<f64>]) {
         for (s, &off) in self
             .mult_offs
@@ -127,7 +128,10 @@ impl Relaxation {
             self.flat[off..off + mult[s + 2].len()].copy_from_slice(&mult[s + 2]);
         }
         match self.mult_offs.len() - 1 {
-            0 => self.modified.copy_from_slice(&self.cost),
+            0 => {
+                self.modified.copy_from_slice(&self.cost);
+                self.pair_minima();
+            }
             1 => self.modify_n::<1>(),
             2 => self.modify_n::<2>(),
             3 => self.modify_n::<3>(),
@@ -138,9 +142,38 @@ impl Relaxation {
     /// [`Relaxation::modify`] for `W` multipliers per tuple (0: any).
     fn modify_n<const W: usize>(&mut self) {
         let w = if W == 0 { self.mult_offs.len() - 1 } else { W };
-        let (flat, tails) = (&self.flat, self.tail.chunks_exact(w));
-        for ((m, &c), tail) in self.modified.iter_mut().zip(&self.cost).zip(tails) {
+        let flat = &self.flat;
+        let tails = self.tail.chunks_exact(w);
+        let mut entries = (self.modified.iter_mut())
+            .zip(&self.cost)
+            .zip(tails)
+            .zip(&self.tuples);
+        let spans = self.pair_offs.windows(2);
+        let minima = self.pairs.values_mut().iter_mut().zip(&mut self.arg);
+        for ((v, arg), span) in minima.zip(spans) {
+            let mut b = EMPTY;
+            for (((m, &c), tail), &k) in entries.by_ref().take(span[1] - span[0]) {
+                *m = c - tail.iter().map(|&x| flat[x]).sum::<f64>();
+                keep_min(&mut b, (*m, k));
+            }
+            (*v, *arg) = b;
+        }
+        for (((m, &c), tail), _) in entries {
             *m = c - tail.iter().map(|&x| flat[x]).sum::<f64>();
+        }
+    }
+
+    /// The pairs' cheapest tuples when no sensor is relaxed: the modified costs are the costs.
+    fn pair_minima(&mut self) {
+        let (m, tuples) = (&self.modified, &self.tuples);
+        let spans = self.pair_offs.windows(2);
+        let minima = self.pairs.values_mut().iter_mut().zip(&mut self.arg);
+        for ((v, arg), w) in minima.zip(spans) {
+            let mut b = EMPTY;
+            for (&mx, &k) in m[w[0]..w[1]].iter().zip(&tuples[w[0]..w[1]]) {
+                keep_min(&mut b, (mx, k));
+            }
+            (*v, *arg) = b;
         }
     }
 
@@ -149,20 +182,6 @@ impl Relaxation {
     pub(super) fn evaluate(&mut self, mult: &[Vec<f64>], chosen: &mut Vec<usize>) -> f64 {
         self.modify(mult);
         let (m, tuples) = (&self.modified, &self.tuples);
-        let spans = self.pair_offs.windows(2);
-        for ((v, arg), w) in self
-            .pairs
-            .values_mut()
-            .iter_mut()
-            .zip(&mut self.arg)
-            .zip(spans)
-        {
-            let mut b = EMPTY;
-            for (&mx, &k) in m[w[0]..w[1]].iter().zip(&tuples[w[0]..w[1]]) {
-                keep_min(&mut b, (mx, k));
-            }
-            (*v, *arg) = b;
-        }
         let [e0, e1, e2, e3] = self.ends;
         self.rows.fill(EMPTY);
         self.cols.fill(EMPTY);

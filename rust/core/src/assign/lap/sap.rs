@@ -25,6 +25,12 @@ use std::collections::BinaryHeap;
 
 const NONE: usize = usize::MAX;
 
+/// Up to this many columns a search picks its next column by scanning the open ones instead of
+/// popping a heap. Both pick the least [`key`], so the result is the same bit for bit; on the
+/// Lagrangian's relaxed problems (about 40 columns with the dummies) the scan saves the heap's
+/// sifting and its stale entries.
+const LINEAR_MAX_COLS: usize = 128;
+
 /// Flips the alternating path ending at column `sink` back to row `cur`.
 fn augment(mut j: usize, cur: usize, path: &[usize], row4col: &mut [usize], col4row: &mut [usize]) {
     loop {
@@ -41,15 +47,19 @@ fn augment(mut j: usize, cur: usize, path: &[usize], row4col: &mut [usize], col4
 /// a single compare: the distance in `f64::total_cmp` order, then free columns first, then
 /// the column index (determinism).
 fn key(d: f64, free: bool, j: usize) -> u128 {
+    (u128::from(ordered(d)) << 64) | (u128::from(!free) << 63) | j as u128
+}
+
+/// `d` as an unsigned integer in `f64::total_cmp` order: every bit of negatives flipped, only
+/// the sign bit of positives.
+#[inline(always)]
+fn ordered(d: f64) -> u64 {
     let bits = d.to_bits();
-    // The total order of f64 as an unsigned integer: flip every bit of negatives, only the
-    // sign bit of positives.
-    let ordered = if bits >> 63 == 1 {
+    if bits >> 63 == 1 {
         !bits
     } else {
         bits | 1 << 63
-    };
-    (u128::from(ordered) << 64) | (u128::from(!free) << 63) | j as u128
+    }
 }
 
 /// Inverse of [`key`]: the distance and the column.
@@ -96,6 +106,12 @@ pub(super) struct SparseWork {
     sr: Vec<usize>,
     sc: Vec<usize>,
     heap: BinaryHeap<Reverse<u128>>,
+    /// With few columns (`linear`), instead of the heap: the reached and unscanned columns,
+    /// their distances as [`ordered`] integers, and each column's position in `open`.
+    open: Vec<usize>,
+    open_dist: Vec<u64>,
+    slot: Vec<usize>,
+    linear: bool,
     /// Distance of the nearest free column reached by the current search (`reset` sets it).
     free_dist: f64,
     /// Buffers of the square form's mirror rows (see `warm`), kept between calls.
@@ -149,6 +165,8 @@ impl SparseWork {
         refill(&mut self.col4row, rows, NONE);
         refill(&mut self.row4col, cols, NONE);
         refill(&mut self.scanned, cols, false);
+        refill(&mut self.slot, cols, NONE);
+        self.linear = cols <= LINEAR_MAX_COLS;
         self.reset();
     }
 
@@ -177,14 +195,8 @@ impl SparseWork {
         loop {
             self.sr.push(i);
             self.relax(i, min_val);
-            let j = loop {
-                let Reverse(k) = self.heap.pop()?;
-                let (d, j) = unkey(k);
-                if !self.scanned[j] && d == self.dist[j] {
-                    min_val = d;
-                    break j;
-                }
-            };
+            let j;
+            (min_val, j) = self.nearest()?;
             self.scanned[j] = true;
             self.sc.push(j);
             if self.row4col[j] == NONE {
@@ -192,6 +204,41 @@ impl SparseWork {
             }
             i = self.row4col[j];
         }
+    }
+
+    /// The reached, unscanned column of least [`key`] (distance, then free first, then
+    /// index) and its distance; `None` when every reached column is scanned.
+    fn nearest(&mut self) -> Option<(f64, usize)> {
+        if !self.linear {
+            return loop {
+                let Reverse(k) = self.heap.pop()?;
+                let (d, j) = unkey(k);
+                // Stale entries: the column was scanned, or reached again at a shorter distance.
+                if !self.scanned[j] && d == self.dist[j] {
+                    break Some((d, j));
+                }
+            };
+        }
+        let (mut best, mut best_d) = (0, *self.open_dist.first()?);
+        for (at, &d) in self.open_dist.iter().enumerate().skip(1) {
+            // Equal distances are rare: only then does the rest of the key decide.
+            if d < best_d || (d == best_d && self.ties_first(self.open[at], self.open[best])) {
+                (best, best_d) = (at, d);
+            }
+        }
+        let j = self.open.swap_remove(best);
+        self.open_dist.swap_remove(best);
+        if let Some(&moved) = self.open.get(best) {
+            self.slot[moved] = best;
+        }
+        self.slot[j] = NONE;
+        Some((self.dist[j], j))
+    }
+
+    /// Whether column `x` comes before column `y` at the same distance in [`key`] order.
+    fn ties_first(&self, x: usize, y: usize) -> bool {
+        let (fx, fy) = (self.row4col[x] == NONE, self.row4col[y] == NONE);
+        (fx && !fy) || (fx == fy && x < y)
     }
 
     /// Relaxes the stored entries of row `i`, reached at distance `min_val`. The inner loop
@@ -213,6 +260,13 @@ impl SparseWork {
             }
             if dist[j] == f64::INFINITY {
                 self.touched.push(j);
+                if self.linear {
+                    self.slot[j] = self.open.len();
+                    self.open.push(j);
+                    self.open_dist.push(ordered(r));
+                }
+            } else if self.linear {
+                self.open_dist[self.slot[j]] = ordered(r);
             }
             dist[j] = r;
             path[j] = i;
@@ -220,7 +274,9 @@ impl SparseWork {
             if free {
                 self.free_dist = r;
             }
-            self.heap.push(Reverse(key(r, free, j)));
+            if !self.linear {
+                self.heap.push(Reverse(key(r, free, j)));
+            }
         }
     }
 
@@ -240,11 +296,14 @@ impl SparseWork {
         for &j in &self.touched {
             self.dist[j] = f64::INFINITY;
             self.scanned[j] = false;
+            self.slot[j] = NONE;
         }
         self.touched.clear();
         self.sr.clear();
         self.sc.clear();
         self.heap.clear();
+        self.open.clear();
+        self.open_dist.clear();
         self.free_dist = f64::INFINITY;
     }
 }

@@ -19,6 +19,8 @@ use crate::assign::csr::csr;
 use crate::assign::SdProblem;
 use rustc_hash::FxHashMap;
 
+use super::ranked::Ranked;
+
 const NONE: usize = usize::MAX;
 
 /// Moves whose tuple conflicts with more chosen tuples than this are skipped: a move looks up
@@ -27,10 +29,20 @@ const MAX_CONFLICTS: usize = 6;
 
 /// The polished solution (ascending) and its cost; never costlier than `chosen` (beyond
 /// round-off in the sum), which must be feasible.
-pub(in crate::assign) fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<usize>, f64) {
+#[cfg(test)]
+fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<usize>, f64) {
+    polish_ranked(problem, &Ranked::new(problem), chosen)
+}
+
+/// [`polish`] in the scan order `ranked` of `problem` (the per-iteration search's).
+pub(super) fn polish_ranked(
+    problem: &SdProblem,
+    ranked: &Ranked,
+    chosen: &[usize],
+) -> (Vec<usize>, f64) {
     let start: f64 = chosen.iter().map(|&k| problem.costs()[k]).sum();
     let tol = 1e-12 * start.abs().max(1.0);
-    let mut state = Polish::new(problem, chosen);
+    let mut state = Polish::new(problem, ranked, chosen);
     // First improvement, in ascending cost: a full pass, then passes over the tuples whose
     // reports changed owner in the pass before, until one changes nothing. (Not a fixpoint:
     // a move can also gain through a conflict's refill list changing; catching that would
@@ -38,8 +50,7 @@ pub(in crate::assign) fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<u
     // the loop ends.
     loop {
         let mut moved = false;
-        let todo: Vec<usize> = state
-            .by_cost
+        let todo: Vec<usize> = (state.ranked.by_cost)
             .iter()
             .copied()
             .filter(|&k| state.dirty[k])
@@ -59,22 +70,26 @@ pub(in crate::assign) fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<u
     (out, total)
 }
 
-/// The polish's indexes and current solution.
+/// The polish's indexes and current solution. Candidates of a move are handled as ranks
+/// (positions in the scan order), whose costs and reports lie in flat arrays, so the refill's
+/// sort compares plain integers and its fit tests read contiguous memory.
 struct Polish<'p> {
     problem: &'p SdProblem,
-    /// Active tuples by ascending cost (ties by index): the scan order.
-    by_cost: Vec<usize>,
+    /// The scan order, with costs and reports by rank; its `missed` slot is never owned nor
+    /// used.
+    ranked: &'p Ranked,
     /// Per flat report ([`SdProblem::flat_reports`]): the active tuples using it (CSR).
     inc_offs: Vec<usize>,
     inc: Vec<usize>,
     /// Per flat report: the chosen tuple using it; per tuple: whether chosen.
     owner: Vec<usize>,
     chosen: Vec<bool>,
-    /// Unchosen active tuples by their sorted set of chosen owners (never empty).
+    /// The ranks of the unchosen active tuples by their sorted set of chosen owners (never
+    /// empty). A list keeps the order in which its tuples were added.
     by_owners: FxHashMap<Vec<usize>, Vec<usize>>,
     /// Tuples to look at in the next pass: those whose reports changed owner in this one.
     dirty: Vec<bool>,
-    /// Buffers of one move.
+    /// Buffers of one move: conflicts and keys are tuples, candidates and refill ranks.
     conflicts: Vec<usize>,
     key: Vec<usize>,
     candidates: Vec<usize>,
@@ -83,7 +98,7 @@ struct Polish<'p> {
 }
 
 impl<'p> Polish<'p> {
-    fn new(problem: &'p SdProblem, chosen: &[usize]) -> Self {
+    fn new(problem: &'p SdProblem, ranked: &'p Ranked, chosen: &[usize]) -> Self {
         let n_reports = problem.n_reports();
         let pairs = problem
             .active()
@@ -92,10 +107,10 @@ impl<'p> Polish<'p> {
         let (inc_offs, inc) = csr(n_reports, pairs);
         let mut state = Self {
             problem,
-            by_cost: problem.active_by_cost(),
+            ranked,
             inc_offs,
             inc,
-            owner: vec![NONE; n_reports],
+            owner: vec![NONE; n_reports + 1],
             chosen: vec![false; problem.n_tuples()],
             by_owners: FxHashMap::default(),
             dirty: vec![true; problem.n_tuples()],
@@ -103,38 +118,33 @@ impl<'p> Polish<'p> {
             key: Vec::new(),
             candidates: Vec::new(),
             refill: Vec::new(),
-            used: vec![false; n_reports],
+            used: vec![false; n_reports + 1],
         };
         for &k in chosen {
-            state.take(k);
+            state.set_owner(k, k);
         }
-        for at in 0..state.by_cost.len() {
-            state.index(state.by_cost[at], true);
+        for &k in &ranked.by_cost {
+            state.index(k, true);
         }
         state
     }
 
-    /// Makes `k` chosen, the owner of its reports.
-    fn take(&mut self, k: usize) {
-        self.chosen[k] = true;
-        for r in self.problem.flat_reports(k) {
-            self.owner[r] = k;
-        }
-    }
-
-    /// Makes `k` unchosen, its reports free.
-    fn drop_tuple(&mut self, k: usize) {
-        self.chosen[k] = false;
-        for r in self.problem.flat_reports(k) {
-            self.owner[r] = NONE;
+    /// Makes `k` chosen, the owner of its reports (`value == k`), or unchosen and its reports
+    /// free (`value == NONE`).
+    fn set_owner(&mut self, k: usize, value: usize) {
+        self.chosen[k] = value != NONE;
+        for &f in self.ranked.reports(self.ranked.rank_of[k]) {
+            if f != self.ranked.missed {
+                self.owner[f] = value;
+            }
         }
     }
 
     /// Distinct chosen owners of `k`'s reports, sorted, into `key`.
     fn owners_into_key(&mut self, k: usize) {
         self.key.clear();
-        for r in self.problem.flat_reports(k) {
-            let o = self.owner[r];
+        for &f in self.ranked.reports(self.ranked.rank_of[k]) {
+            let o = self.owner[f];
             if o != NONE && !self.key.contains(&o) {
                 self.key.push(o);
             }
@@ -151,12 +161,18 @@ impl<'p> Polish<'p> {
         if self.key.is_empty() {
             return;
         }
-        if add {
-            self.by_owners.entry(self.key.clone()).or_default().push(k);
-        } else if let Some(list) = self.by_owners.get_mut(self.key.as_slice()) {
-            if let Some(at) = list.iter().position(|&x| x == k) {
-                list.swap_remove(at);
+        let r = self.ranked.rank_of[k];
+        match self.by_owners.get_mut(self.key.as_slice()) {
+            Some(list) if add => list.push(r),
+            Some(list) => {
+                if let Some(at) = list.iter().position(|&x| x == r) {
+                    list.swap_remove(at);
+                }
             }
+            None if add => {
+                self.by_owners.insert(self.key.clone(), vec![r]);
+            }
+            None => {}
         }
     }
 
@@ -175,7 +191,11 @@ impl<'p> Polish<'p> {
         self.gather_candidates(a);
         // The refill is a subset of the candidates, so their negative costs bound what it can
         // win: most moves end here, before any sorting or marking.
-        let bound: f64 = self.candidates.iter().map(|&b| costs[b].min(0.0)).sum();
+        let bound: f64 = self
+            .candidates
+            .iter()
+            .map(|&b| self.ranked.cost[b].min(0.0))
+            .sum();
         if delta + bound >= -tol {
             return false;
         }
@@ -189,11 +209,12 @@ impl<'p> Polish<'p> {
         keep
     }
 
-    /// The unchosen tuples (other than `a`) whose chosen owners are a non-empty subset of the
-    /// conflicts, into `candidates`.
+    /// The ranks of the unchosen tuples (other than `a`) whose chosen owners are a non-empty
+    /// subset of the conflicts, into `candidates`.
     fn gather_candidates(&mut self, a: usize) {
         self.candidates.clear();
         let n = self.conflicts.len();
+        let rank_a = self.ranked.rank_of[a];
         for mask in 1..(1usize << n) {
             // A subset of the sorted conflicts is sorted too.
             self.key.clear();
@@ -203,34 +224,35 @@ impl<'p> Polish<'p> {
                     .map(|b| self.conflicts[b]),
             );
             if let Some(list) = self.by_owners.get(self.key.as_slice()) {
-                self.candidates.extend(list.iter().filter(|&&b| b != a));
+                self.candidates
+                    .extend(list.iter().filter(|&&b| b != rank_a));
             }
         }
     }
 
-    /// Sets the `used` mark of `k`'s reports.
-    fn mark(&mut self, k: usize, value: bool) {
-        for r in self.problem.flat_reports(k) {
-            self.used[r] = value;
+    /// Sets the `used` mark of rank `r`'s reports.
+    fn mark(&mut self, r: usize, value: bool) {
+        for &f in self.ranked.reports(r) {
+            if f != self.ranked.missed {
+                self.used[f] = value;
+            }
         }
     }
 
-    /// Greedily picks, cheapest first, the candidates that fit beside `a` and each other, into
-    /// `refill`; returns their summed cost. Leaves `used` marking the reports of `a` and of
-    /// the refill.
+    /// Greedily picks, cheapest first (ties by index: by rank), the candidates that fit
+    /// beside `a` and each other, into `refill`; returns their summed cost. Leaves `used`
+    /// marking the reports of `a` and of the refill.
     fn plan_refill(&mut self, a: usize) -> f64 {
-        self.mark(a, true);
-        let costs = self.problem.costs();
-        self.candidates
-            .sort_by(|&x, &y| costs[x].total_cmp(&costs[y]).then(x.cmp(&y)));
+        self.mark(self.ranked.rank_of[a], true);
+        self.candidates.sort_unstable();
         self.refill.clear();
         let mut added = 0.0;
         for at in 0..self.candidates.len() {
             let b = self.candidates[at];
-            if self.problem.flat_reports(b).all(|r| !self.used[r]) {
+            if self.ranked.reports(b).iter().all(|&f| !self.used[f]) {
                 self.mark(b, true);
                 self.refill.push(b);
-                added += costs[b];
+                added += self.ranked.cost[b];
             }
         }
         added
@@ -238,7 +260,7 @@ impl<'p> Polish<'p> {
 
     /// Clears the `used` marks of `a` and the planned refill.
     fn unmark(&mut self, a: usize) {
-        self.mark(a, false);
+        self.mark(self.ranked.rank_of[a], false);
         for at in 0..self.refill.len() {
             self.mark(self.refill[at], false);
         }
@@ -249,7 +271,7 @@ impl<'p> Polish<'p> {
     fn apply(&mut self, a: usize) {
         self.unmark(a);
         let added: Vec<usize> = std::iter::once(a)
-            .chain(self.refill.iter().copied())
+            .chain(self.refill.iter().map(|&b| self.ranked.by_cost[b]))
             .collect();
         let evicted = std::mem::take(&mut self.conflicts);
         let mut touched = Vec::new();
@@ -263,8 +285,8 @@ impl<'p> Polish<'p> {
         for &k in &touched {
             self.index(k, false);
         }
-        evicted.into_iter().for_each(|c| self.drop_tuple(c));
-        added.into_iter().for_each(|k| self.take(k));
+        evicted.into_iter().for_each(|c| self.set_owner(c, NONE));
+        added.into_iter().for_each(|k| self.set_owner(k, k));
         for &k in &touched {
             self.index(k, true);
             self.dirty[k] = true;

@@ -5,6 +5,7 @@
 //! out flat, a quick bound rejects most tuples without looking at their conflicts, and passes
 //! after the first visit only tuples whose neighbourhood changed.
 
+use super::ranked::Ranked;
 use crate::assign::csr::csr;
 use crate::assign::SdProblem;
 
@@ -13,16 +14,8 @@ const NONE: usize = usize::MAX;
 /// Local search state for one problem, reused across calls. It works on ranks (positions in
 /// `by_cost`), so the data of the scan lies contiguous in scan order.
 pub(super) struct Search {
-    /// Active tuples by ascending cost (ties by index): the scan order.
-    by_cost: Vec<usize>,
-    rank_of: Vec<usize>,
-    s: usize,
-    /// Per rank: its cost, and the flat index of its report of each sensor (`s` entries per
-    /// rank): report `i > 0` of sensor `t` is `Σ_{t' < t} sizes[t'] + i − 1`, and "missed" is
-    /// the slot `missed`, which is never owned, so the scan needs no special case.
-    cost: Vec<f64>,
-    flat: Vec<usize>,
-    missed: usize,
+    /// The scan order, with costs and reports by rank; the `missed` slot is never owned.
+    pub(super) ranked: Ranked,
     /// Per flat report: the ranks of the tuples using it (CSR).
     inc_offs: Vec<usize>,
     inc: Vec<usize>,
@@ -39,30 +32,13 @@ pub(super) struct Search {
 
 impl Search {
     pub(super) fn new(problem: &SdProblem) -> Self {
-        let c = problem.costs();
-        let by_cost = problem.active_by_cost();
-        let s = problem.n_sensors();
-        let base = problem.report_offsets();
-        let missed = problem.n_reports();
-        let flat: Vec<usize> = (by_cost.iter())
-            .flat_map(|&k| problem.tuple(k).iter().zip(base))
-            .map(|(&i, &b)| if i == 0 { missed } else { b + i - 1 })
-            .collect();
-        let reports = flat.iter().enumerate().filter(|e| *e.1 != missed);
+        let ranked = Ranked::new(problem);
+        let (s, missed) = (ranked.s, ranked.missed);
+        let reports = ranked.flat.iter().enumerate().filter(|e| *e.1 != missed);
         let (inc_offs, inc) = csr(missed, reports.map(|(at, &f)| (f, at / s)));
-        let mut rank_of = vec![NONE; problem.n_tuples()];
-        by_cost
-            .iter()
-            .enumerate()
-            .for_each(|(r, &k)| rank_of[k] = r);
-        let n = by_cost.len();
+        let n = ranked.by_cost.len();
         Self {
-            rank_of,
-            s,
-            cost: by_cost.iter().map(|&k| c[k]).collect(),
-            by_cost,
-            flat,
-            missed,
+            ranked,
             inc_offs,
             inc,
             owner: vec![NONE; missed + 1],
@@ -100,7 +76,7 @@ impl Search {
         // Leave the buffers clean for the next call.
         self.owner.fill(NONE);
         self.owner_cost.fill(f64::NEG_INFINITY);
-        let mut result: Vec<usize> = ranks.iter().map(|&r| self.by_cost[r]).collect();
+        let mut result: Vec<usize> = ranks.iter().map(|&r| self.ranked.by_cost[r]).collect();
         result.sort_unstable();
         feasible.then(|| {
             let cost = result.iter().map(|&k| problem.costs()[k]).sum();
@@ -139,8 +115,8 @@ impl Search {
 
     /// Brings in `rank` if that lowers the cost by more than `tol`.
     fn try_move(&mut self, rank: usize, tol: f64) {
-        let fl = &self.flat[rank * self.s..(rank + 1) * self.s];
-        if self.helps(self.cost[rank], fl, tol) {
+        let fl = self.ranked.reports(rank);
+        if self.helps(self.ranked.cost[rank], fl, tol) {
             self.apply(rank, true);
         }
     }
@@ -148,7 +124,7 @@ impl Search {
     /// The first rank from `from` on whose move helps. This is the hot loop of the search,
     /// so common sensor counts get a copy with the count known at compile time (unrolled).
     fn find_move(&self, from: usize, tol: f64) -> Option<usize> {
-        match self.s {
+        match self.ranked.s {
             3 => self.find_move_n::<3>(from, tol),
             4 => self.find_move_n::<4>(from, tol),
             5 => self.find_move_n::<5>(from, tol),
@@ -158,10 +134,10 @@ impl Search {
 
     /// [`Search::find_move`] for `S` sensors (0: any).
     fn find_move_n<const S: usize>(&self, from: usize, tol: f64) -> Option<usize> {
-        let s = if S == 0 { self.s } else { S };
-        let tail = self.cost[from..]
+        let s = if S == 0 { self.ranked.s } else { S };
+        let tail = self.ranked.cost[from..]
             .iter()
-            .zip(self.flat[from * s..].chunks_exact(s));
+            .zip(self.ranked.flat[from * s..].chunks_exact(s));
         for (at, (&cost, fl)) in tail.enumerate() {
             if self.helps(cost, fl, tol) {
                 return Some(from + at);
@@ -188,7 +164,7 @@ impl Search {
         for (at, &f) in fl.iter().enumerate() {
             let o = self.owner[f];
             if o != NONE && fl[..at].iter().all(|&g| self.owner[g] != o) {
-                freed += self.cost[o];
+                freed += self.ranked.cost[o];
             }
         }
         cost < freed - tol
@@ -200,7 +176,7 @@ impl Search {
     #[inline(never)]
     fn apply(&mut self, rank: usize, queue_now: bool) {
         self.conflicts.clear();
-        for &f in &self.flat[rank * self.s..(rank + 1) * self.s] {
+        for &f in self.ranked.reports(rank) {
             let o = self.owner[f];
             if o != NONE && !self.conflicts.contains(&o) {
                 self.conflicts.push(o);
@@ -219,8 +195,8 @@ impl Search {
 
     /// Queues every tuple sharing a report with `j` (see [`Search::apply`]).
     fn queue_touching(&mut self, j: usize, rank: usize, queue_now: bool) {
-        for &f in &self.flat[j * self.s..(j + 1) * self.s] {
-            if f == self.missed {
+        for &f in self.ranked.reports(j) {
+            if f == self.ranked.missed {
                 continue;
             }
             for &q in &self.inc[self.inc_offs[f]..self.inc_offs[f + 1]] {
@@ -241,10 +217,10 @@ impl Search {
         let cost = if value == NONE {
             f64::NEG_INFINITY
         } else {
-            self.cost[value]
+            self.ranked.cost[value]
         };
-        for &f in &self.flat[rank * self.s..(rank + 1) * self.s] {
-            if f != self.missed {
+        for &f in self.ranked.reports(rank) {
+            if f != self.ranked.missed {
                 self.owner[f] = value;
                 self.owner_cost[f] = cost;
             }
@@ -254,14 +230,14 @@ impl Search {
     /// Marks `chosen` as the current solution; false if two of its tuples share a report.
     fn load(&mut self, chosen: &[usize]) -> bool {
         for &k in chosen {
-            let rank = self.rank_of[k];
-            for &f in &self.flat[rank * self.s..(rank + 1) * self.s] {
-                if f != self.missed {
+            let rank = self.ranked.rank_of[k];
+            for &f in self.ranked.reports(rank) {
+                if f != self.ranked.missed {
                     if self.owner[f] != NONE {
                         return false;
                     }
                     self.owner[f] = rank;
-                    self.owner_cost[f] = self.cost[rank];
+                    self.owner_cost[f] = self.ranked.cost[rank];
                 }
             }
         }
