@@ -330,13 +330,20 @@ mod tests {
                 }
             }
             let costs = SparseCosts::from_triplets(nr, nc, &triplets).unwrap();
-            let a: Vec<f64> = (0..nr).map(|_| -f64::from(rng.random_range(0..3u8))).collect();
-            let b: Vec<f64> = (0..nc).map(|_| -f64::from(rng.random_range(0..3u8))).collect();
+            let a: Vec<f64> = (0..nr)
+                .map(|_| -f64::from(rng.random_range(0..3u8)))
+                .collect();
+            let b: Vec<f64> = (0..nc)
+                .map(|_| -f64::from(rng.random_range(0..3u8)))
+                .collect();
             let mut flat = SparseWork::default();
             let by_list = sparse(&mut flat, &costs, &a, &b).to_vec();
             let mut heap = SparseWork::default();
             heap.load(&costs, &a, &b);
-            assert!(flat.linear && heap.linear, "small problems take the flat list");
+            assert!(
+                flat.linear && heap.linear,
+                "small problems take the flat list"
+            );
             heap.linear = false;
             heap.assign_free_rows();
             assert_eq!(by_list, heap.col4row);
