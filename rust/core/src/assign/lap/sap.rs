@@ -26,10 +26,11 @@ use std::collections::BinaryHeap;
 const NONE: usize = usize::MAX;
 
 /// Up to this many columns a search picks its next column by scanning the open ones instead of
-/// popping a heap. Both pick the least [`key`], so the result is the same bit for bit; on the
-/// Lagrangian's relaxed problems (about 40 columns with the dummies) the scan saves the heap's
-/// sifting and its stale entries.
-const LINEAR_MAX_COLS: usize = 128;
+/// popping a heap. Both pick the least [`key`], so the result is the same bit for bit. On the
+/// Lagrangian's relaxed problems at M = 20 (about 40 columns with the dummies) the scan saves
+/// the heap's sifting and stale entries; at M = 50 (about 95) the heap did better, and a limit
+/// of 64 rather than 128 took 5 % fewer instructions there (docs/performance.md).
+const LINEAR_MAX_COLS: usize = 64;
 
 /// Flips the alternating path ending at column `sink` back to row `cur`.
 fn augment(mut j: usize, cur: usize, path: &[usize], row4col: &mut [usize], col4row: &mut [usize]) {

@@ -190,7 +190,9 @@ impl<'p> Polish<'p> {
         let mut delta = costs[a] - self.conflicts.iter().map(|&c| costs[c]).sum::<f64>();
         self.gather_candidates(a);
         // The refill is a subset of the candidates, so their negative costs bound what it can
-        // win: most moves end here, before any sorting or marking.
+        // win. On the Lagrangian's scans this rarely decides (about 2 moves in 1 000); a tighter
+        // bound, each candidate's cost shared over the freed reports it uses, would decide 3 in
+        // 4 but cost more to compute than the plans it saved.
         let bound: f64 = self
             .candidates
             .iter()
