@@ -9,6 +9,8 @@
 //! valgrind --tool=callgrind target/release/deps/lagrangian_profile-<hash> /tmp/scans.txt
 //! ```
 //!
+//! (`<hash>` as `cargo bench --no-run` prints it: the executable, not the `.d` file beside it.)
+//!
 //! Run directly (`... lagrangian_profile-<hash> FILE [REPEAT]`) it prints ms per solve, best of
 //! REPEAT passes, and checksums of the answers (the bits of the summed primal costs and dual
 //! bounds, the iterations, a hash of the chosen tuples), which two builds must share.
@@ -24,7 +26,7 @@ fn load(text: &str) -> Vec<SdProblem> {
         line.map(|x| x.parse().expect("the dump holds integers"))
             .collect()
     };
-    let mut lines = text.lines();
+    let mut lines = text.lines().filter(|line| !line.trim().is_empty());
     let mut problems = Vec::new();
     while let Some(head) = lines.next() {
         let head = numbers(Some(head));
@@ -51,7 +53,10 @@ fn main() {
         return;
     };
     let text = std::fs::read_to_string(path).expect("the dump is readable");
-    let repeat: usize = args.get(1).and_then(|r| r.parse().ok()).unwrap_or(1);
+    let repeat: usize = match args.get(1) {
+        Some(r) => r.parse().expect("REPEAT is a whole number"),
+        None => 1,
+    };
     let problems = load(&text);
     let options = LagrangianOptions::default().with_polish(true);
     let (mut best, mut sums) = (f64::INFINITY, (0.0, 0.0, 0, 0u64));
@@ -63,8 +68,9 @@ fn main() {
             sums.0 += s.primal_cost;
             sums.1 += s.dual_bound;
             sums.2 += s.iterations;
-            for &k in &s.chosen {
-                sums.3 = sums.3.wrapping_mul(31).wrapping_add(k as u64);
+            // Each problem's tuples, then a separator, so the hash tells where each ends.
+            for k in s.chosen.iter().map(|&k| k as u64).chain([u64::MAX]) {
+                sums.3 = sums.3.wrapping_mul(31).wrapping_add(k);
             }
         }
         best = best.min(start.elapsed().as_secs_f64());

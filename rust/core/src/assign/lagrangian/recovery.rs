@@ -125,7 +125,7 @@ impl Recovery {
     /// The compound-move polish of feasible `chosen` ([`polish`]), in the scan order the
     /// per-iteration search already built.
     pub(super) fn polish(&self, problem: &SdProblem, chosen: &[usize]) -> (Vec<usize>, f64) {
-        polish::polish_ranked(problem, &self.search.ranked, chosen)
+        polish::polish_ranked(problem, self.search.ranked(), chosen)
     }
 
     /// Feasible recovery by successive 2-D assignments: keep the sensor-0/1 pairs of the

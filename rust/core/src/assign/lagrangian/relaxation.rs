@@ -239,8 +239,9 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     #[test]
-    fn modified_costs_are_bit_identical_to_the_reference() {
+    fn modified_costs_and_pair_minima_are_bit_identical_to_the_reference() {
         let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let mut pairs_checked = 0;
         for seed in 0..40u64 {
             let s = 2 + seed as usize % 6; // every specialised width and the generic one
             let p = random_problem(seed, s, 5, 4, 30);
@@ -260,6 +261,17 @@ mod tests {
                 let want = modified(&p, &mult, k, 2);
                 assert_eq!(relax.modified[x].to_bits(), want.to_bits(), "seed {seed}");
             }
+            // Each pair's cheapest tuple, taken in the same pass, against a pass of its own.
+            for (pair, span) in relax.pair_offs.windows(2).enumerate() {
+                let mut want = EMPTY;
+                for &k in &relax.tuples[span[0]..span[1]] {
+                    keep_min(&mut want, (modified(&p, &mult, k, 2), k));
+                }
+                let got = (relax.pairs.values()[pair], relax.arg[pair]);
+                assert_eq!((got.0.to_bits(), got.1), (want.0.to_bits(), want.1));
+                pairs_checked += 1;
+            }
         }
+        assert!(pairs_checked > 100, "only {pairs_checked} pairs checked");
     }
 }

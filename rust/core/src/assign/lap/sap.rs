@@ -113,6 +113,8 @@ pub(super) struct SparseWork {
     open_dist: Vec<u64>,
     slot: Vec<usize>,
     linear: bool,
+    /// Only tests set this: the heap at any size, to compare the two.
+    heap_only: bool,
     /// Distance of the nearest free column reached by the current search (`reset` sets it).
     free_dist: f64,
     /// Buffers of the square form's mirror rows (see `warm`), kept between calls.
@@ -167,7 +169,7 @@ impl SparseWork {
         refill(&mut self.row4col, cols, NONE);
         refill(&mut self.scanned, cols, false);
         refill(&mut self.slot, cols, NONE);
-        self.linear = cols <= LINEAR_MAX_COLS;
+        self.linear = cols <= LINEAR_MAX_COLS && !self.heap_only;
         self.reset();
     }
 
@@ -210,19 +212,30 @@ impl SparseWork {
     /// The reached, unscanned column of least [`key`] (distance, then free first, then
     /// index) and its distance; `None` when every reached column is scanned.
     fn nearest(&mut self) -> Option<(f64, usize)> {
-        if !self.linear {
-            return loop {
-                let Reverse(k) = self.heap.pop()?;
-                let (d, j) = unkey(k);
-                // Stale entries: the column was scanned, or reached again at a shorter distance.
-                if !self.scanned[j] && d == self.dist[j] {
-                    break Some((d, j));
-                }
-            };
+        if self.linear {
+            self.nearest_in_list()
+        } else {
+            self.nearest_in_heap()
         }
+    }
+
+    /// [`SparseWork::nearest`] from the heap, skipping stale entries (the column was scanned,
+    /// or reached again at a shorter distance).
+    fn nearest_in_heap(&mut self) -> Option<(f64, usize)> {
+        loop {
+            let Reverse(k) = self.heap.pop()?;
+            let (d, j) = unkey(k);
+            if !self.scanned[j] && d == self.dist[j] {
+                return Some((d, j));
+            }
+        }
+    }
+
+    /// [`SparseWork::nearest`] by one pass over the open columns, which it then leaves.
+    fn nearest_in_list(&mut self) -> Option<(f64, usize)> {
         let (mut best, mut best_d) = (0, *self.open_dist.first()?);
         for (at, &d) in self.open_dist.iter().enumerate().skip(1) {
-            // Equal distances are rare: only then does the rest of the key decide.
+            // Only equal distances need the rest of the key.
             if d < best_d || (d == best_d && self.ties_first(self.open[at], self.open[best])) {
                 (best, best_d) = (at, d);
             }
@@ -259,15 +272,9 @@ impl SparseWork {
             if r > self.free_dist || scanned[j] || r >= dist[j] {
                 continue;
             }
-            if dist[j] == f64::INFINITY {
+            let first_reach = dist[j] == f64::INFINITY;
+            if first_reach {
                 self.touched.push(j);
-                if self.linear {
-                    self.slot[j] = self.open.len();
-                    self.open.push(j);
-                    self.open_dist.push(ordered(r));
-                }
-            } else if self.linear {
-                self.open_dist[self.slot[j]] = ordered(r);
             }
             dist[j] = r;
             path[j] = i;
@@ -277,6 +284,12 @@ impl SparseWork {
             }
             if !self.linear {
                 self.heap.push(Reverse(key(r, free, j)));
+            } else if first_reach {
+                self.slot[j] = self.open.len();
+                self.open.push(j);
+                self.open_dist.push(ordered(r));
+            } else {
+                self.open_dist[self.slot[j]] = ordered(r);
             }
         }
     }
@@ -310,44 +323,17 @@ impl SparseWork {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use rand::{RngExt, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
-
-    /// The flat list and the heap pick the same column at every step, ties included: the
-    /// same matching on problems whose costs, a few integers, tie in almost every search.
-    #[test]
-    fn the_flat_list_and_the_heap_give_the_same_matching() {
-        let mut rng = ChaCha8Rng::seed_from_u64(3);
-        for _ in 0..300 {
-            let (nr, nc) = (rng.random_range(1..12usize), rng.random_range(1..12usize));
-            let mut triplets = Vec::new();
-            for i in 0..nr {
-                for j in 0..nc {
-                    if rng.random_bool(0.6) {
-                        triplets.push((i, j, -f64::from(rng.random_range(0..4u8))));
-                    }
-                }
-            }
-            let costs = SparseCosts::from_triplets(nr, nc, &triplets).unwrap();
-            let a: Vec<f64> = (0..nr)
-                .map(|_| -f64::from(rng.random_range(0..3u8)))
-                .collect();
-            let b: Vec<f64> = (0..nc)
-                .map(|_| -f64::from(rng.random_range(0..3u8)))
-                .collect();
-            let mut flat = SparseWork::default();
-            let by_list = sparse(&mut flat, &costs, &a, &b).to_vec();
-            let mut heap = SparseWork::default();
-            heap.load(&costs, &a, &b);
-            assert!(
-                flat.linear && heap.linear,
-                "small problems take the flat list"
-            );
-            heap.linear = false;
-            heap.assign_free_rows();
-            assert_eq!(by_list, heap.col4row);
+impl SparseWork {
+    /// A solver that always takes the heap (the tests compare it with the flat list).
+    pub(super) fn heap_only() -> Self {
+        Self {
+            heap_only: true,
+            ..Self::default()
         }
+    }
+
+    /// Whether the last solve picked its columns from the flat list.
+    pub(super) fn took_list(&self) -> bool {
+        self.linear
     }
 }

@@ -34,7 +34,9 @@ fn polish(problem: &SdProblem, chosen: &[usize]) -> (Vec<usize>, f64) {
     polish_ranked(problem, &Ranked::new(problem), chosen)
 }
 
-/// [`polish`] in the scan order `ranked` of `problem` (the per-iteration search's).
+/// [`polish`] in the scan order `ranked` of `problem` (the per-iteration search's). `chosen`
+/// must be feasible and hold active tuples only (those have a rank), as every solution the
+/// Lagrangian keeps does.
 pub(super) fn polish_ranked(
     problem: &SdProblem,
     ranked: &Ranked,
@@ -121,7 +123,8 @@ impl<'p> Polish<'p> {
             used: vec![false; n_reports + 1],
         };
         for &k in chosen {
-            state.set_owner(k, k);
+            debug_assert!(ranked.rank_of[k] != NONE, "tuple {k} is not active");
+            state.set_chosen(k, true);
         }
         for &k in &ranked.by_cost {
             state.index(k, true);
@@ -129,10 +132,10 @@ impl<'p> Polish<'p> {
         state
     }
 
-    /// Makes `k` chosen, the owner of its reports (`value == k`), or unchosen and its reports
-    /// free (`value == NONE`).
-    fn set_owner(&mut self, k: usize, value: usize) {
-        self.chosen[k] = value != NONE;
+    /// Makes `k` chosen, the owner of its reports, or unchosen and its reports free.
+    fn set_chosen(&mut self, k: usize, chosen: bool) {
+        self.chosen[k] = chosen;
+        let value = if chosen { k } else { NONE };
         for &f in self.ranked.reports(self.ranked.rank_of[k]) {
             if f != self.ranked.missed {
                 self.owner[f] = value;
@@ -190,9 +193,8 @@ impl<'p> Polish<'p> {
         let mut delta = costs[a] - self.conflicts.iter().map(|&c| costs[c]).sum::<f64>();
         self.gather_candidates(a);
         // The refill is a subset of the candidates, so their negative costs bound what it can
-        // win. On the Lagrangian's scans this rarely decides (about 2 moves in 1 000); a tighter
-        // bound, each candidate's cost shared over the freed reports it uses, would decide 3 in
-        // 4 but cost more to compute than the plans it saved.
+        // win. On the Lagrangian's scans this rarely decides; a tighter bound was tried and
+        // cost more than the plans it saved (docs/performance.md, "Exact speed-ups").
         let bound: f64 = self
             .candidates
             .iter()
@@ -287,8 +289,8 @@ impl<'p> Polish<'p> {
         for &k in &touched {
             self.index(k, false);
         }
-        evicted.into_iter().for_each(|c| self.set_owner(c, NONE));
-        added.into_iter().for_each(|k| self.set_owner(k, k));
+        evicted.into_iter().for_each(|c| self.set_chosen(c, false));
+        added.into_iter().for_each(|k| self.set_chosen(k, true));
         for &k in &touched {
             self.index(k, true);
             self.dirty[k] = true;

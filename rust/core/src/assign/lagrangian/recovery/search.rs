@@ -15,7 +15,7 @@ const NONE: usize = usize::MAX;
 /// `by_cost`), so the data of the scan lies contiguous in scan order.
 pub(super) struct Search {
     /// The scan order, with costs and reports by rank; the `missed` slot is never owned.
-    pub(super) ranked: Ranked,
+    ranked: Ranked,
     /// Per flat report: the ranks of the tuples using it (CSR).
     inc_offs: Vec<usize>,
     inc: Vec<usize>,
@@ -48,6 +48,11 @@ impl Search {
             any_next: false,
             conflicts: Vec::with_capacity(s),
         }
+    }
+
+    /// The scan order this search works in (the polish works in it too).
+    pub(super) fn ranked(&self) -> &Ranked {
+        &self.ranked
     }
 
     /// Swap local search from `chosen` (`None` if it is infeasible): bring in any tuple that
