@@ -40,6 +40,8 @@ pub(super) struct Recovery {
     /// iteration inserts into both, and SipHash cost more than the lookups.
     seen_pairs: FxHashSet<Vec<usize>>,
     seen_starts: FxHashSet<Vec<usize>>,
+    /// The pair set or start being looked up: stored only when new.
+    key: Vec<usize>,
 }
 
 impl Recovery {
@@ -78,6 +80,7 @@ impl Recovery {
             search: Search::new(problem),
             seen_pairs: FxHashSet::default(),
             seen_starts: FxHashSet::default(),
+            key: Vec::new(),
         }
     }
 
@@ -94,12 +97,12 @@ impl Recovery {
         // With S = 3 the single recovery stage costs tuples by their own costs, so the result
         // depends only on the relaxed solution's (sensor 0, sensor 1) pairs, in their order
         // (which numbers the stage's rows). Late iterations often repeat a pair set.
-        let pairs: Vec<usize> = relaxed
-            .iter()
-            .map(|&k| self.pair[k])
-            .filter(|&p| p != ZERO)
-            .collect();
-        let fresh = problem.n_sensors() > 3 || self.seen_pairs.insert(pairs);
+        let fresh = problem.n_sensors() > 3 || {
+            self.key.clear();
+            let pairs = relaxed.iter().map(|&k| self.pair[k]);
+            self.key.extend(pairs.filter(|&p| p != ZERO));
+            first_time(&mut self.seen_pairs, &self.key)
+        };
         let recovered = if fresh {
             self.recover(problem, mult, relaxed)
         } else {
@@ -108,9 +111,10 @@ impl Recovery {
         let mut best: Option<(Vec<usize>, f64)> = None;
         for chosen in [Some(relaxed), recovered.as_deref()].into_iter().flatten() {
             // The local search is deterministic: a start seen before ends where it did then.
-            let mut key = chosen.to_vec();
-            key.sort_unstable();
-            if !self.seen_starts.insert(key) {
+            self.key.clear();
+            self.key.extend_from_slice(chosen);
+            self.key.sort_unstable();
+            if !first_time(&mut self.seen_starts, &self.key) {
                 continue;
             }
             if let Some(cand) = self.search.improve(problem, chosen) {
@@ -176,6 +180,12 @@ impl Recovery {
         }
         None
     }
+}
+
+/// Whether `key` is new to `seen`, which then holds it. Looks up before storing, so that a key
+/// seen before costs no allocation (late iterations mostly repeat).
+fn first_time(seen: &mut FxHashSet<Vec<usize>>, key: &[usize]) -> bool {
+    !seen.contains(key) && seen.insert(key.to_vec())
 }
 
 /// Buffers of one recovery stage, reused across stages and iterations.
