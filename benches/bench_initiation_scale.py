@@ -104,7 +104,9 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|---|---|")
     for n_sensors in args.sensors:
         for n_targets in args.targets:
-            case = run_case(n_targets, n_sensors, args.seed, args.cap, args.area_km, args.v_max, args.max_candidates)
+            case = run_case(
+                n_targets, n_sensors, args.seed, args.cap, args.area_km, args.v_max, args.max_candidates, args.gate_pd
+            )
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"
                 print(f"| {n_sensors} | {n_targets} | | {what} | | | | | | |")

@@ -38,14 +38,50 @@ use crate::geometry::model::{predict, Space, MAX_DIM};
 pub fn residual2(problem: &Problem<'_>, x: &[f64], m: usize) -> f64 {
     let obs = problem.observation(m);
     let target = problem.layout.position(x, obs.time);
-    let [azimuth, elevation] = predict(problem.layout.space, &obs.sensor, &target);
-    let da = wrap(obs.angles[0] - azimuth) / obs.sigma[0];
-    match problem.layout.space {
+    let predicted = predict(problem.layout.space, &obs.sensor, &target);
+    residual2_from(problem.layout.space, obs.angles, obs.sigma, predicted)
+}
+
+/// `d²` of measured `angles` with stds `sigma` against the angles `predicted` for their
+/// sensor and time: what [`residual2`] computes once the prediction is made.
+#[inline]
+fn residual2_from(
+    space: Space,
+    angles: [f64; 2],
+    sigma: [f64; 2],
+    [azimuth, elevation]: [f64; 2],
+) -> f64 {
+    let da = wrap(angles[0] - azimuth) / sigma[0];
+    match space {
         Space::Planar => da * da,
         Space::Spatial => {
-            let de = wrap(obs.angles[1] - elevation) / obs.sigma[1];
+            let de = wrap(angles[1] - elevation) / sigma[1];
             da * da + de * de
         }
+    }
+}
+
+/// Calls `each(m, d²)` for every row `m` of one scan's `rows`, in order, with the number
+/// [`residual2`] gives. The rows share the sensor and the time, hence the prediction: it is
+/// made once (two arctangents) instead of once per row. Detection and classification visit
+/// every row for every optimum or target, and that prediction was most of their time.
+fn for_each_residual2(
+    problem: &Problem<'_>,
+    rows: &[usize],
+    x: &[f64],
+    mut each: impl FnMut(usize, f64),
+) {
+    let Some(&first) = rows.first() else {
+        return;
+    };
+    let probe = problem.observation(first);
+    let target = problem.layout.position(x, probe.time);
+    let predicted = predict(problem.layout.space, &probe.sensor, &target);
+    let space = problem.layout.space;
+    for &m in rows {
+        // In the plane the stored elevation (NaN) is not read.
+        let angles = problem.measurements.angles(m);
+        each(m, residual2_from(space, angles, probe.sigma, predicted));
     }
 }
 
@@ -62,20 +98,16 @@ fn related_rows(
     let mut out = Vec::new();
     for k in 0..scans.len() {
         let mut best: Option<(f64, usize)> = None;
-        for &m in scans.scan(k) {
-            if !available[m] {
-                continue;
-            }
-            let d2 = residual2(problem, x, m);
-            if d2.is_nan() || d2 >= gate2 {
-                continue;
+        for_each_residual2(problem, scans.scan(k), x, |m, d2| {
+            if !available[m] || d2.is_nan() || d2 >= gate2 {
+                return;
             }
             if !one_per_scan {
                 out.push(m);
             } else if best.is_none_or(|(b, _)| d2 < b) {
                 best = Some((d2, m));
             }
-        }
+        });
         out.extend(best.map(|(_, m)| m));
     }
     out.sort_unstable();
@@ -121,11 +153,16 @@ pub fn classify(
     let n = problem.measurements.len();
     let gate2 = gate * gate;
     // d2[t * n + m]; non-finite counts as unrelated.
-    let d2: Vec<f64> = targets
-        .iter()
-        .flat_map(|x| (0..n).map(move |m| residual2(problem, x, m)))
-        .map(|v| if v.is_finite() { v } else { f64::INFINITY })
-        .collect();
+    let mut d2 = vec![f64::INFINITY; targets.len() * n];
+    for (x, row_d2) in targets.iter().zip(d2.chunks_exact_mut(n.max(1))) {
+        for k in 0..scans.len() {
+            for_each_residual2(problem, scans.scan(k), x, |m, v| {
+                if v.is_finite() {
+                    row_d2[m] = v;
+                }
+            });
+        }
+    }
     let mut labels = vec![-1i64; n];
     if !one_per_scan {
         for (m, label) in labels.iter_mut().enumerate() {
@@ -181,4 +218,36 @@ fn assign_scan(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{for_each_residual2, residual2};
+    use crate::fti::scans::Scans;
+    use crate::fti::sim;
+
+    /// The per-scan prediction gives every row the number `residual2` gives, bit for bit, in
+    /// 3-D and in the plane (where the stored elevation is NaN and must not be read), for the
+    /// true states and for states far from any row.
+    #[test]
+    fn per_scan_residuals_equal_residual2() {
+        for sc in [sim::paper(5, true, 8, 8), sim::planar(5, true, 8, 8)] {
+            let sensors = sc.sensors();
+            let table = sc.measurements(&sensors);
+            let problem = sim::problem(sensors, table);
+            let scans = Scans::new(&table, sensors.len());
+            let d = problem.layout.dim();
+            let far: Vec<f64> = (0..d).map(|k| 1e5 * (k as f64 + 1.0)).collect();
+            let mut visited = 0;
+            for x in sc.targets.iter().map(|t| &t[..d]).chain([&far[..]]) {
+                for k in 0..scans.len() {
+                    for_each_residual2(&problem, scans.scan(k), x, |m, v| {
+                        assert_eq!(v.to_bits(), residual2(&problem, x, m).to_bits(), "row {m}");
+                        visited += 1;
+                    });
+                }
+            }
+            assert_eq!(visited, (sc.targets.len() + 1) * table.len());
+        }
+    }
 }
