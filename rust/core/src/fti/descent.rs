@@ -1,5 +1,4 @@
-//! The search of eq. 19: maximise R from each candidate by steepest descent on −R, then merge
-//! optima that are the same optimum.
+//! The search of eq. 19: maximise R from each candidate by steepest descent on −R.
 //!
 //! **Scaling.** The state mixes metres and m/s, and the geometry makes some directions (range
 //! from a sensor, position against velocity) far less determined than others: in raw units
@@ -30,11 +29,7 @@
 //! tolerance must stay small (default 0.01): descents from mixed candidates cross plateaus
 //! and ridges where the steps shrink to ~0.05 before R climbs again.
 //!
-//! **Merging.** Two optima are the same when their scaled distance
-//! `√Σ_k (x_ik − x_jk)² / ((s_ik² + s_jk²)/2)` (s = the two candidates' standard deviations)
-//! is ≤ `merge_tol`. Optima are visited by decreasing R (ties: lower candidate index) and
-//! each is kept unless it merges with an already kept one: deterministic, and of merging
-//! optima the one with the larger R survives.
+//! **Merging** of the optima that are the same optimum: module `merge`.
 
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -255,38 +250,4 @@ fn barzilai_borwein(t: f64, gy: &[f64; MAX_DIM], gy_new: &[f64; MAX_DIM]) -> Opt
     (sq > 0.0 && ss.is_finite())
         .then(|| ss / sq * new_norm)
         .filter(|s| s.is_finite() && *s > 0.0)
-}
-
-/// Indices of the optima that survive merging, by decreasing R (ties: lower index). Optima
-/// with a non-finite R are dropped.
-pub fn merge(optima: &[Optimum], dim: usize, merge_tol: f64) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..optima.len())
-        .filter(|&i| optima[i].closeness.is_finite())
-        .collect();
-    order.sort_by(|&i, &j| {
-        optima[j]
-            .closeness
-            .total_cmp(&optima[i].closeness)
-            .then(i.cmp(&j))
-    });
-    let tol2 = merge_tol * merge_tol;
-    let mut kept: Vec<usize> = Vec::new();
-    for i in order {
-        if !kept
-            .iter()
-            .any(|&k| scaled_distance2(&optima[i], &optima[k], dim) <= tol2)
-        {
-            kept.push(i);
-        }
-    }
-    kept
-}
-
-fn scaled_distance2(a: &Optimum, b: &Optimum, dim: usize) -> f64 {
-    (0..dim)
-        .map(|k| {
-            let diff = a.x[k] - b.x[k];
-            diff * diff / (0.5 * (a.scale[k] * a.scale[k] + b.scale[k] * b.scale[k]))
-        })
-        .sum()
 }

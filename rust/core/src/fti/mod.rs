@@ -28,6 +28,7 @@ mod coverage_test;
 pub mod descent;
 mod descent_options;
 pub mod detection;
+mod merge;
 mod motion_gate;
 mod options;
 pub mod pipeline;

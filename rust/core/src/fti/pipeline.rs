@@ -7,8 +7,9 @@ use rayon::prelude::*;
 
 use super::candidates;
 use super::closeness::{closeness, Precomputed, Spreads};
-use super::descent::{descend_all, merge};
+use super::descent::descend_all;
 use super::detection::{classify, detect};
+use super::merge::merge;
 use super::scans::{resolve_pairs, Scans};
 use super::support::{Gate, SupportTable};
 use super::track_join;
