@@ -8,22 +8,19 @@
 //!
 //! **An index over the first coordinate, exact.** Compared with every kept optimum, the merge
 //! was quadratic, and where tens of thousands of optima are kept it took a quarter of the
-//! initiation (docs/performance.md, *Initiation at scale*). Two optima can merge only if their first coordinates differ by at most
-//! `merge_tol·√((s_i0² + s_j0²)/2) ≤ merge_tol·max(s_i0, s_j0)`: either the kept one's
-//! interval `x_j0 ± merge_tol·s_j0` holds `x_i0`, or the new one's interval holds `x_j0`. So
-//! each kept optimum is filed twice in cells of the first coordinate, under its point and
-//! under every cell its interval covers, and a new one is compared only with the kept optima
-//! filed under its point's cell (intervals) and under its interval's cells (points). The
-//! comparison itself is unchanged, so the kept set is the same, in the same order, as the
-//! plain double loop's; optima whose intervals cover too many cells, or are not finite, are
-//! compared always.
+//! initiation (docs/performance.md, *Initiation at scale*). Two optima can merge only if
+//! their first coordinates differ by at most
+//! `merge_tol·√((s_i0² + s_j0²)/2) ≤ merge_tol·max(s_i0, s_j0)`. So the optima are sorted by
+//! their first coordinate once, in classes of similar `s_0` (one per power of two, each with
+//! its largest `s_0`), and a new optimum is compared only with the kept ones that lie within
+//! `merge_tol·max(s_i0, largest s_0 of the class)` of it in some class: two binary searches
+//! per class. The comparison itself is unchanged, so the kept set is the same, in the same
+//! order, as the plain double loop's; optima whose first coordinate or `s_0` is not finite
+//! or not positive are compared always, and are compared with all.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 use super::descent::Optimum;
-
-/// Cells an interval may cover before its optimum is compared with every new one instead.
-const MAX_CELLS: i64 = 64;
 
 /// Indices of the optima that survive merging, by decreasing R (ties: lower index). Optima
 /// with a non-finite R are dropped.
@@ -42,10 +39,10 @@ pub fn merge(optima: &[Optimum], dim: usize, merge_tol: f64) -> Vec<usize> {
     let mut kept: Vec<usize> = Vec::new();
     for i in order {
         let same = index
-            .near(&optima[i])
+            .near(optima, i)
             .any(|k| scaled_distance2(&optima[i], &optima[k], dim) <= tol2);
         if !same {
-            index.file(i, &optima[i]);
+            index.keep(i);
             kept.push(i);
         }
     }
@@ -61,73 +58,67 @@ pub(super) fn scaled_distance2(a: &Optimum, b: &Optimum, dim: usize) -> f64 {
         .sum()
 }
 
-/// The kept optima filed by cells of the first coordinate (module doc).
+/// The optima to merge sorted by first coordinate in classes of `s_0` (module doc), and
+/// which of them are kept so far.
 struct Index {
-    /// Cell width; `None` when no optimum has a usable interval (then all go to `always`).
-    width: Option<f64>,
     tol: f64,
-    points: HashMap<i64, Vec<usize>>,
-    intervals: HashMap<i64, Vec<usize>>,
-    always: Vec<usize>,
+    /// Per class: its largest `s_0`, and its optima's `(x_0, index)` sorted.
+    classes: Vec<(f64, Vec<(f64, usize)>)>,
+    /// Optima outside every class (module doc).
+    unclassed: Vec<usize>,
+    kept: Vec<bool>,
+    kept_list: Vec<usize>,
 }
 
 impl Index {
-    /// Cells as wide as the median interval half-width of the optima to merge: most
-    /// intervals then cover a few cells.
     fn new(optima: &[Optimum], order: &[usize], tol: f64) -> Self {
-        let mut halves: Vec<f64> = order
-            .iter()
-            .map(|&i| tol * optima[i].scale[0])
-            .filter(|h| h.is_finite() && *h > 0.0)
-            .collect();
-        halves.sort_by(f64::total_cmp);
-        Self {
-            width: halves.get(halves.len() / 2).copied(),
-            tol,
-            points: HashMap::new(),
-            intervals: HashMap::new(),
-            always: Vec::new(),
-        }
-    }
-
-    /// The cells of `[lo, hi]`, or `None` when they are not finite or too many.
-    fn cells(&self, lo: f64, hi: f64) -> Option<(i64, i64)> {
-        let width = self.width?;
-        let (a, b) = ((lo / width).floor(), (hi / width).floor());
-        let finite = a.is_finite() && b.is_finite() && a.abs() < 1e15 && b.abs() < 1e15;
-        // In range: the casts are exact (|a|, |b| < 2⁵³).
-        (finite && b - a < MAX_CELLS as f64).then_some((a as i64, b as i64))
-    }
-
-    fn interval(&self, o: &Optimum) -> Option<(i64, i64)> {
-        // The margin covers the rounding of the bounds and of the distance itself.
-        let half = self.tol * o.scale[0] * (1.0 + 1e-9);
-        self.cells(o.x[0] - half, o.x[0] + half)
-    }
-
-    fn file(&mut self, i: usize, o: &Optimum) {
-        match (self.cells(o.x[0], o.x[0]), self.interval(o)) {
-            (Some((cell, _)), Some((lo, hi))) => {
-                self.points.entry(cell).or_default().push(i);
-                for c in lo..=hi {
-                    self.intervals.entry(c).or_default().push(i);
-                }
+        let mut classes: BTreeMap<i32, (f64, Vec<(f64, usize)>)> = BTreeMap::new();
+        let mut unclassed = Vec::new();
+        for &i in order {
+            let (x, s) = (optima[i].x[0], optima[i].scale[0]);
+            if !(x.is_finite() && s.is_finite() && s > 0.0) {
+                unclassed.push(i);
+                continue;
             }
-            _ => self.always.push(i),
+            // The class is only a grouping: its bound is the largest s_0 it really holds.
+            let class = classes.entry(s.log2().floor() as i32).or_default();
+            class.0 = class.0.max(s);
+            class.1.push((x, i));
+        }
+        let mut classes: Vec<_> = classes.into_values().collect();
+        for (_, members) in &mut classes {
+            members.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        }
+        Self {
+            tol,
+            classes,
+            unclassed,
+            kept: vec![false; optima.len()],
+            kept_list: Vec::new(),
         }
     }
 
-    /// Every kept optimum that may merge with `o` (some more than once).
-    fn near<'s>(&'s self, o: &Optimum) -> Box<dyn Iterator<Item = usize> + 's> {
-        let (Some((cell, _)), Some((lo, hi))) = (self.cells(o.x[0], o.x[0]), self.interval(o))
-        else {
-            // Compared with all: every kept optimum is filed under its point or in `always`.
-            let filed = self.points.values().flatten().copied();
-            return Box::new(filed.chain(self.always.iter().copied()));
-        };
-        let theirs = self.intervals.get(&cell).into_iter().flatten();
-        let mine = (lo..=hi).flat_map(|c| self.points.get(&c).into_iter().flatten());
-        Box::new(theirs.chain(mine).chain(&self.always).copied())
+    fn keep(&mut self, i: usize) {
+        self.kept[i] = true;
+        self.kept_list.push(i);
+    }
+
+    /// Every kept optimum that may merge with optimum `i`.
+    fn near<'s>(&'s self, optima: &[Optimum], i: usize) -> Box<dyn Iterator<Item = usize> + 's> {
+        let (x, s) = (optima[i].x[0], optima[i].scale[0]);
+        if !(x.is_finite() && s.is_finite() && s > 0.0) {
+            return Box::new(self.kept_list.iter().copied());
+        }
+        let tol = self.tol;
+        let in_classes = self.classes.iter().flat_map(move |(largest, members)| {
+            // The margins cover the rounding of the bounds and of the distance itself.
+            let reach = tol * s.max(*largest) * (1.0 + 1e-9) + 4.0 * f64::EPSILON * x.abs();
+            let start = members.partition_point(|m| m.0 < x - reach);
+            let end = members.partition_point(|m| m.0 <= x + reach);
+            members[start..end.max(start)].iter().map(|m| m.1)
+        });
+        let unclassed = self.unclassed.iter().copied();
+        Box::new(in_classes.chain(unclassed).filter(|&k| self.kept[k]))
     }
 }
 
