@@ -12,6 +12,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
     python3 benches/bench_initiation_scale.py --area-km 200 --v-max 250   # a wide scene
     python3 benches/bench_initiation_scale.py --targets 32 --max-candidates 5000000   # past the default cap
     python3 benches/bench_initiation_scale.py --gate-pd 0.9   # misses priced (opt-in)
+    python3 benches/bench_initiation_scale.py --search-stage none   # every candidate searched first
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
 n_targets, n_sensors, seed = (int(v) for v in sys.argv[1:4])
 area, v_max, max_candidates = float(sys.argv[4]) * 1e3, float(sys.argv[5]), int(sys.argv[6])
 gate_pd = float(sys.argv[7]) if sys.argv[7] != "None" else None
+search_stage = sys.argv[8] if len(sys.argv) > 8 else "default"
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
@@ -47,6 +49,8 @@ start = time.perf_counter()
 options = {"max_candidates": max_candidates} if max_candidates else {}
 if gate_pd is not None:  # only when given, so older builds run the same case
     options["gate_pd"] = gate_pd
+if search_stage != "default":  # likewise
+    options["search_stage"] = None if search_stage == "none" else int(search_stage)
 result = pa.FuzzyTrackInitiator(v_max=v_max, **options).initiate(scenario.measurements, sensors, t0=0.0)
 seconds = time.perf_counter() - start
 found = set(track_targets(result.labels, scenario.measurements.truth).tolist()) - {-1}
@@ -67,13 +71,19 @@ def run_case(
     v_max: float = 500.0,
     max_candidates: int = 0,
     gate_pd: float | None = None,
+    search_stage: str = "default",
 ) -> dict | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
     start = time.perf_counter()
     try:
         out = subprocess.run(
-            [sys.executable, "-c", CASE, *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd))],
+            [
+                sys.executable,
+                "-c",
+                CASE,
+                *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd, search_stage)),
+            ],
             capture_output=True,
             text=True,
             timeout=cap,
@@ -96,6 +106,11 @@ def main() -> None:
     parser.add_argument("--v-max", type=float, default=500.0, help="the initiator's v_max (m/s); default its default")
     parser.add_argument("--max-candidates", type=int, default=0, help="the initiator's max_candidates (0: its default)")
     parser.add_argument("--gate-pd", type=float, default=None, help="the initiator's gate_pd (default: not priced)")
+    parser.add_argument(
+        "--search-stage",
+        default="default",
+        help="the initiator's search_stage: an integer or 'none' (default: its default)",
+    )
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | searched | "
@@ -105,7 +120,15 @@ def main() -> None:
     for n_sensors in args.sensors:
         for n_targets in args.targets:
             case = run_case(
-                n_targets, n_sensors, args.seed, args.cap, args.area_km, args.v_max, args.max_candidates, args.gate_pd
+                n_targets,
+                n_sensors,
+                args.seed,
+                args.cap,
+                args.area_km,
+                args.v_max,
+                args.max_candidates,
+                args.gate_pd,
+                args.search_stage,
             )
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"

@@ -235,6 +235,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
             merge_tol=1.0,
             descent_max_iter=10,
             max_candidates=1000,
+            search_stage=8192,
             n_threads=None,
         ),
     ),

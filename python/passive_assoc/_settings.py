@@ -65,6 +65,7 @@ class InitiationSettings:
     support_gate: bool
     track_test_z: float | None
     gate_pd: float | None
+    search_stage: int | None
     n_threads: int | None
 
 

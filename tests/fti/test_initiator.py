@@ -171,6 +171,8 @@ def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: P
         (dict(reject_behind="yes"), TypeError, "reject_behind"),
         (dict(refine_passes=-1), ValueError, "refine_passes"),
         (dict(candidate_scans=0), ValueError, "candidate_scans"),
+        (dict(search_stage=0), ValueError, "search_stage"),
+        (dict(search_stage=1.5), TypeError, "search_stage"),
         (dict(gate_pd=1.0), ValueError, "gate_pd"),
         (dict(gate_pd=0.0), ValueError, "gate_pd"),
         (dict(pairs=[(0, 0)]), ValueError, "pairs"),

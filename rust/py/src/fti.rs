@@ -43,6 +43,7 @@ pub struct InitiationSettings {
     support_gate: bool,
     track_test_z: Option<f64>,
     gate_pd: Option<f64>,
+    search_stage: Option<i64>,
     n_threads: Option<i64>,
 }
 
@@ -67,7 +68,12 @@ impl InitiationSettings {
             .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?
             .with_support_gate(self.support_gate)
             .with_track_test(self.track_test_z)?
-            .with_gate_pd(self.gate_pd)?)
+            .with_gate_pd(self.gate_pd)?
+            .with_search_stage(
+                (self.search_stage)
+                    .map(|n| count("search_stage", n, 1))
+                    .transpose()?,
+            )?)
     }
 }
 

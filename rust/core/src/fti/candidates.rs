@@ -61,6 +61,9 @@ pub struct Candidate {
     /// Row-major `L` with `L·Lᵀ` = covariance (zero past `dim`).
     pub factor: [[f64; MAX_DIM]; MAX_DIM],
     pub chi2: f64,
+    /// The tracking gate's score (module `tracking_gate`); `None` when the support gate is
+    /// off.
+    pub support_score: Option<f64>,
 }
 
 /// Where two rays (lines in 2-D) meet: midpoint of the closest points, the mean time of the
@@ -267,11 +270,15 @@ pub(super) fn fit_chunk(
     set.seconds_fit += start.elapsed().as_secs_f64();
 
     let start = Instant::now();
-    let keep: Vec<bool> = match gate {
+    let keep: Vec<Option<f64>> = match gate {
         Some(g) => passed.par_iter().map(|c| g.keeps(problem, c)).collect(),
-        None => vec![true; passed.len()],
+        None => vec![None; passed.len()],
     };
-    for (candidate, _) in passed.into_iter().zip(keep).filter(|(_, k)| *k) {
+    for (mut candidate, score) in passed.into_iter().zip(keep) {
+        if gate.is_some() && score.is_none() {
+            continue;
+        }
+        candidate.support_score = score;
         set.counts.supported += 1;
         reserve_one(&mut set.candidates, "fitted candidates", OOM_HINT)?;
         set.candidates.push(candidate);
@@ -328,6 +335,7 @@ pub(super) fn fit_candidate(
         }),
         factor: cholesky(&covariance[..d * d], d)?,
         chi2: summary.chi2,
+        support_score: None,
     })
 }
 

@@ -33,6 +33,7 @@ mod motion_gate;
 mod options;
 pub mod pipeline;
 pub mod scans;
+pub mod stages;
 pub mod support;
 mod track_join;
 mod track_test;

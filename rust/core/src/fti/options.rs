@@ -30,6 +30,7 @@ pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 /// | `support_gate` | on | see [`support`](super::support) |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
 /// | `gate_pd` | `None` | misses not priced; see [`with_gate_pd`](Self::with_gate_pd) |
+/// | `search_stage` | 8 192 | see [`with_search_stage`](Self::with_search_stage) |
 ///
 /// Every scalar is checked by its setter; the pairs need the data and are checked by
 /// [`initiate`](super::initiate).
@@ -66,13 +67,15 @@ pub struct InitiationOptions {
     support_gate: bool,
     track_test: Option<f64>,
     gate_pd: Option<f64>,
+    search_stage: Option<usize>,
 }
 
 impl Default for InitiationOptions {
     /// The values of the table above: every pair, `gate = 5`, `n_detect` automatic,
     /// `ray_gate = Some(5)`, `reject_behind`, `v_max = Some(500)`,
     /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, `merge_tol = 1`, the default
-    /// descent, `max_candidates = 500_000`, `refine_passes = 2`, `candidate_scans = 4`.
+    /// descent, `max_candidates = 500_000`, `refine_passes = 2`, `candidate_scans = 4`,
+    /// `search_stage = Some(8192)`.
     fn default() -> Self {
         Self {
             pairs: None,
@@ -91,6 +94,7 @@ impl Default for InitiationOptions {
             support_gate: true,
             track_test: Some(TRACK_TEST_Z),
             gate_pd: None,
+            search_stage: Some(8192),
         }
     }
 }
@@ -197,6 +201,22 @@ impl InitiationOptions {
         self
     }
 
+    /// Candidates searched before detection runs (project extension; at least 1): a pass
+    /// with more candidates than this searches them in stages, by decreasing tracking-gate
+    /// score, and later stages only search candidates the gates still keep on the rows
+    /// detection has left (module [`stages`](super::stages)). `None`: every candidate is
+    /// searched before detection, as in the paper, whatever their number.
+    pub fn with_search_stage(mut self, search_stage: Option<usize>) -> CoreResult<Self> {
+        if search_stage == Some(0) {
+            return Err(CoreError::out_of_range(
+                "search_stage",
+                "must be at least 1",
+            ));
+        }
+        self.search_stage = search_stage;
+        Ok(self)
+    }
+
     /// How deep into each end of the window candidates reach (project extension for missed
     /// detections; at least 1). 1 is the paper: each sensor's first and last scan. With k > 1
     /// a second pass, on the rows the first pass's detection left, also combines each sensor's
@@ -262,6 +282,10 @@ impl InitiationOptions {
 
     pub fn candidate_scans(&self) -> usize {
         self.candidate_scans
+    }
+
+    pub fn search_stage(&self) -> Option<usize> {
+        self.search_stage
     }
 
     pub fn pairs(&self) -> Option<&[[usize; 2]]> {

@@ -7,10 +7,9 @@ use rayon::prelude::*;
 
 use super::candidates;
 use super::closeness::{closeness, Precomputed, Spreads};
-use super::descent::descend_all;
-use super::detection::{classify, detect};
-use super::merge::merge;
+use super::detection::classify;
 use super::scans::{resolve_pairs, Scans};
+use super::stages::search_and_detect;
 use super::support::{Gate, SupportTable};
 use super::track_join;
 use super::track_test;
@@ -156,21 +155,30 @@ impl Run {
         self.seconds.support += set.seconds_support;
 
         let clock = Instant::now();
-        let starts = set.candidates;
-        let optima = descend_all(pre, &starts, options.descent());
+        let searched = search_and_detect(
+            problem,
+            pre,
+            scans,
+            &set.candidates,
+            options,
+            gate.as_ref(),
+            available,
+        );
         stop_if_interrupted()?;
-        let order = merge(&optima, problem.layout.dim(), options.merge_tol());
-        self.seconds.descent += clock.elapsed().as_secs_f64();
-        counts.optima = optima.len();
-        counts.merged = order.len();
-        self.iterations.extend(optima.iter().map(|o| o.iterations));
-
-        let clock = Instant::now();
-        let accepted = detect(problem, scans, &optima, &order, options, available);
-        self.seconds.detection += clock.elapsed().as_secs_f64();
-        counts.detected = accepted.len();
+        let seconds = clock.elapsed().as_secs_f64();
+        self.seconds.descent += seconds - searched.seconds_detection;
+        self.seconds.detection += searched.seconds_detection;
+        counts.optima = searched.optima.len();
+        counts.merged = searched.merged;
+        counts.detected = searched.accepted.len();
+        self.iterations
+            .extend(searched.optima.iter().map(|o| o.iterations));
         self.counts.accumulate(&counts);
-        Ok(accepted.iter().map(|&i| optima[i].x).collect())
+        Ok(searched
+            .accepted
+            .iter()
+            .map(|&i| searched.optima[i].x)
+            .collect())
     }
 }
 

@@ -227,10 +227,13 @@ pub struct Gate<'a> {
 }
 
 impl Gate<'_> {
-    pub fn keeps(&self, problem: &Problem<'_>, c: &Candidate) -> bool {
+    /// The tracking gate's score when the candidate passes both gates, `None` when not.
+    pub fn keeps(&self, problem: &Problem<'_>, c: &Candidate) -> Option<f64> {
         let (table, scans, gate, n_detect) = (self.table, self.scans, self.gate, self.n_detect);
-        table.supports(problem, scans, c, gate, n_detect)
-            && tracking_gate::confirms(problem, self, c)
+        if !table.supports(problem, scans, c, gate, n_detect) {
+            return None;
+        }
+        tracking_gate::score(problem, self, c)
     }
 }
 

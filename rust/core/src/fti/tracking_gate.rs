@@ -225,7 +225,16 @@ impl Prediction {
 
 /// Whether `c` finds a row in more than `n_detect` scans, updated as it goes, and the rows
 /// it finds are likelier from it than from clutter (module doc).
+#[cfg(test)]
 pub fn confirms(problem: &Problem<'_>, gating: &Gate<'_>, c: &Candidate) -> bool {
+    score(problem, gating, c).is_some()
+}
+
+/// The walk's score (the summed log-likelihood ratios of the rows taken, misses priced when
+/// asked) when `c` passes the gate, `None` when it does not. Where the one ambiguous scan
+/// branches, the score is that of the first branch (nearest row first) that passes; a
+/// candidate kept untested in a crowd scores what it had before the crowd.
+pub fn score(problem: &Problem<'_>, gating: &Gate<'_>, c: &Candidate) -> Option<f64> {
     let (table, scans) = (gating.table, gating.scans);
     let dim = problem.layout.dim();
     let belief = Belief::of(c, dim);
@@ -254,7 +263,8 @@ struct Walk<'a> {
 
 impl Walk<'_> {
     /// Continues at position `start` of the order with `supported` scans and `score` so far;
-    /// `branched` once the ambiguous wide scan has been split.
+    /// `branched` once the ambiguous wide scan has been split. The final score when the
+    /// candidate passes.
     fn from(
         &self,
         start: usize,
@@ -262,11 +272,11 @@ impl Walk<'_> {
         mut supported: usize,
         mut score: f64,
         branched: bool,
-    ) -> bool {
+    ) -> Option<f64> {
         let space = self.problem.layout.space;
         for (at, &(_, k)) in self.order.iter().enumerate().skip(start) {
             if supported + (self.order.len() - at) <= self.gating.n_detect {
-                return false; // even every remaining scan would not be enough
+                return None; // even every remaining scan would not be enough
             }
             let scan = &self.gating.table.scans[k];
             let Some(pred) = belief.predict(self.problem, scan) else {
@@ -286,9 +296,9 @@ impl Walk<'_> {
             }
             let hits = pred.hits(scan, space, self.gating.gate);
             if hits.len() > MAX_BRANCHES {
-                return true; // too crowded to test: keep the candidate
+                return Some(score); // too crowded to test: keep the candidate
             }
-            return hits.iter().any(|&(d2, angles)| {
+            return hits.iter().find_map(|&(d2, angles)| {
                 let mut branch = belief.clone();
                 branch.update(&pred, &angles, &scan.sigma);
                 let score = score + pred.log_ratio(d2, scan, space);
@@ -296,7 +306,7 @@ impl Walk<'_> {
             });
         }
         // A candidate with no scan beyond its own four has no score (0): the count decides.
-        supported > self.gating.n_detect && score >= 0.0
+        (supported > self.gating.n_detect && score >= 0.0).then_some(score)
     }
 }
 
