@@ -6,6 +6,7 @@ the stage counts.
     python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
         [--repeat N] [--threads T]
     python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9] [--gate-pd 0.9]
+        [--search-stage 2048]
 """
 
 from __future__ import annotations
@@ -19,10 +20,14 @@ import passive_assoc as pa
 from passive_assoc.evaluation import track_targets
 
 
-def priced(gate_pd: float | None) -> dict[str, float]:
-    """``gate_pd`` only when given, so the bench also runs on builds from before the option
-    (the same-run comparisons in docs/performance.md run it on an older package)."""
-    return {} if gate_pd is None else {"gate_pd": gate_pd}
+def priced(gate_pd: float | None, search_stage: str | None = None) -> dict[str, float | int | None]:
+    """``gate_pd`` and ``search_stage`` only when given, so the bench also runs on builds from
+    before the options (the same-run comparisons in docs/performance.md run it on an older
+    package). ``search_stage`` is an integer or "none"."""
+    given: dict[str, float | int | None] = {} if gate_pd is None else {"gate_pd": gate_pd}
+    if search_stage is not None:
+        given["search_stage"] = None if search_stage == "none" else int(search_stage)
+    return given
 
 
 def peak_rss_mb() -> float:
@@ -30,13 +35,20 @@ def peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def found_over_seeds(n: int, pd: float, seeds: int, n_detect: int | None = None, gate_pd: float | None = None) -> None:
+def found_over_seeds(
+    n: int,
+    pd: float,
+    seeds: int,
+    n_detect: int | None = None,
+    gate_pd: float | None = None,
+    search_stage: str | None = None,
+) -> None:
     """Targets found (a track holds at least two thirds of its rows from it:
     :func:`passive_assoc.evaluation.track_targets`) and the other tracks, over the seeds."""
     found = extra = 0
     for seed in range(seeds):
         scenario = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd)
-        initiator = pa.FuzzyTrackInitiator(n_detect=n_detect, **priced(gate_pd))
+        initiator = pa.FuzzyTrackInitiator(n_detect=n_detect, **priced(gate_pd, search_stage))
         result = initiator.initiate(scenario.measurements, scenario.sensors)
         assert scenario.measurements.truth is not None
         held = track_targets(result.labels, scenario.measurements.truth)
@@ -60,16 +72,22 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=1, help="initiations per case: the median and range are printed")
     parser.add_argument("--threads", type=int, default=None, help="n_threads (default: every core)")
     parser.add_argument("--gate-pd", type=float, default=None, help="gate_pd: price misses (default: not priced)")
+    parser.add_argument(
+        "--search-stage", default=None, help="search_stage: an integer or 'none' (default: its default)"
+    )
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
-            found_over_seeds(n, args.pd, args.seeds, args.n_detect, args.gate_pd)
+            found_over_seeds(n, args.pd, args.seeds, args.n_detect, args.gate_pd, args.search_stage)
         return
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):
             initiator = pa.FuzzyTrackInitiator(
-                support_gate=gate, candidate_scans=args.candidate_scans, n_threads=args.threads, **priced(args.gate_pd)
+                support_gate=gate,
+                candidate_scans=args.candidate_scans,
+                n_threads=args.threads,
+                **priced(args.gate_pd, args.search_stage),
             )
             times, rss_before = [], peak_rss_mb()
             for _ in range(args.repeat):

@@ -113,10 +113,10 @@ def main() -> None:
     )
     args = parser.parse_args()
     print(
-        "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | searched | "
-        "time in candidates / fit / support gate / search / detection |"
+        "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | supported | "
+        "searched | time in candidates / fit / support gate / search / detection |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for n_sensors in args.sensors:
         for n_targets in args.targets:
             case = run_case(
@@ -132,7 +132,7 @@ def main() -> None:
             )
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"
-                print(f"| {n_sensors} | {n_targets} | | {what} | | | | | | |")
+                print(f"| {n_sensors} | {n_targets} | | {what} | | | | | | | |")
                 continue
             st, c = case["stages"], case["counts"]
             shares = " / ".join(
@@ -141,7 +141,8 @@ def main() -> None:
             )
             print(
                 f"| {n_sensors} | {n_targets} | {case['rows']} | {case['seconds']:.3g} | {case['peak_mb']:.0f} | "
-                f"{case['tracks']} | {case['found']}/{n_targets} | {c['fitted']} | {c['supported']} | {shares} |"
+                f"{case['tracks']} | {case['found']}/{n_targets} | {c['fitted']} | {c['supported']} | "
+                f"{c['optima']} | {shares} |"
             )
             sys.stdout.flush()
 

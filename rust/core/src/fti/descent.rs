@@ -64,12 +64,12 @@ type Factor = [[f64; MAX_DIM]; MAX_DIM];
 /// One descent per candidate, in parallel, in candidate order.
 pub fn descend_all(
     pre: &Precomputed,
-    candidates: &[Candidate],
+    candidates: &[&Candidate],
     options: &DescentOptions,
 ) -> Vec<Optimum> {
     candidates
         .par_iter()
-        .map(|c| {
+        .map(|&c| {
             let factor = match options.scaling() {
                 Scaling::Whitened => c.factor,
                 Scaling::Diagonal => diagonal(&c.scale),

@@ -69,7 +69,7 @@ pub(super) fn search_and_detect(
     let mut queue = search_order(pre, candidates, stage);
     let mut batch: Vec<usize> = queue.drain(..stage.min(queue.len())).collect();
     while !batch.is_empty() && !crate::parallel::interrupted() {
-        let starts: Vec<Candidate> = batch.iter().map(|&i| candidates[i].clone()).collect();
+        let starts: Vec<&Candidate> = batch.iter().map(|&i| &candidates[i]).collect();
         out.optima
             .extend(descend_all(pre, &starts, options.descent()));
         let order = merge(&out.optima, dim, options.merge_tol());
