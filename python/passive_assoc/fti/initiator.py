@@ -80,7 +80,13 @@ class InitiatedTrack:
 @dataclass(frozen=True)
 class InitiationDiagnostics:
     """How the pipeline got there: candidates left after each stage, descent iterations and
-    seconds per stage."""
+    seconds per stage.
+
+    In ``stage_counts``, ``"supported"`` counts the candidates the support gate kept and
+    ``"optima"`` the descents run: the same number unless a pass searched in stages
+    (``search_stage``), which searches fewer. The re-gating between stages is timed under
+    ``"support"``.
+    """
 
     stage_counts: dict[str, int]
     descent_iterations: NDArray[np.int64]

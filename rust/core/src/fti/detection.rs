@@ -97,8 +97,12 @@ fn related_rows(
 ) -> Vec<usize> {
     let mut out = Vec::new();
     for k in 0..scans.len() {
+        let rows = scans.scan(k);
+        if !rows.iter().any(|&m| available[m]) {
+            continue; // nothing to relate: no prediction
+        }
         let mut best: Option<(f64, usize)> = None;
-        for_each_residual2(problem, scans.scan(k), x, |m, d2| {
+        for_each_residual2(problem, rows, x, |m, d2| {
             if !available[m] || d2.is_nan() || d2 >= gate2 {
                 return;
             }

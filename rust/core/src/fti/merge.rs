@@ -15,12 +15,28 @@
 //! its largest `s_0`), and a new optimum is compared only with the kept ones that lie within
 //! `merge_tol·max(s_i0, largest s_0 of the class)` of it in some class: two binary searches
 //! per class. The comparison itself is unchanged, so the kept set is the same, in the same
-//! order, as the plain double loop's; optima whose first coordinate or `s_0` is not finite
-//! or not positive are compared always, and are compared with all.
+//! order, as the plain double loop's. The bound holds for the computed distance, not only
+//! the exact one, as long as no square overflows or underflows: so optima whose first
+//! coordinate or `s_0` lies outside `[2⁻⁴⁰⁰, 2⁴⁰⁰]` in magnitude (or is not finite) are
+//! compared always and with all, and a `merge_tol` outside `[2⁻¹⁰⁰, 2¹⁰⁰]` turns the index
+//! off (the double loop itself).
 
 use std::collections::BTreeMap;
 
 use super::descent::Optimum;
+
+/// 2⁴⁰⁰ and 2⁻⁴⁰⁰: the magnitudes of a first coordinate or `s_0` within which the index's
+/// bound holds for the computed distance (module doc).
+const LARGE: f64 = 2.582_249_878_086_908_6e120;
+const SMALL: f64 = 3.872_591_914_849_318_3e-121;
+/// 2¹⁰⁰ and 2⁻¹⁰⁰: the `merge_tol` within which the index is used.
+const TOL_LARGE: f64 = 1.267_650_600_228_229_4e30;
+const TOL_SMALL: f64 = 7.888_609_052_210_118e-31;
+
+/// Whether an optimum with first coordinate `x` and `s_0` = `s` can be classed.
+fn classable(x: f64, s: f64) -> bool {
+    x.abs() <= LARGE && (SMALL..=LARGE).contains(&s)
+}
 
 /// Indices of the optima that survive merging, by decreasing R (ties: lower index). Optima
 /// with a non-finite R are dropped.
@@ -74,9 +90,10 @@ impl Index {
     fn new(optima: &[Optimum], order: &[usize], tol: f64) -> Self {
         let mut classes: BTreeMap<i32, (f64, Vec<(f64, usize)>)> = BTreeMap::new();
         let mut unclassed = Vec::new();
+        let usable = (TOL_SMALL..=TOL_LARGE).contains(&tol);
         for &i in order {
             let (x, s) = (optima[i].x[0], optima[i].scale[0]);
-            if !(x.is_finite() && s.is_finite() && s > 0.0) {
+            if !(usable && classable(x, s)) {
                 unclassed.push(i);
                 continue;
             }
@@ -106,13 +123,13 @@ impl Index {
     /// Every kept optimum that may merge with optimum `i`.
     fn near<'s>(&'s self, optima: &[Optimum], i: usize) -> Box<dyn Iterator<Item = usize> + 's> {
         let (x, s) = (optima[i].x[0], optima[i].scale[0]);
-        if !(x.is_finite() && s.is_finite() && s > 0.0) {
+        if self.classes.is_empty() || !classable(x, s) {
             return Box::new(self.kept_list.iter().copied());
         }
         let tol = self.tol;
         let in_classes = self.classes.iter().flat_map(move |(largest, members)| {
             // The margins cover the rounding of the bounds and of the distance itself.
-            let reach = tol * s.max(*largest) * (1.0 + 1e-9) + 4.0 * f64::EPSILON * x.abs();
+            let reach = tol * s.max(*largest) * (1.0 + 1e-9) + 4.0 * f64::EPSILON * x.abs() + SMALL;
             let start = members.partition_point(|m| m.0 < x - reach);
             let end = members.partition_point(|m| m.0 <= x + reach);
             members[start..end.max(start)].iter().map(|m| m.1)
@@ -165,9 +182,9 @@ mod tests {
         }
     }
 
-    /// Clusters, scales from 0.05 to 3 times a base (so intervals from a fraction of a cell
-    /// to past `MAX_CELLS`), tied R, and non-finite coordinates, R and scales: the index
-    /// keeps exactly what the double loop keeps, in its order, and merges a fair share.
+    /// Clusters, scales from 0.05 to 3 times a base (several classes), tied R, and
+    /// non-finite coordinates, R and scales: the index keeps exactly what the double loop
+    /// keeps, in its order, and merges a fair share.
     #[test]
     fn the_index_keeps_what_the_double_loop_keeps() {
         let mut rng = Rng::new(11);
@@ -185,5 +202,38 @@ mod tests {
                 assert!(plain.len() < n - 20 && plain.len() > 10, "{}", plain.len());
             }
         }
+    }
+
+    /// Two optima equal but in the first coordinate, at distances around the bound, and at
+    /// the extremes of the float range (squares that overflow or underflow, a huge or tiny
+    /// `merge_tol`): the index merges exactly the pairs the double loop merges.
+    #[test]
+    fn the_index_agrees_at_the_bound_and_at_the_extremes() {
+        let pair = |s: f64, dx: f64| -> Vec<Optimum> {
+            let at = |x0: f64, closeness: f64| Optimum {
+                x: std::array::from_fn(|k| if k == 0 { x0 } else { 1.0 }),
+                closeness,
+                iterations: 0,
+                evaluations: 0,
+                scale: [s; MAX_DIM],
+            };
+            vec![at(5.0, 2.0), at(5.0 + dx, 1.0)]
+        };
+        let mut cases = Vec::new();
+        for factor in [0.8, 0.99, 1.0 - 1e-15, 1.0, 1.0 + 1e-15, 1.01] {
+            cases.push((pair(2.0, 2.0 * factor), 1.0));
+            cases.push((pair(3e-3, 3e-3 * factor), 1.0));
+        }
+        cases.push((pair(1e154, 1.3e154), 1.0)); // s² overflows: the term is 0
+        cases.push((pair(1.6e-162, 2.1e-162), 1.0)); // subnormal squares
+        cases.push((pair(1.0, 1e150), 1e200)); // tol² overflows: everything merges
+        cases.push((pair(1e-200, 1e-170), 0.0)); // Δ² underflows to 0
+        let mut merged = 0;
+        for (optima, tol) in &cases {
+            let plain = merge_plain(optima, MAX_DIM, *tol);
+            assert_eq!(merge(optima, MAX_DIM, *tol), plain, "{optima:?} tol {tol}");
+            merged += usize::from(plain.len() == 1);
+        }
+        assert!(merged >= 8 && merged < cases.len(), "{merged}");
     }
 }

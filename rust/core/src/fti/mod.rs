@@ -88,7 +88,8 @@ pub struct StageCounts {
     pub chi2_gate: usize,
     /// Candidates that more than Nd scans support (see [`support`]; = `chi2_gate` when off).
     pub supported: usize,
-    /// Descents run (one per surviving candidate).
+    /// Descents run: one per supported candidate, or fewer when a pass searched in stages
+    /// (see [`stages`]).
     pub optima: usize,
     /// Optima left after merging.
     pub merged: usize,

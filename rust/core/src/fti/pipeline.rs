@@ -166,8 +166,10 @@ impl Run {
         );
         stop_if_interrupted()?;
         let seconds = clock.elapsed().as_secs_f64();
-        self.seconds.descent += seconds - searched.seconds_detection;
-        self.seconds.detection += searched.seconds_detection;
+        let (detection, regate) = (searched.seconds_detection, searched.seconds_regate);
+        self.seconds.descent += seconds - detection - regate;
+        self.seconds.detection += detection;
+        self.seconds.support += regate;
         counts.optima = searched.optima.len();
         counts.merged = searched.merged;
         counts.detected = searched.accepted.len();

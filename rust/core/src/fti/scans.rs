@@ -35,9 +35,11 @@ impl Scans {
             rows: Vec::with_capacity(order.len()),
             per_sensor: vec![Vec::new(); n_sensors],
         };
-        let mut previous: Option<(usize, f64)> = None;
+        // Times are compared by their bits, as the sort above orders them: −0.0 and +0.0
+        // are two time stamps, so two scans.
+        let mut previous: Option<(usize, u64)> = None;
         for &row in &order {
-            let key = (measurements.sensor(row), measurements.time(row));
+            let key = (measurements.sensor(row), measurements.time(row).to_bits());
             if previous != Some(key) {
                 if previous.is_some() {
                     scans.offsets.push(scans.rows.len());

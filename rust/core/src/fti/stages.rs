@@ -20,7 +20,8 @@
 //! detection starts again over every optimum so far, by decreasing R, on the rows free
 //! before the pass; so the one thing that differs from the paper's rule is which candidates
 //! are searched. With the support gate off a later stage searches the candidates whose own
-//! four rows are all free.
+//! four rows are all free. A candidate a stage's re-gating drops is not reconsidered, even if
+//! a later detection frees the rows it lacked.
 
 use std::time::Instant;
 
@@ -45,6 +46,8 @@ pub(super) struct Searched {
     pub(super) merged: usize,
     /// Time spent in detection, within the whole call's.
     pub(super) seconds_detection: f64,
+    /// Time spent re-gating the candidates between stages, within the whole call's.
+    pub(super) seconds_regate: f64,
 }
 
 /// Searches `candidates` and runs detection on the rows still `available`, with the
@@ -66,20 +69,30 @@ pub(super) fn search_and_detect(
         accepted: Vec::new(),
         merged: 0,
         seconds_detection: 0.0,
+        seconds_regate: 0.0,
     };
     let mut queue = search_order(pre, candidates, stage);
     let mut batch: Vec<usize> = queue.drain(..stage.min(queue.len())).collect();
     while !batch.is_empty() && !crate::parallel::interrupted() {
         let starts: Vec<&Candidate> = batch.iter().map(|&i| &candidates[i]).collect();
-        out.optima
-            .extend(descend_all(pre, &starts, options.descent()));
+        let optima = descend_all(pre, &starts, options.descent());
+        // Moved, not copied, on the first stage: a one-stage pass holds them once.
+        match out.optima.is_empty() {
+            true => out.optima = optima,
+            false => out.optima.extend(optima),
+        }
+        if crate::parallel::interrupted() {
+            break; // the pipeline raises; the descents' partial output is not merged
+        }
         let order = merge(&out.optima, dim, options.merge_tol());
         let clock = Instant::now();
         available.copy_from_slice(&free_before);
         out.accepted = detect(problem, scans, &out.optima, &order, options, available);
         out.seconds_detection += clock.elapsed().as_secs_f64();
         out.merged = order.len();
+        let clock = Instant::now();
         queue = still_kept(problem, scans, candidates, queue, gate, available);
+        out.seconds_regate += clock.elapsed().as_secs_f64();
         batch = queue.drain(..stage.min(queue.len())).collect();
     }
     out
