@@ -13,6 +13,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
     python3 benches/bench_initiation_scale.py --targets 32 --max-candidates 5000000   # past the default cap
     python3 benches/bench_initiation_scale.py --gate-pd 0.9   # misses priced (opt-in)
     python3 benches/bench_initiation_scale.py --search-stage none   # every candidate searched first
+    python3 benches/bench_initiation_scale.py --adjacent-pairs   # pairs (0, 1), (1, 2), ... only
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ n_targets, n_sensors, seed = (int(v) for v in sys.argv[1:4])
 area, v_max, max_candidates = float(sys.argv[4]) * 1e3, float(sys.argv[5]), int(sys.argv[6])
 gate_pd = float(sys.argv[7]) if sys.argv[7] != "None" else None
 search_stage = sys.argv[8] if len(sys.argv) > 8 else "default"
+adjacent = len(sys.argv) > 9 and sys.argv[9] == "adjacent"
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
@@ -51,6 +53,8 @@ if gate_pd is not None:  # only when given, so older builds run the same case
     options["gate_pd"] = gate_pd
 if search_stage != "default":  # likewise
     options["search_stage"] = None if search_stage == "none" else int(search_stage)
+if adjacent:  # candidates from neighbouring sensors only (j, j + 1)
+    options["pairs"] = [(j, j + 1) for j in range(n_sensors - 1)]
 result = pa.FuzzyTrackInitiator(v_max=v_max, **options).initiate(scenario.measurements, sensors, t0=0.0)
 seconds = time.perf_counter() - start
 found = set(track_targets(result.labels, scenario.measurements.truth).tolist()) - {-1}
@@ -72,6 +76,7 @@ def run_case(
     max_candidates: int = 0,
     gate_pd: float | None = None,
     search_stage: str = "default",
+    pairs: str = "all",
 ) -> dict | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
@@ -82,7 +87,7 @@ def run_case(
                 sys.executable,
                 "-c",
                 CASE,
-                *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd, search_stage)),
+                *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd, search_stage, pairs)),
             ],
             capture_output=True,
             text=True,
@@ -107,6 +112,9 @@ def main() -> None:
     parser.add_argument("--max-candidates", type=int, default=0, help="the initiator's max_candidates (0: its default)")
     parser.add_argument("--gate-pd", type=float, default=None, help="the initiator's gate_pd (default: not priced)")
     parser.add_argument(
+        "--adjacent-pairs", action="store_true", help="candidates from neighbouring sensors only (default: every pair)"
+    )
+    parser.add_argument(
         "--search-stage",
         default="default",
         help="the initiator's search_stage: an integer or 'none' (default: its default)",
@@ -129,6 +137,7 @@ def main() -> None:
                 args.max_candidates,
                 args.gate_pd,
                 args.search_stage,
+                "adjacent" if args.adjacent_pairs else "all",
             )
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"
