@@ -162,3 +162,26 @@ pub fn resolve_pairs(
     }
     Ok(pairs)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Scans;
+    use crate::data::{Measurements, Sensors};
+    use crate::geometry::model::Space;
+
+    /// A scan is one exact time stamp, compared as the sort compares it: −0.0 and +0.0 are
+    /// two scans (equality would join them while the sort keeps them apart), 1.0 one.
+    #[test]
+    fn scans_split_on_the_bits_of_the_time() {
+        let positions = [0.0, 0.0, 0.0, 1e4, 0.0, 0.0];
+        let sensors = Sensors::new(Space::Planar, &positions, &[1e-3; 2], &[]).expect("valid");
+        let (sensor, time) = ([0, 0, 0, 0, 1], [0.0, -0.0, 1.0, 0.0, -0.0]);
+        let table =
+            Measurements::new(&sensors, &sensor, &time, &[0.1; 5], &[f64::NAN; 5]).expect("valid");
+        let scans = Scans::new(&table, 2);
+        assert_eq!(scans.len(), 4);
+        assert_eq!(scans.scan(scans.scan_of[0]), &[0, 3]);
+        assert_eq!(scans.scan(scans.scan_of[1]), &[1]);
+        assert_eq!(scans.per_sensor, vec![vec![0, 1, 2], vec![3]]);
+    }
+}
