@@ -140,7 +140,11 @@ class FuzzyTrackInitiator:
         paper's 9 for its 2 sensors x 8 scans and grows with sensors and scans
         (docs/methods.md §1 has the measurements).
     pairs : sequence of (int, int), optional
-        Sensor pairs that generate candidates; default every pair.
+        Sensor pairs that generate candidates; default every pair. With many sensors every
+        target has candidates from every pair, and the candidates are most of the time: the
+        neighbouring pairs ``[(0, 1), (1, 2), ...]`` of a line of five sensors found as many
+        targets in a quarter to two thirds of the time on the scale bench's scenes
+        (docs/performance.md, *Fewer sensor pairs*; not measured at Pd < 1).
     ray_gate_sigmas : float or None
         Prune a pair of first- or last-scan rays whose closest approach exceeds this many
         standard deviations of the crossing, plus ``v_max`` times the two sensors' time
