@@ -10,18 +10,17 @@
 //!
 //! **Stages.** Above `search_stage` candidates, they are ordered by the tracking gate's score
 //! (decreasing; ties: lower index): how much likelier the rows a candidate's walk took are
-//! from it than from clutter (module `tracking_gate`); on the 5-sensor scenes measured the
-//! first stage held every target's candidates (docs/performance.md). The first
-//! `search_stage` are searched,
-//! and detection runs over their optima. Each later stage searches the next `search_stage`
-//! candidates that still pass the support gate (both parts) *on the rows detection has
-//! left*, as pass 2's candidates must; a candidate whose support was rows that accepted
-//! targets now hold is their ghost or their duplicate, and is not searched. After each stage
-//! detection starts again over every optimum so far, by decreasing R, on the rows free
-//! before the pass; so the one thing that differs from the paper's rule is which candidates
-//! are searched. With the support gate off a later stage searches the candidates whose own
-//! four rows are all free. A candidate a stage's re-gating drops is not reconsidered, even if
-//! a later detection frees the rows it lacked.
+//! from it than from clutter (module `tracking_gate`). The first `search_stage` are searched
+//! and detection runs over their optima (on the 5-sensor scenes measured, at most one
+//! candidate after them passed the gate again: docs/performance.md). Each later stage
+//! searches the next `search_stage` candidates that still pass the support gate (both
+//! parts) *on the rows detection has left*, as pass 2's candidates must; a candidate whose
+//! support was rows that accepted targets now hold is their ghost or their duplicate, and
+//! is not searched. After each stage detection starts again over every optimum so far, by
+//! decreasing R, on the rows free before the pass; so the one thing that differs from the
+//! paper's rule is which candidates are searched. With the support gate off a later stage
+//! searches the candidates whose own four rows are all free. A candidate a stage's
+//! re-gating drops is not reconsidered, even if a later detection frees the rows it lacked.
 
 use std::time::Instant;
 
