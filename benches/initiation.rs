@@ -204,8 +204,8 @@ fn bench_descent(c: &mut Criterion) {
         .collect();
     let set = generate(&problem, &scans, &outer, None, &options, None).expect("candidates");
     let truth = TARGETS[0];
-    let nearest = set
-        .candidates
+    let candidates = set.candidates.into_whole(&problem);
+    let nearest = candidates
         .iter()
         .min_by(|a, b| {
             let d = |c: &passive_assoc_core::fti::candidates::Candidate| {

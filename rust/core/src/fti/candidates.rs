@@ -31,6 +31,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::combine;
+use super::pool::Pool;
 use super::scans::Scans;
 use super::support::Gate;
 use super::{InitiationOptions, Problem, StageCounts};
@@ -101,7 +102,7 @@ impl RayPair {
 /// The candidates that survive every enabled rule, with stage counts and timings.
 #[derive(Clone, Debug, Default)]
 pub struct CandidateSet {
-    pub candidates: Vec<Candidate>,
+    pub candidates: Pool,
     pub counts: StageCounts,
     pub seconds_enumerate: f64,
     pub seconds_fit: f64,
@@ -121,7 +122,11 @@ pub fn generate(
     gate: Option<&Gate<'_>>,
 ) -> CoreResult<CandidateSet> {
     let start = Instant::now();
-    let mut set = CandidateSet::default();
+    let mut set = CandidateSet {
+        // Compact past one stage when the gate scores them (module `pool`).
+        candidates: Pool::new(gate.and(options.search_stage())),
+        ..CandidateSet::default()
+    };
     let rows_of = |k: usize| -> Vec<usize> {
         let rows = scans.scan(k).iter().copied();
         rows.filter(|&m| available.is_none_or(|a| a[m])).collect()
@@ -280,8 +285,7 @@ pub(super) fn fit_chunk(
         }
         candidate.support_score = score;
         set.counts.supported += 1;
-        reserve_one(&mut set.candidates, "fitted candidates", OOM_HINT)?;
-        set.candidates.push(candidate);
+        (set.candidates).push(candidate, "fitted candidates", OOM_HINT)?;
     }
     set.seconds_support += start.elapsed().as_secs_f64();
     Ok(())

@@ -32,6 +32,7 @@ mod merge;
 mod motion_gate;
 mod options;
 pub mod pipeline;
+pub mod pool;
 pub mod scans;
 pub mod stages;
 pub mod support;

@@ -351,7 +351,12 @@ pub(crate) fn candidates_of(
         .collect();
     let set = candidates::generate(&problem, &scans, &slots, None, options, None)?;
     stop_if_interrupted()?;
-    Ok((set.candidates, set.counts, scans, pairs))
+    Ok((
+        set.candidates.into_whole(&problem),
+        set.counts,
+        scans,
+        pairs,
+    ))
 }
 
 /// Ends the pipeline between stages when the user asked to stop: the stages after an

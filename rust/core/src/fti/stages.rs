@@ -31,6 +31,7 @@ use super::closeness::{closeness, Precomputed};
 use super::descent::{descend_all, Optimum};
 use super::detection::detect;
 use super::merge::merge;
+use super::pool::Pool;
 use super::scans::Scans;
 use super::support::{Gate, SupportTable};
 use super::{InitiationOptions, Problem};
@@ -55,7 +56,7 @@ pub(super) fn search_and_detect(
     problem: &Problem<'_>,
     pre: &Precomputed,
     scans: &Scans,
-    candidates: &[Candidate],
+    candidates: &Pool,
     options: &InitiationOptions,
     gate: Option<&Gate<'_>>,
     available: &mut [bool],
@@ -70,11 +71,13 @@ pub(super) fn search_and_detect(
         seconds_detection: 0.0,
         seconds_regate: 0.0,
     };
-    let mut queue = search_order(pre, candidates, stage);
+    let mut queue = search_order(problem, pre, candidates, stage);
     let mut batch: Vec<usize> = queue.drain(..stage.min(queue.len())).collect();
     while !batch.is_empty() && !crate::parallel::interrupted() {
-        let starts: Vec<&Candidate> = batch.iter().map(|&i| &candidates[i]).collect();
+        let taken = candidates.get_all(problem, &batch);
+        let starts: Vec<&Candidate> = taken.iter().map(|c| c.as_ref()).collect();
         let optima = descend_all(pre, &starts, options.descent());
+        drop(taken);
         // Moved, not copied, on the first stage: a one-stage pass holds them once.
         match out.optima.is_empty() {
             true => out.optima = optima,
@@ -102,7 +105,7 @@ pub(super) fn search_and_detect(
 fn still_kept(
     problem: &Problem<'_>,
     scans: &Scans,
-    candidates: &[Candidate],
+    candidates: &Pool,
     queue: Vec<usize>,
     gate: Option<&Gate<'_>>,
     available: &[bool],
@@ -111,7 +114,7 @@ fn still_kept(
         return queue;
     }
     let Some(gate) = gate else {
-        let free = |i: &usize| candidates[*i].rows.iter().all(|&m| available[m]);
+        let free = |i: &usize| candidates.rows(*i).iter().all(|&m| available[m]);
         return queue.into_iter().filter(free).collect();
     };
     let table = SupportTable::of_rows(problem, scans, Some(available));
@@ -120,7 +123,7 @@ fn still_kept(
         ..*gate
     };
     let keep: Vec<bool> = (queue.par_iter())
-        .map(|&i| gate.keeps(problem, &candidates[i]).is_some())
+        .map(|&i| (candidates.get(problem, i)).is_some_and(|c| gate.keeps(problem, &c).is_some()))
         .collect();
     queue
         .into_iter()
@@ -133,17 +136,26 @@ fn still_kept(
 /// Candidate indices in search order: as given when they fit in one `stage`, else by
 /// decreasing tracking-gate score (ties: lower index), or by decreasing R at their estimates
 /// when the support gate is off (no scores).
-fn search_order(pre: &Precomputed, candidates: &[Candidate], stage: usize) -> Vec<usize> {
+fn search_order(
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    candidates: &Pool,
+    stage: usize,
+) -> Vec<usize> {
     let mut order: Vec<usize> = (0..candidates.len()).collect();
     if candidates.len() <= stage {
         return order;
     }
-    let scores: Option<Vec<f64>> = candidates.iter().map(|c| c.support_score).collect();
+    let scores: Option<Vec<f64>> = (0..candidates.len()).map(|i| candidates.score(i)).collect();
     let key: Vec<f64> = match scores {
         Some(scores) => scores,
-        None => candidates
-            .par_iter()
-            .map(|c| closeness(pre, &c.estimate[..pre.dim()]))
+        // No gate, no scores: the pool is whole (module `pool`), so no refit happens here.
+        None => (0..candidates.len())
+            .into_par_iter()
+            .map(|i| {
+                let c = candidates.get(problem, i);
+                c.map_or(f64::NAN, |c| closeness(pre, &c.estimate[..pre.dim()]))
+            })
             .collect(),
     };
     // A NaN key (a non-finite estimate) goes last.
