@@ -21,6 +21,9 @@
 //! paper's rule is which candidates are searched. With the support gate off a later stage
 //! searches the candidates whose own four rows are all free. A candidate a stage's
 //! re-gating drops is not reconsidered, even if a later detection frees the rows it lacked.
+//!
+//! Past one stage the candidates arrive compact (module `pool`): each stage refits the ones
+//! it searches or re-gates, the same candidates bit for bit.
 
 use std::time::Instant;
 
