@@ -101,6 +101,11 @@ def run_case(
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def seconds(value: float) -> str:
+    """Three significant digits, or whole seconds from 1 000 on (``3.3e+03`` hid a minute)."""
+    return f"{value:.0f}" if value >= 1000 else f"{value:.3g}"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--targets", type=int, nargs="+", default=[4, 8, 16, 32])
@@ -149,7 +154,7 @@ def main() -> None:
                 for k in ("candidates", "fit", "support", "descent", "detection")
             )
             print(
-                f"| {n_sensors} | {n_targets} | {case['rows']} | {case['seconds']:.3g} | {case['peak_mb']:.0f} | "
+                f"| {n_sensors} | {n_targets} | {case['rows']} | {seconds(case['seconds'])} | {case['peak_mb']:.0f} | "
                 f"{case['tracks']} | {case['found']}/{n_targets} | {c['fitted']} | {c['supported']} | "
                 f"{c['optima']} | {shares} |"
             )
