@@ -135,6 +135,7 @@ impl Compact {
 #[cfg(test)]
 mod tests {
     use super::Pool;
+    use crate::fti::candidates::Candidate;
     use crate::fti::pipeline::candidates_of;
     use crate::fti::{sim, InitiationOptions};
 
@@ -174,6 +175,4 @@ mod tests {
             assert_eq!(whole.len(), candidates.len());
         }
     }
-
-    use crate::fti::candidates::Candidate;
 }
