@@ -20,13 +20,17 @@ import passive_assoc as pa
 from passive_assoc.evaluation import track_targets
 
 
-def priced(gate_pd: float | None, search_stage: str | None = None) -> dict[str, float | int | None]:
-    """``gate_pd`` and ``search_stage`` only when given, so the bench also runs on builds from
-    before the options (the same-run comparisons in docs/performance.md run it on an older
-    package). ``search_stage`` is an integer or "none"."""
-    given: dict[str, float | int | None] = {} if gate_pd is None else {"gate_pd": gate_pd}
+def priced(
+    gate_pd: float | None, search_stage: str | None = None, order: str | None = None
+) -> dict[str, float | int | str | None]:
+    """``gate_pd``, ``search_stage`` and the detection ``order`` only when given, so the bench
+    also runs on builds from before the options (the same-run comparisons in
+    docs/performance.md run it on an older package). ``search_stage`` is an integer or "none"."""
+    given: dict[str, float | int | str | None] = {} if gate_pd is None else {"gate_pd": gate_pd}
     if search_stage is not None:
         given["search_stage"] = None if search_stage == "none" else int(search_stage)
+    if order is not None:
+        given["detection_order"] = order
     return given
 
 
@@ -42,13 +46,14 @@ def found_over_seeds(
     n_detect: int | None = None,
     gate_pd: float | None = None,
     search_stage: str | None = None,
+    order: str | None = None,
 ) -> None:
     """Targets found (a track holds at least two thirds of its rows from it:
     :func:`passive_assoc.evaluation.track_targets`) and the other tracks, over the seeds."""
     found = extra = 0
     for seed in range(seeds):
         scenario = pa.bearing_only_2d_scenario(seed, n_targets=n, n_sensors=3, clutter_ratio=2, pd=pd)
-        initiator = pa.FuzzyTrackInitiator(n_detect=n_detect, **priced(gate_pd, search_stage))
+        initiator = pa.FuzzyTrackInitiator(n_detect=n_detect, **priced(gate_pd, search_stage, order))
         result = initiator.initiate(scenario.measurements, scenario.sensors)
         assert scenario.measurements.truth is not None
         held = track_targets(result.labels, scenario.measurements.truth)
@@ -75,10 +80,13 @@ def main() -> None:
     parser.add_argument(
         "--search-stage", default=None, help="search_stage: an integer or 'none' (default: its default)"
     )
+    parser.add_argument("--detection-order", default=None, help="detection_order (default: its default)")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
-            found_over_seeds(n, args.pd, args.seeds, args.n_detect, args.gate_pd, args.search_stage)
+            found_over_seeds(
+                n, args.pd, args.seeds, args.n_detect, args.gate_pd, args.search_stage, args.detection_order
+            )
         return
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
@@ -87,7 +95,7 @@ def main() -> None:
                 support_gate=gate,
                 candidate_scans=args.candidate_scans,
                 n_threads=args.threads,
-                **priced(args.gate_pd, args.search_stage),
+                **priced(args.gate_pd, args.search_stage, args.detection_order),
             )
             times, rss_before = [], peak_rss_mb()
             for _ in range(args.repeat):

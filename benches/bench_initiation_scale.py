@@ -14,6 +14,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
     python3 benches/bench_initiation_scale.py --gate-pd 0.9   # misses priced (opt-in)
     python3 benches/bench_initiation_scale.py --search-stage none   # every candidate searched first
     python3 benches/bench_initiation_scale.py --adjacent-pairs   # pairs (0, 1), (1, 2), ... only
+    python3 benches/bench_initiation_scale.py --detection-order closeness   # the paper's order
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ area, v_max, max_candidates = float(sys.argv[4]) * 1e3, float(sys.argv[5]), int(
 gate_pd = float(sys.argv[7]) if sys.argv[7] != "None" else None
 search_stage = sys.argv[8] if len(sys.argv) > 8 else "default"
 adjacent = len(sys.argv) > 9 and sys.argv[9] == "adjacent"
+order = sys.argv[10] if len(sys.argv) > 10 else "default"
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
@@ -53,6 +55,8 @@ if gate_pd is not None:  # only when given, so older builds run the same case
     options["gate_pd"] = gate_pd
 if search_stage != "default":  # likewise
     options["search_stage"] = None if search_stage == "none" else int(search_stage)
+if order != "default":  # likewise
+    options["detection_order"] = order
 if adjacent:  # candidates from neighbouring sensors only (j, j + 1)
     options["pairs"] = [(j, j + 1) for j in range(n_sensors - 1)]
 result = pa.FuzzyTrackInitiator(v_max=v_max, **options).initiate(scenario.measurements, sensors, t0=0.0)
@@ -77,6 +81,7 @@ def run_case(
     gate_pd: float | None = None,
     search_stage: str = "default",
     pairs: str = "all",
+    order: str = "default",
 ) -> dict | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
@@ -87,7 +92,8 @@ def run_case(
                 sys.executable,
                 "-c",
                 CASE,
-                *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd, search_stage, pairs)),
+                *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd)),
+                *(search_stage, pairs, order),
             ],
             capture_output=True,
             text=True,
@@ -124,6 +130,9 @@ def main() -> None:
         default="default",
         help="the initiator's search_stage: an integer or 'none' (default: its default)",
     )
+    parser.add_argument(
+        "--detection-order", default="default", help="the initiator's detection_order (default: its default)"
+    )
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | supported | "
@@ -143,6 +152,7 @@ def main() -> None:
                 args.gate_pd,
                 args.search_stage,
                 "adjacent" if args.adjacent_pairs else "all",
+                args.detection_order,
             )
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"

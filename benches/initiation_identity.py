@@ -51,10 +51,13 @@ def scenes() -> list[Scenario]:
     return out + [scale_scene(*case) for case in SPATIAL]
 
 
-def initiations() -> list[tuple]:
+def initiations(order: str | None = None) -> list[tuple]:
+    """Each scene's initiation; ``order`` is the detection order, passed only when given (so
+    builds from before the option run too)."""
+    options = {} if order is None else {"detection_order": order}
     out = []
     for scene in scenes():
-        r = pa.FuzzyTrackInitiator().initiate(scene.measurements, scene.sensors, t0=0.0)
+        r = pa.FuzzyTrackInitiator(**options).initiate(scene.measurements, scene.sensors, t0=0.0)
         states = [t.state.tolist() for t in r.tracks]
         out.append((r.labels.tolist(), states, r.diagnostics.stage_counts))
     return out
@@ -64,9 +67,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", help="write this build's initiations here")
     parser.add_argument("--against", help="compare this build's initiations with a dump")
+    parser.add_argument("--detection-order", help="the initiator's detection_order (default: its default)")
     args = parser.parse_args()
     start = time.perf_counter()
-    mine = initiations()
+    mine = initiations(args.detection_order)
     print(f"{len(mine)} initiations in {time.perf_counter() - start:.1f} s")
     if args.out:
         with open(args.out, "wb") as f:

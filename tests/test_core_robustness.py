@@ -84,6 +84,7 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects(args, kw.pop("ndim"))
     settings = InitiationSettings(
         **kw,
+        detection_order="membership",
         descent_scaling="whitened",
         refine_passes=2,
         candidate_scans=4,

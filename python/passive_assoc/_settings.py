@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 Motion = Literal["static", "cv"]
 Scaling = Literal["whitened", "diagonal"]
+DetectionOrder = Literal["membership", "closeness"]
 SdMethod = Literal["lagrangian", "exact"]
 WarmStart = Literal["auto", "always", "never"]
 SensorOrder = Literal["auto", "given"]
@@ -56,6 +57,7 @@ class InitiationSettings:
     v_max: float | None
     chi2_gate: float | None
     one_per_scan: bool
+    detection_order: DetectionOrder
     merge_tol: float
     descent_scaling: Scaling
     descent_max_iter: int

@@ -168,6 +168,7 @@ def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: P
         (dict(spread=-1.0), ValueError, "spread: must be > 0"),
         (dict(v_max=float("nan")), ValueError, "v_max"),
         (dict(descent_scaling="newton"), ValueError, "descent_scaling"),
+        (dict(detection_order="R"), ValueError, "detection_order"),
         (dict(reject_behind="yes"), TypeError, "reject_behind"),
         (dict(refine_passes=-1), ValueError, "refine_passes"),
         (dict(candidate_scans=0), ValueError, "candidate_scans"),

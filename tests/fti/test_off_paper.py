@@ -72,6 +72,18 @@ def test_issue_16s_eight_target_2d_scene_gives_one_track_per_target() -> None:
     assert targets_tracked(result, scenario) == list(range(8))
 
 
+def test_detection_in_membership_order_leaves_no_ghost_tracks() -> None:
+    """Seed 1 of the same scene: in the paper's order (decreasing R over every row) optima
+    between targets are detected first and 13 tracks come out for 8 targets; in membership
+    order (the default) each target's own optimum comes first, and the 8 are the only
+    tracks."""
+    scenario = pa.bearing_only_2d_scenario(1, n_targets=8, n_sensors=3, clutter_ratio=2)
+    result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    assert targets_tracked(result, scenario) == list(range(8))
+    paper = FuzzyTrackInitiator(detection_order="closeness").initiate(scenario.measurements, scenario.sensors)
+    assert len(paper.tracks) > 8
+
+
 def test_two_sensors_and_four_scans_give_the_targets() -> None:
     """2 sensors x 4 scans = 8 reports per target: the paper's Nd = 9 cannot be reached (it
     gave 0 tracks and no warning; now it says why)."""

@@ -289,6 +289,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="coordinates of the closeness search (default whitened; diagonal = METHODS wording)",
     )
     parser.add_argument(
+        "--detection-order",
+        choices=("membership", "closeness"),
+        default="membership",
+        help="order in which detection visits the optima (default membership; closeness = the paper's)",
+    )
+    parser.add_argument(
         "--gate-pd",
         type=finite_float,
         default=None,
@@ -308,6 +314,7 @@ def main(args: argparse.Namespace) -> int:
         refine_passes=args.refine_passes,
         candidate_scans=args.candidate_scans,
         descent_scaling=args.descent_scaling,
+        detection_order=args.detection_order,
         gate_pd=args.gate_pd,
     )
     runs, scenario, result, crlbs = run_experiment(
@@ -324,6 +331,7 @@ def main(args: argparse.Namespace) -> int:
         "refine_passes": args.refine_passes,
         "candidate_scans": args.candidate_scans,
         "descent_scaling": args.descent_scaling,
+        "detection_order": args.detection_order,
         "gate_pd": args.gate_pd,
     }
     print_table2(summary["run0_estimates"], scenario.true_states)

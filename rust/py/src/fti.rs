@@ -34,6 +34,7 @@ pub struct InitiationSettings {
     v_max: Option<f64>,
     chi2_gate: Option<f64>,
     one_per_scan: bool,
+    detection_order: String,
     merge_tol: f64,
     descent_scaling: String,
     descent_max_iter: i64,
@@ -61,6 +62,7 @@ impl InitiationSettings {
             .with_v_max(self.v_max)?
             .with_chi2_gate(self.chi2_gate)?
             .with_one_per_scan(self.one_per_scan)
+            .with_detection_order(parse("detection_order", &self.detection_order)?)
             .with_merge_tol(self.merge_tol)?
             .with_descent(descent)
             .with_max_candidates(count("max_candidates", self.max_candidates, 1)?)?

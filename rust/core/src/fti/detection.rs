@@ -27,6 +27,7 @@
 //! one-measurement-per-scan constraint. Rows related to no target are clutter.
 
 use super::descent::Optimum;
+use super::detection_order::{detect_by_membership, DetectionOrder};
 use super::scans::Scans;
 use super::{InitiationOptions, Problem};
 use crate::assign::lap::solve_dense;
@@ -86,14 +87,15 @@ fn for_each_residual2(
 }
 
 /// Related rows of `x` among the `available` ones (all related, or the smallest-residual
-/// related row of each scan), ascending.
-fn related_rows(
+/// related row of each scan), ascending; `each_d2` sees the `d²` of each, in scan order.
+pub(super) fn related_rows_with(
     problem: &Problem<'_>,
     scans: &Scans,
     x: &[f64],
     gate2: f64,
     one_per_scan: bool,
     available: &[bool],
+    mut each_d2: impl FnMut(f64),
 ) -> Vec<usize> {
     let mut out = Vec::new();
     for k in 0..scans.len() {
@@ -108,20 +110,24 @@ fn related_rows(
             }
             if !one_per_scan {
                 out.push(m);
+                each_d2(d2);
             } else if best.is_none_or(|(b, _)| d2 < b) {
                 best = Some((d2, m));
             }
         });
-        out.extend(best.map(|(_, m)| m));
+        if let Some((d2, m)) = best {
+            out.push(m);
+            each_d2(d2);
+        }
     }
     out.sort_unstable();
     out
 }
 
-/// Eq. 23 detection over the merged optima `order` (already by decreasing R) among the rows
-/// still `available` (one flag per row; an accepted target's related rows are cleared, so a
-/// later pass continues where this one stopped); returns the accepted optima in acceptance
-/// order.
+/// Eq. 23 detection over the merged optima `order` (by decreasing R), visited in the
+/// options' [`DetectionOrder`], among the rows still `available` (one flag per row; an
+/// accepted target's related rows are cleared, so a later pass continues where this one
+/// stopped); returns the accepted optima in acceptance order.
 pub fn detect(
     problem: &Problem<'_>,
     scans: &Scans,
@@ -130,12 +136,16 @@ pub fn detect(
     options: &InitiationOptions,
     available: &mut [bool],
 ) -> Vec<usize> {
+    if options.detection_order() == DetectionOrder::Membership {
+        return detect_by_membership(problem, scans, optima, order, options, available);
+    }
     let gate2 = options.gate() * options.gate();
     let n_detect = options.n_detect_for(scans.len());
+    let one = options.one_per_scan();
     let mut accepted = Vec::new();
     for &i in order {
         let x = &optima[i].x;
-        let related = related_rows(problem, scans, x, gate2, options.one_per_scan(), available);
+        let related = related_rows_with(problem, scans, x, gate2, one, available, |_| {});
         if related.len() > n_detect {
             for &m in &related {
                 available[m] = false;

@@ -28,6 +28,7 @@ mod coverage_test;
 pub mod descent;
 mod descent_options;
 pub mod detection;
+pub mod detection_order;
 mod merge;
 mod motion_gate;
 mod options;
@@ -50,7 +51,7 @@ mod tests;
 mod tests_missed;
 
 pub use closeness::{closeness, closeness_and_gradient, Precomputed, Spreads};
-pub use options::{DescentOptions, InitiationOptions, Scaling, CHI2_2DOF_999};
+pub use options::{DescentOptions, DetectionOrder, InitiationOptions, Scaling, CHI2_2DOF_999};
 pub use pipeline::initiate;
 pub use track_test::{chi2_quantile, TRACK_TEST_Z};
 

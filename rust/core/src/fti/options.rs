@@ -2,6 +2,7 @@
 //! the steepest-ascent search's [`DescentOptions`].
 
 pub use super::descent_options::{DescentOptions, Scaling};
+pub use super::detection_order::DetectionOrder;
 use super::track_test::TRACK_TEST_Z;
 use crate::error::{CoreError, CoreResult};
 
@@ -22,6 +23,7 @@ pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 /// | `v_max` | 500 m/s | 2.5× the paper's fastest target; loosening it mostly costs fits |
 /// | `chi2_gate` | 13.8155 | χ²(2) 99.9 % (3-D only) |
 /// | `one_per_scan` | on | a point target yields one report per scan; see [`detection`](super::detection) |
+/// | `detection_order` | membership | R favours ghosts between targets; see [`detection_order`](super::detection_order) |
 /// | `merge_tol` | 1 σ | distinct targets are many σ apart; duplicates converge within 0.1 σ |
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (issue 16's 2-D scene); with the support gate off every candidate is stored (≈ 0.45 kB each) |
@@ -59,6 +61,7 @@ pub struct InitiationOptions {
     v_max: Option<f64>,
     chi2_gate: Option<f64>,
     one_per_scan: bool,
+    detection_order: DetectionOrder,
     merge_tol: f64,
     descent: DescentOptions,
     max_candidates: usize,
@@ -73,9 +76,9 @@ pub struct InitiationOptions {
 impl Default for InitiationOptions {
     /// The values of the table above: every pair, `gate = 5`, `n_detect` automatic,
     /// `ray_gate = Some(5)`, `reject_behind`, `v_max = Some(500)`,
-    /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, `merge_tol = 1`, the default
-    /// descent, `max_candidates = 500_000`, `refine_passes = 2`, `candidate_scans = 4`,
-    /// `search_stage = Some(8192)`.
+    /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the membership detection
+    /// order, `merge_tol = 1`, the default descent, `max_candidates = 500_000`,
+    /// `refine_passes = 2`, `candidate_scans = 4`, `search_stage = Some(8192)`.
     fn default() -> Self {
         Self {
             pairs: None,
@@ -86,6 +89,7 @@ impl Default for InitiationOptions {
             v_max: Some(500.0),
             chi2_gate: Some(CHI2_2DOF_999),
             one_per_scan: true,
+            detection_order: DetectionOrder::Membership,
             merge_tol: 1.0,
             descent: DescentOptions::default(),
             max_candidates: 500_000,
@@ -157,6 +161,14 @@ impl InitiationOptions {
     /// [`detection`](super::detection).
     pub fn with_one_per_scan(mut self, one_per_scan: bool) -> Self {
         self.one_per_scan = one_per_scan;
+        self
+    }
+
+    /// The order in which detection visits the optima: [`DetectionOrder::Membership`]
+    /// (default) or the paper's [`DetectionOrder::Closeness`]. See
+    /// [`detection_order`](super::detection_order).
+    pub fn with_detection_order(mut self, detection_order: DetectionOrder) -> Self {
+        self.detection_order = detection_order;
         self
     }
 
@@ -328,6 +340,10 @@ impl InitiationOptions {
 
     pub fn one_per_scan(&self) -> bool {
         self.one_per_scan
+    }
+
+    pub fn detection_order(&self) -> DetectionOrder {
+        self.detection_order
     }
 
     pub fn merge_tol(&self) -> f64 {
