@@ -96,27 +96,30 @@ pub(super) fn detect_by_membership(
         });
         (rows, score)
     };
+    // An optimum's related rows only shrink as rows are taken, so one with `Nd` or fewer now
+    // can never be accepted: most optima leave here, after one scoring.
     let mut heap: BinaryHeap<Ranked> = (order.iter().enumerate())
-        .map(|(position, &i)| Ranked {
-            score: taken(i, available).1,
-            position,
+        .filter_map(|(position, &i)| {
+            let (rows, score) = taken(i, available);
+            (rows.len() > n_detect).then_some(Ranked { score, position })
         })
         .collect();
     let mut accepted = Vec::new();
     while let Some(top) = heap.pop() {
         let i = order[top.position];
         let (rows, score) = taken(i, available);
+        if rows.len() <= n_detect {
+            continue;
+        }
         if score < top.score {
             // Rows were taken since it was scored: back in line with its current score.
             heap.push(Ranked { score, ..top });
             continue;
         }
-        if rows.len() > n_detect {
-            for &m in &rows {
-                available[m] = false;
-            }
-            accepted.push(i);
+        for &m in &rows {
+            available[m] = false;
         }
+        accepted.push(i);
     }
     accepted
 }
