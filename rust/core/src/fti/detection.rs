@@ -4,9 +4,10 @@
 //! A row m of sensor j is *related* to a state X̂ when its normalised squared residual
 //! `d²_m = (Δβ/σβ_j)² + (Δε/σε_j)²` (2-D: `(Δθ/σ_j)²`) is below `g²`.
 //!
-//! **Detection.** Optima are visited by decreasing R (ties: lower candidate index, the merge
-//! order); each counts its related rows among those not yet removed; with more than `Nd` it
-//! is accepted and those rows are removed.
+//! **Detection.** Optima are visited in the options' order (module `detection_order`: the
+//! paper's decreasing R, ties by lower candidate index, or by the membership of the rows
+//! each would take, the default); each counts its related rows among those not yet removed;
+//! with more than `Nd` it is accepted and those rows are removed.
 //!
 //! **One per scan** (`one_per_scan`, default on — a project choice the paper leaves
 //! implicit): a target is a single point, so it produces at most one measurement per

@@ -181,14 +181,22 @@ mod tests {
         let positions: Vec<f64> = sensor_xy.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
         let sigma = [2e-3; 3];
         let sensors = Sensors::new(Space::Planar, &positions, &sigma, &sigma).expect("sensors");
-        let table = Measurements::new(&sensors, &sensor, &time, &azimuth, &elevation).expect("rows");
+        let table =
+            Measurements::new(&sensors, &sensor, &time, &azimuth, &elevation).expect("rows");
         let problem = sim::problem(sensors, table);
         let scans = Scans::new(&table, 3);
         let optima = [optimum(ghost), optimum(a), optimum(b)];
         let accepted = |order: DetectionOrder| {
             let options = InitiationOptions::default().with_detection_order(order);
             let mut available = vec![true; table.len()];
-            let got = detect(&problem, &scans, &optima, &[0, 1, 2], &options, &mut available);
+            let got = detect(
+                &problem,
+                &scans,
+                &optima,
+                &[0, 1, 2],
+                &options,
+                &mut available,
+            );
             (got, available.iter().filter(|&&free| free).count())
         };
         assert_eq!(accepted(DetectionOrder::Closeness), (vec![0, 1, 2], 0));

@@ -181,7 +181,7 @@ pub struct Track {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Initiation {
     pub dim: usize,
-    /// Tracks in detection order (decreasing R of their optimum).
+    /// Tracks in the order detection accepted their optima (see `detection_order`).
     pub tracks: Vec<Track>,
     /// Per measurement row: its track index, or −1 for clutter.
     pub labels: Vec<i64>,

@@ -16,9 +16,9 @@
 //! searches the next `search_stage` candidates that still pass the support gate (both
 //! parts) *on the rows detection has left*, as pass 2's candidates must; a candidate whose
 //! support was rows that accepted targets now hold is their ghost or their duplicate, and
-//! is not searched. After each stage detection starts again over every optimum so far, by
-//! decreasing R, on the rows free before the pass; so the one thing that differs from the
-//! paper's rule is which candidates are searched. With the support gate off a later stage
+//! is not searched. After each stage detection starts again over every optimum so far, in
+//! the detection order, on the rows free before the pass; so the one thing that differs from
+//! detection's rule is which candidates are searched. With the support gate off a later stage
 //! searches the candidates whose own four rows are all free. A candidate a stage's
 //! re-gating drops is not reconsidered, even if a later detection frees the rows it lacked.
 //!
