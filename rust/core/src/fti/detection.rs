@@ -28,7 +28,6 @@
 //! one-measurement-per-scan constraint. Rows related to no target are clutter.
 
 use super::descent::Optimum;
-use super::detection_order::{detect_by_membership, DetectionOrder};
 use super::scans::Scans;
 use super::{InitiationOptions, Problem};
 use crate::assign::lap::solve_dense;
@@ -125,11 +124,9 @@ pub(super) fn related_rows_with(
     out
 }
 
-/// Eq. 23 detection over the merged optima `order` (by decreasing R), visited in the
-/// options' [`DetectionOrder`], among the rows still `available` (one flag per row; an
-/// accepted target's related rows are cleared, so a later pass continues where this one
-/// stopped); returns the accepted optima in acceptance order.
-pub fn detect(
+/// Eq. 23 detection in the paper's order: the merged optima `order` as given (by decreasing
+/// R). See [`detection_order::detect`](super::detection_order::detect).
+pub(super) fn detect_by_closeness(
     problem: &Problem<'_>,
     scans: &Scans,
     optima: &[Optimum],
@@ -137,9 +134,6 @@ pub fn detect(
     options: &InitiationOptions,
     available: &mut [bool],
 ) -> Vec<usize> {
-    if options.detection_order() == DetectionOrder::Membership {
-        return detect_by_membership(problem, scans, optima, order, options, available);
-    }
     let gate2 = options.gate() * options.gate();
     let n_detect = options.n_detect_for(scans.len());
     let one = options.one_per_scan();

@@ -21,31 +21,29 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use super::descent::Optimum;
-use super::detection::related_rows_with;
+use super::detection::{detect_by_closeness, related_rows_with};
 use super::scans::Scans;
-use super::{InitiationOptions, Problem};
-use crate::error::{parse_option, UnknownOption};
+use super::{DetectionOrder, InitiationOptions, Problem};
 
-/// How detection orders the optima. See the module doc.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DetectionOrder {
-    /// Decreasing R over every row, computed once (the paper's eq. 23).
-    Closeness,
-    /// Decreasing membership of the rows each optimum would take, rescored as rows are taken
-    /// (default).
-    Membership,
-}
-
-impl std::str::FromStr for DetectionOrder {
-    type Err = UnknownOption;
-
-    /// `"membership"` or `"closeness"`.
-    fn from_str(value: &str) -> Result<Self, UnknownOption> {
-        let choices = [
-            ("membership", Self::Membership),
-            ("closeness", Self::Closeness),
-        ];
-        parse_option(value, &choices, "'membership' or 'closeness'")
+/// Eq. 23 detection over the merged optima `order` (by decreasing R), visited in the
+/// options' [`DetectionOrder`], among the rows still `available` (one flag per row; an
+/// accepted target's related rows are cleared, so a later pass continues where this one
+/// stopped); returns the accepted optima in acceptance order.
+pub fn detect(
+    problem: &Problem<'_>,
+    scans: &Scans,
+    optima: &[Optimum],
+    order: &[usize],
+    options: &InitiationOptions,
+    available: &mut [bool],
+) -> Vec<usize> {
+    match options.detection_order() {
+        DetectionOrder::Closeness => {
+            detect_by_closeness(problem, scans, optima, order, options, available)
+        }
+        DetectionOrder::Membership => {
+            detect_by_membership(problem, scans, optima, order, options, available)
+        }
     }
 }
 
@@ -76,9 +74,8 @@ impl PartialEq for Ranked {
 
 impl Eq for Ranked {}
 
-/// Eq. 23 detection in membership order over the merged optima `order` (by decreasing R),
-/// among the rows still `available`; returns the accepted optima in acceptance order.
-pub(super) fn detect_by_membership(
+/// [`detect`] in membership order.
+fn detect_by_membership(
     problem: &Problem<'_>,
     scans: &Scans,
     optima: &[Optimum],
@@ -126,12 +123,11 @@ pub(super) fn detect_by_membership(
 
 #[cfg(test)]
 mod tests {
-    use super::DetectionOrder;
+    use super::detect;
     use crate::data::{Measurements, Sensors};
     use crate::fti::descent::Optimum;
-    use crate::fti::detection::detect;
     use crate::fti::scans::Scans;
-    use crate::fti::{sim, InitiationOptions};
+    use crate::fti::{sim, DetectionOrder, InitiationOptions};
     use crate::geometry::model::{predict, Motion, Space, StateLayout, MAX_DIM};
 
     fn optimum(x: [f64; 4]) -> Optimum {

@@ -2,13 +2,35 @@
 //! the steepest-ascent search's [`DescentOptions`].
 
 pub use super::descent_options::{DescentOptions, Scaling};
-pub use super::detection_order::DetectionOrder;
 use super::track_test::TRACK_TEST_Z;
-use crate::error::{CoreError, CoreResult};
+use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 
 /// 99.9 % quantile of χ²(2): the default candidate gate in 3-D, where a candidate's 4
 /// measurements give 8 equations for 6 unknowns.
 pub const CHI2_2DOF_999: f64 = 13.815510557964274;
+
+/// How detection orders the optima: see [`detection_order`](super::detection_order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DetectionOrder {
+    /// Decreasing R over every row, computed once (the paper's eq. 23).
+    Closeness,
+    /// Decreasing membership of the rows each optimum would take, rescored as rows are taken
+    /// (default).
+    Membership,
+}
+
+impl std::str::FromStr for DetectionOrder {
+    type Err = UnknownOption;
+
+    /// `"membership"` or `"closeness"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [
+            ("membership", Self::Membership),
+            ("closeness", Self::Closeness),
+        ];
+        parse_option(value, &choices, "'membership' or 'closeness'")
+    }
+}
 
 /// Every parameter of the initiation except the data, built with validated `with_*` setters.
 /// `Default` gives the recommended values:

@@ -32,7 +32,7 @@ use rayon::prelude::*;
 use super::candidates::Candidate;
 use super::closeness::{closeness, Precomputed};
 use super::descent::{descend_all, Optimum};
-use super::detection::detect;
+use super::detection_order::detect;
 use super::merge::merge;
 use super::pool::Pool;
 use super::scans::Scans;
