@@ -4,10 +4,10 @@
 //!
 //! Several 2-D bearing sensors see a close formation; each report is a bearing plus emitter
 //! attributes. For every report of the baseline sensor, its line of sight is met by every
-//! line of every other sensor ([`subsets`]); the meetings that survive the attribute,
+//! line of every other sensor (`subsets`); the meetings that survive the attribute,
 //! range and region tests form one subset per sensor. Each point of a reference subset is
 //! completed with the nearest point of every other subset, and the line set whose pairwise
-//! intersections cluster tightest (eq. 6) is that report's association ([`choice`]), located
+//! intersections cluster tightest (eq. 6) is that report's association (`choice`), located
 //! by ML triangulation ([`locate`](fn@locate)). Baseline reports are decided independently
 //! (a line may serve two, as in the paper) or, as an option, one-to-one.
 

@@ -21,7 +21,7 @@ pub enum ClusterRadius {
     /// the paper's modification, the default.
     Planar,
     /// Over the `M − 1` intersections on the baseline line only, i.e. along one coordinate:
-    /// the unmodified method of the paper's ref. [3].
+    /// the unmodified method of the paper's ref. \[3\].
     AlongBaseline,
 }
 

@@ -18,7 +18,7 @@
 //! * **behind-sensor**: the meeting point must be in front of both sensors (positive ranges).
 //! * **v_max**: the speed implied by the first and last meeting midpoints (each at the mean
 //!   time of its two rays) must be ≤ `v_max`. Give a margin: midpoints carry noise. The
-//!   `v_max` count also applies the motion-corrected ray gate ([`super::motion_gate`]).
+//!   `v_max` count also applies the motion-corrected ray gate (module `motion_gate`).
 //! * **χ² gate** (3-D only): after the fit, λ ≤ `chi2_gate` (default χ²(2) 99.9 % = 13.8155:
 //!   8 equations, 6 unknowns). In 2-D the 4 bearings give 4 equations for 4 unknowns: the fit
 //!   is exact (λ = 0 up to rounding) and the gate has no information, so it is skipped.

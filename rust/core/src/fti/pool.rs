@@ -6,7 +6,7 @@
 //! `stages`) descends only a few thousand. So past `search_stage` candidates, with the
 //! support gate on (each then has the score the stages order by), the pool keeps only each
 //! candidate's four rows and score, and the search refits the ones it takes. A refit is the
-//! same computation on the same rows ([`fit_candidate`] from the same ray pairs), so it gives
+//! same computation on the same rows (`fit_candidate` from the same ray pairs), so it gives
 //! the same candidate bit for bit (a test checks it), and nothing else about the search
 //! changes. At or below `search_stage` candidates every candidate is searched and the pool
 //! keeps them whole: refitting all of them would only cost time.

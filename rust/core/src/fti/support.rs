@@ -214,7 +214,7 @@ pub(super) fn azimuth_window(
 }
 
 /// The support gate as the fitting stage applies it to each fitted candidate: the fixed gate
-/// above, then the [`tracking gate`](super::tracking_gate) on the survivors.
+/// above, then the tracking gate (module `tracking_gate`) on the survivors.
 pub struct Gate<'a> {
     pub table: &'a SupportTable,
     pub scans: &'a Scans,

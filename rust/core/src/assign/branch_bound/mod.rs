@@ -1,6 +1,6 @@
 //! Baseline B of METHODS.md §2: exact S-D assignment by depth-first branch and bound.
 //!
-//! The root is solved by [`lagrangian`](super::lagrangian), which gives a good incumbent and
+//! The root is solved by [`lagrangian`], which gives a good incumbent and
 //! often proves optimality outright. Otherwise the search branches on reports: at each node it
 //! takes the first undecided report (static order, fewest candidate tuples first, which keeps
 //! the tree narrow) that still has a compatible tuple, and tries each such tuple (cheapest

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 
-/// Options of [`solve`], built with validated `with_*` setters.
+/// Options of [`solve`](super::solve), built with validated `with_*` setters.
 ///
 /// ```
 /// use passive_assoc_core::assign::lagrangian::LagrangianOptions;

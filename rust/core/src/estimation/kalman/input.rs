@@ -223,7 +223,7 @@ impl Tracks<'_> {
     /// one track, no empty track, times non-decreasing along a track, and the first
     /// `distinct` times of a track that has that many different (what differencing divides
     /// by; a shorter track gets no state and is not checked). Returns each
-    /// row's position in `indices` ([`UNUSED`] for rows of no track).
+    /// row's position in `indices` (`UNUSED` for rows of no track).
     pub fn validate(&self, times: &[f64], distinct: usize) -> CoreResult<Vec<usize>> {
         let (offsets, indices, n) = (self.offsets, self.indices, times.len());
         check_offsets(offsets, indices.len(), "track")?;
