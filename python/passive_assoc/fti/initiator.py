@@ -163,14 +163,10 @@ class FuzzyTrackInitiator:
         sensor reports a target once per scan.
     detection_order : {"membership", "closeness"}
         The order in which detection (eq. 23) visits the optima. ``"closeness"`` is the
-        paper's: by decreasing closeness R, a mean over every measurement, which favours an
-        optimum between several targets (it gathers membership from all of their
-        measurements); taken first, such a ghost takes one measurement a scan from each, and
-        they fall below ``n_detect``. ``"membership"`` (default; a project extension) visits
-        first the optimum whose related measurements, the ones it would take now, have the
-        largest summed membership, re-ranking as measurements are taken. It finds more of the
-        targets of dense scenes, and no fewer in the paper's experiment (docs/methods.md §1,
-        *Detection order*, has the measurements).
+        paper's, by decreasing closeness R, which favours an optimum between targets (it
+        gathers membership from all their measurements). ``"membership"`` (default; a project
+        extension) takes first the optimum whose measurements it would take now have the largest
+        summed membership, re-ranking as they are taken (docs/methods.md §1, *Detection order*).
     merge_tol : float
         Optima closer than this, in units of the candidate fit's standard deviations, are one.
     descent_scaling : {"whitened", "diagonal"}
