@@ -6,8 +6,8 @@
 //! targets collects membership from all of their rows, more than a true target's optimum whose
 //! neighbourhood holds only its own. Detection then takes such a ghost first; it takes one row
 //! per scan from two or three targets, and they fall below `Nd`. On the scale bench's 2 × 32
-//! scene (docs/performance.md) the accepted ghosts had R 0.05–0.062 and the true tracks
-//! 0.035–0.046, and 9 of 32 targets were found.
+//! scene (docs/performance.md) 1 of the first 8 tracks accepted held a target, and 9 of 32
+//! targets were found.
 //!
 //! **Membership order.** An optimum's score is `Σ exp(−d²_m / 4)` over the rows it would take
 //! now (its related rows among those not yet removed, the nearest of each scan with
