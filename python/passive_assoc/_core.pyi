@@ -214,12 +214,19 @@ def associate_scans(
     rows: NDArray[np.int64],
     offsets: NDArray[np.int64],
     pd: NDArray[np.float64],
-    false_alarm_density: NDArray[np.float64],
+    false_alarm_density: NDArray[np.float64] | None,
     enumeration: EnumerationSettings,
     method: str,
     sd: SdSettings,
     intensity: IntensitySettings,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]: ...
+def default_false_alarm_density(
+    sensor: NDArray[np.int64],
+    azimuth: NDArray[np.float64],
+    elevation: NDArray[np.float64] | None,
+    n_sensors: int,
+    p_false: float,
+) -> NDArray[np.float64]: ...
 def assign_2d_sparse(
     shape: tuple[int, int], indptr: NDArray[np.int64], indices: NDArray[np.int64], data: NDArray[np.float64]
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
@@ -227,7 +234,7 @@ def enumerate_static(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     pd: NDArray[np.float64],
-    false_alarm_density: NDArray[np.float64],
+    false_alarm_density: NDArray[np.float64] | None,
     settings: EnumerationSettings,
     attributes: AttributeEvidence | None = None,
 ) -> Candidates: ...

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import passive_assoc as pa
 import pytest
+from passive_assoc import _core
 from passive_assoc.static_los import associate_scans
 from passive_assoc.static_los.candidates import default_false_alarm_density
 
@@ -64,19 +65,58 @@ def test_the_default_density_counts_the_excess_report() -> None:
     assert density[0] == pytest.approx(0.05 * 3 / (others.max() - others.min()))
 
 
-def test_the_sort_based_median_and_spans_equal_numpys() -> None:
-    """The per-solve helpers replaced np.median and ufunc.at for speed; same values."""
-    from passive_assoc.static_los.candidates import _median_last_axis, _spans
-
-    rng = np.random.default_rng(1)
-    for shape in [(1,), (2,), (3,), (4,), (7, 5), (6, 4), (5, 1)]:
-        counts = rng.integers(0, 20, size=shape)
-        assert np.array_equal(_median_last_axis(counts), np.median(counts, axis=-1, keepdims=True))
-    for _ in range(300):
-        n_sensors, n = int(rng.integers(1, 6)), int(rng.integers(0, 12))
-        sensor, values = rng.integers(0, n_sensors, n), rng.normal(size=n)
-        counts = np.bincount(sensor, minlength=n_sensors)
+def numpy_reference(sensor: np.ndarray, angles: list[np.ndarray], n_sensors: int, p_false: float) -> np.ndarray:
+    """The rule in plain NumPy (``np.median``, ``ufunc.at``), as the library computed it
+    before the core did: the core must give the same densities to the bit."""
+    counts = np.bincount(sensor, minlength=n_sensors)
+    area = np.ones(n_sensors)
+    for values in angles:
         low, high = np.full(n_sensors, np.inf), np.full(n_sensors, -np.inf)
         np.minimum.at(low, sensor, values)
         np.maximum.at(high, sensor, values)
-        assert np.array_equal(_spans(sensor, values, counts), np.where(counts > 0, high - low, np.pi))
+        area = area * np.maximum(np.where(counts > 0, high - low, np.pi), 1e-3)
+    area = np.where(counts > 0, area, np.pi)
+    expected = np.maximum(p_false * np.maximum(counts, 1), counts - np.median(counts))
+    return np.maximum(expected / area, 1e-12)
+
+
+@pytest.mark.parametrize("ndim", [2, 3])
+def test_the_core_density_equals_the_numpy_rule(ndim: int) -> None:
+    rng = np.random.default_rng(ndim)
+    with_excess = 0
+    for _ in range(300):
+        n_sensors, n = int(rng.integers(1, 6)), int(rng.integers(0, 14))
+        sensor = rng.integers(0, n_sensors, n)
+        # Some repeated angles, so zero spans (clamped to 10⁻³) occur too.
+        angles = [rng.choice([0.5, 0.5, *rng.uniform(-np.pi, np.pi, 3)], n) for _ in range(ndim - 1)]
+        p_false = float(rng.choice([0.0, 0.05, 0.3]))
+        elevation = angles[1] if ndim == 3 else None
+        got = _core.default_false_alarm_density(sensor, angles[0], elevation, n_sensors, p_false)
+        assert np.array_equal(got, numpy_reference(sensor, angles, n_sensors, p_false))
+        counts = np.bincount(sensor, minlength=n_sensors)
+        with_excess += int(np.any(counts - np.median(counts) > p_false * np.maximum(counts, 1)))
+    assert with_excess > 50  # the excess rule was exercised, not only the P_FA fraction
+
+
+def test_the_density_helper_rejects_bad_input() -> None:
+    table = hand_written_scan()
+    with pytest.raises(ValueError, match="p_false"):
+        default_false_alarm_density(table, 3, p_false=1.5)
+    with pytest.raises(ValueError, match="elevation: has 2 values"):
+        _core.default_false_alarm_density(table.sensor, table.azimuth, np.zeros(2), 3, 0.05)
+    with pytest.raises(ValueError, match="sensor: row 0 names sensor -1"):
+        _core.default_false_alarm_density(np.array([-1]), np.zeros(1), None, 3, 0.05)
+
+
+def test_the_default_equals_the_density_passed_explicitly() -> None:
+    """``false_alarm_density=None`` (computed in the core, per scan in the batch path) and the
+    helper's densities passed in give the same candidates and the same answers."""
+    scan = pa.simulation.static_scan(3, n_targets=6, n_sensors=3)
+    table, sensors = scan.measurements, scan.sensors
+    density = default_false_alarm_density(table, 3)
+    implicit, explicit = (pa.enumerate_candidates(table, sensors, false_alarm_density=d) for d in (None, density))
+    assert np.array_equal(implicit.costs, explicit.costs) and len(implicit.costs) > 6
+    for method in ("intensity", "lagrangian"):
+        batch = associate_scans(table, sensors, method=method)
+        single = pa.associate_static(table, sensors, method, false_alarm_density=density)
+        assert np.array_equal(batch.labels, single.labels)

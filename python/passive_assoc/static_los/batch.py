@@ -20,7 +20,7 @@ from .._settings import EnumerationSettings, IntensitySettings, SdSettings
 from ..assignment.sd import ASSIGN_SD_MAX_NODES
 from ..data import MeasurementTable, SensorNetwork
 from .associator import Method, _associator
-from .candidates import _per_sensor, _spans, expected_false_alarms
+from .candidates import _per_sensor
 
 __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
 
@@ -94,9 +94,8 @@ def associate_scans(
     keys, scan_index = scan_keys(table, scan)
     order, offsets = scan_rows(scan_index, len(keys))
     n = network.n_sensors
-    if associator.false_alarm_density is None:
-        density = default_density_per_scan(table, scan_index, len(keys), n)
-    else:
+    density = None  # each scan's default, computed by the core from its reports
+    if associator.false_alarm_density is not None:
         density = np.tile(
             _per_sensor("false_alarm_density", associator.false_alarm_density, n, 0.0, np.inf), (len(keys), 1)
         )
@@ -108,7 +107,7 @@ def associate_scans(
         order,
         offsets,
         _per_sensor("pd", a.pd, n, 0.0, 1.0),
-        np.ascontiguousarray(density),
+        None if density is None else np.ascontiguousarray(density),
         EnumerationSettings(a.chi2_gate, a.min_intensity, a.max_candidates, a.n_threads),
         a.method,
         SdSettings(
@@ -156,19 +155,3 @@ def scan_rows(scan_index: NDArray[np.int64], n_scans: int) -> tuple[NDArray[np.i
     order = np.argsort(scan_index, kind="stable").astype(np.int64)
     offsets = np.searchsorted(scan_index[order], np.arange(n_scans + 1)).astype(np.int64)
     return order, offsets
-
-
-def default_density_per_scan(
-    table: MeasurementTable, scan_index: NDArray[np.int64], n_scans: int, n_sensors: int, p_false: float = 0.05
-) -> NDArray[np.float64]:
-    """:func:`default_false_alarm_density` of every scan at once, ``(n_scans, n_sensors)``."""
-    ours = table.sensor < n_sensors
-    key = scan_index[ours] * n_sensors + table.sensor[ours]
-    counts = np.bincount(key, minlength=n_scans * n_sensors)
-    area = np.maximum(_spans(key, table.azimuth[ours], counts), 1e-3)
-    if table.ndim == 3:
-        heights = np.maximum(_spans(key, table.elevation[ours], counts), 1e-3)
-        area = np.where(counts > 0, area * heights, area)
-    expected = expected_false_alarms(counts.reshape(n_scans, n_sensors), p_false).ravel()
-    density: NDArray[np.float64] = np.maximum(expected / area, 1e-12)
-    return density.reshape(n_scans, n_sensors)

@@ -34,9 +34,11 @@ ENUMERATION_CONSTRAINTS: dict[str, list[Constraint]] = {
 
 
 def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) -> NDArray[np.float64]:
+    if type(value) is float:  # the common case, on every static solve: no array checks
+        if not low < value < high:
+            raise ValueError(f"{name}: sensor 0 has {value}, must be in ({low}, {high})")  # as an array's
+        return np.full(n, value)
     arr = as_float_array(name, value)
-    # np.full, not broadcast_to(...).copy(): a scalar is the common case, and this runs on
-    # every static solve.
     arr = np.full(n, arr.reshape(-1)[0]) if arr.ndim == 0 or arr.shape == (1,) else arr
     if arr.shape != (n,):
         raise ValueError(f"{name}: expected a scalar or {n} values (one per sensor), got shape {arr.shape}")
@@ -49,60 +51,22 @@ def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) ->
 def default_false_alarm_density(
     measurements: MeasurementTable, n_sensors: int, p_false: float = 0.05
 ) -> NDArray[np.float64]:
-    """False alarms per radian (per rad² in 3-D) when the caller gives none: the false alarms
-    :func:`expected_false_alarms` counts for each sensor, spread over the azimuth
-    (× elevation) sector its reports span. The paper's P_FA = 0.05 is the default fraction."""
-    # All sensors at once (a per-sensor loop of NumPy calls cost more than the solve on a
-    # small scan).
-    sensor = measurements.sensor
-    ours = sensor < n_sensors
-    sensor = sensor[ours]
-    counts = np.bincount(sensor, minlength=n_sensors)
-    area = np.maximum(_spans(sensor, measurements.azimuth[ours], counts), 1e-3)
-    if measurements.ndim == 3:
-        heights = np.maximum(_spans(sensor, measurements.elevation[ours], counts), 1e-3)
-        area = np.where(counts > 0, area * heights, area)
-    density: NDArray[np.float64] = np.maximum(expected_false_alarms(counts, p_false) / area, 1e-12)
+    """False alarms per radian (per rad² in 3-D) of each sensor ``0 .. n_sensors - 1`` of one
+    scan, the static methods' default when the caller gives none (docs/methods.md §2).
+
+    A sensor's expected false alarms are ``p_false`` of its reports (the paper's P_FA = 0.05),
+    or its excess over the median sensor's report count when that is larger: all sensors see
+    the same targets, so reports beyond what the median sensor has are false alarms (or the
+    others' misses). Too low a density makes a false alarm look like a target to eq. 2 (issue
+    16: a ghost at it and a true target split). They are spread over the azimuth (×
+    elevation) sector the sensor's reports span, each span at least 10⁻³ rad (π for a sensor
+    without reports). Computed in the Rust core, as the solvers compute it when
+    ``false_alarm_density`` is None."""
+    elevation = measurements.elevation if measurements.ndim == 3 else None
+    density: NDArray[np.float64] = _core.default_false_alarm_density(
+        measurements.sensor, measurements.azimuth, elevation, int(n_sensors), float(p_false)
+    )
     return density
-
-
-def expected_false_alarms(counts: NDArray[np.int64], p_false: float) -> NDArray[np.float64]:
-    """False alarms to expect per sensor (last axis) of a scan: ``p_false`` of its reports,
-    or its excess over the sensors' median report count when that is larger.
-
-    All sensors see the same targets, so reports beyond what the median sensor has are
-    false alarms (or the others' misses): a sensor with 4 reports where the others have 3
-    holds at least about one, where ``p_false · n`` expects 0.2. Too low a density makes a
-    false alarm look like a target to eq. 2 (issue 16: a ghost at it and a true target split).
-    """
-    base = p_false * np.maximum(counts, 1)
-    excess = counts - _median_last_axis(counts)
-    expected: NDArray[np.float64] = np.maximum(base, excess)
-    return expected
-
-
-def _median_last_axis(counts: NDArray[np.int64]) -> NDArray[np.float64]:
-    """``np.median(counts, axis=-1, keepdims=True)`` by one sort: every static solve calls
-    this, and ``np.median``'s own overhead was a fifth of a tiny scan's time."""
-    ordered = np.sort(counts, axis=-1)
-    n = ordered.shape[-1]
-    middle = ordered[..., n // 2 : n // 2 + 1].astype(np.float64)
-    if n % 2 == 0 and n > 0:
-        middle = 0.5 * (middle + ordered[..., n // 2 - 1 : n // 2])
-    return middle
-
-
-def _spans(sensor: NDArray[np.int64], values: NDArray[np.float64], counts: NDArray[np.int64]) -> NDArray[np.float64]:
-    """Per sensor, max − min of its values; π for a sensor without values. One sort by
-    (sensor, value) gives each sensor's least and greatest value at the ends of its run
-    (``ufunc.at`` cost more than the sort on the small scans every solve sees)."""
-    order = np.lexsort((values, sensor))
-    ends = np.cumsum(counts)
-    present = counts > 0
-    spans = np.full(len(counts), np.pi)
-    ordered = values[order]
-    spans[present] = ordered[ends[present] - 1] - ordered[ends[present] - counts[present]]
-    return spans
 
 
 def enumerate_candidates(
@@ -158,10 +122,9 @@ def enumerate_validated(
     if network.n_sensors < 2:
         raise ValueError(f"sensors: static association needs at least 2 sensors, got {network.n_sensors}")
     n = network.n_sensors
+    # None: the core computes the default (`default_false_alarm_density`) from the scan.
     density = (
-        default_false_alarm_density(table, n)
-        if false_alarm_density is None
-        else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf)
+        None if false_alarm_density is None else _per_sensor("false_alarm_density", false_alarm_density, n, 0.0, np.inf)
     )
     names, stds, eta, combination = attributes
     evidence = attribute_evidence(table, network, names, stds, eta, combination)

@@ -17,7 +17,7 @@ use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::static_los::{associate_scans as core_associate_scans, ScanSolver, Scans};
 
 /// Associates every scan: `rows` (the table's rows scan by scan) and `offsets` (CSR over
-/// scans), `pd` per sensor, `false_alarm_density` per scan and sensor. `method` picks the
+/// scans), `pd` per sensor, `false_alarm_density` per scan and sensor (`None`: each scan's default). `method` picks the
 /// solver ("intensity", "lagrangian", or "exact": the branch-and-bound). Returns (labels per
 /// entry of `rows`: target index within its scan or −1; targets per scan; positions of every
 /// target, scan by scan, `(targets, dim)`).
@@ -31,7 +31,7 @@ pub fn associate_scans<'py>(
     rows: PyReadonlyArray1<'py, i64>,
     offsets: PyReadonlyArray1<'py, i64>,
     pd: PyReadonlyArray1<'py, f64>,
-    false_alarm_density: PyReadonlyArray2<'py, f64>,
+    false_alarm_density: Option<PyReadonlyArray2<'py, f64>>,
     enumeration: EnumerationSettings,
     method: &str,
     sd: SdSettings,
@@ -55,7 +55,10 @@ pub fn associate_scans<'py>(
     let table = columns.view_with_time(&network, &time)?;
     let rows = to_usize("rows", slice1("rows", &rows)?)?;
     let offsets = to_usize("offsets", slice1("offsets", &offsets)?)?;
-    let density = row_major("false_alarm_density", &false_alarm_density)?;
+    let density = match &false_alarm_density {
+        Some(given) => Some(row_major("false_alarm_density", given)?),
+        None => None,
+    };
     let pd = slice1("pd", &pd)?;
     let scans = Scans {
         rows: &rows,

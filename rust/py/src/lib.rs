@@ -28,6 +28,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assign::assign_2d, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_2d_sparse, m)?)?;
     m.add_function(wrap_pyfunction!(batch::associate_scans, m)?)?;
+    m.add_function(wrap_pyfunction!(
+        static_los::default_false_alarm_density,
+        m
+    )?)?;
     m.add_function(wrap_pyfunction!(fti::initiate, m)?)?;
     m.add_function(wrap_pyfunction!(fti::closeness, m)?)?;
     m.add_function(wrap_pyfunction!(fti::maximize_closeness, m)?)?;

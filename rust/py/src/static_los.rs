@@ -2,6 +2,8 @@
 //! and the paper's intensity-ordered search. Extract, `py.detach`, delegate to the core,
 //! return frozen result objects.
 
+use std::borrow::Cow;
+
 use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
@@ -12,7 +14,9 @@ use super::errors::{value_error, BindResult};
 use super::formation::AttributesArg;
 use super::interrupt;
 use passive_assoc_core::assign::CandidateSet;
+use passive_assoc_core::geometry::model::Space;
 use passive_assoc_core::parallel::with_threads_unless_sequential;
+use passive_assoc_core::static_los::false_alarms::{check_p_false, scan_density, table_density};
 use passive_assoc_core::static_los::{
     enumerate_with_attributes, enumerates_sequentially, intensity_search as core_intensity_search,
     searches_sequentially, Candidates as CoreCandidates, DetectionModel, EnumerateOptions,
@@ -57,6 +61,53 @@ pub struct Candidates {
     stages: Py<EnumerationStages>,
 }
 
+/// The default false-alarm density of one scan's reports (module `false_alarms` of the
+/// core), one value per sensor `0..n_sensors`; rows of other sensors are not counted. The
+/// elevations are read when given (3-D).
+#[pyfunction]
+#[pyo3(signature = (sensor, azimuth, elevation, n_sensors, p_false))]
+pub fn default_false_alarm_density<'py>(
+    py: Python<'py>,
+    sensor: PyReadonlyArray1<'py, i64>,
+    azimuth: PyReadonlyArray1<'py, f64>,
+    elevation: Option<PyReadonlyArray1<'py, f64>>,
+    n_sensors: usize,
+    p_false: f64,
+) -> BindResult<Bound<'py, PyArrayDyn<f64>>> {
+    check_p_false(p_false)?;
+    let (sensor, azimuth) = (slice1("sensor", &sensor)?, slice1("azimuth", &azimuth)?);
+    let elevation = match &elevation {
+        Some(e) => Some(slice1("elevation", e)?),
+        None => None,
+    };
+    let lengths = [
+        ("azimuth", Some(azimuth.len())),
+        ("elevation", elevation.map(<[f64]>::len)),
+    ];
+    if let Some((name, Some(len))) = lengths
+        .into_iter()
+        .find(|(_, len)| len.is_some_and(|l| l != sensor.len()))
+    {
+        return Err(value_error(
+            name,
+            format!("has {len} values, sensor has {}", sensor.len()),
+        ));
+    }
+    if let Some(row) = sensor.iter().position(|&j| j < 0) {
+        return Err(value_error(
+            "sensor",
+            format!("row {row} names sensor {}", sensor[row]),
+        ));
+    }
+    let reports = (0..sensor.len()).map(|m| {
+        // Beyond usize: not one of the sensors, so not counted (as any index ≥ n_sensors).
+        let j = usize::try_from(sensor[m]).unwrap_or(usize::MAX);
+        (j, azimuth[m], elevation.map_or(0.0, |e| e[m]))
+    });
+    let density = scan_density(reports, n_sensors, elevation.is_some(), p_false);
+    to_numpy(py, density, &[n_sensors])
+}
+
 /// Enumerates the gated candidate tuples of one scan with ML positions, covariances and eq. 2
 /// costs. Times play no part (one scan); the elevation column is ignored in 2-D.
 #[pyfunction]
@@ -66,7 +117,7 @@ pub fn enumerate_static(
     measurements: MeasurementsArg<'_>,
     sensors: SensorsArg<'_>,
     pd: PyReadonlyArray1<'_, f64>,
-    false_alarm_density: PyReadonlyArray1<'_, f64>,
+    false_alarm_density: Option<PyReadonlyArray1<'_, f64>>,
     settings: EnumerationSettings,
     attributes: Option<AttributesArg<'_>>,
 ) -> BindResult<Candidates> {
@@ -76,11 +127,16 @@ pub fn enumerate_static(
     // One scan: the table's times play no part, so a zero column stands in for them.
     let time = vec![0.0; columns.len()];
     let table = columns.view_with_time(&network, &time)?;
-    let detection = DetectionModel::new(
-        &network,
-        slice1("pd", &pd)?,
-        slice1("false_alarm_density", &false_alarm_density)?,
-    )?;
+    let density = match &false_alarm_density {
+        Some(given) => Cow::Borrowed(slice1("false_alarm_density", given)?),
+        None => Cow::Owned(table_density(
+            &table,
+            0..table.len(),
+            network.len(),
+            network.space() == Space::Spatial,
+        )),
+    };
+    let detection = DetectionModel::new(&network, slice1("pd", &pd)?, &density)?;
     let gate = match &attributes {
         Some(a) => Some(a.gate(table.len())?),
         None => None,

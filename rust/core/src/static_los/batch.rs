@@ -3,8 +3,11 @@
 //! scan, and the scans share the cores. Each scan's result is what the one-scan calls give;
 //! the results do not depend on the thread count.
 
+use std::borrow::Cow;
+
 use rayon::prelude::*;
 
+use super::false_alarms::table_density;
 use super::{
     enumerate_with_attributes, intensity_search, Candidates, DetectionModel, EnumerateOptions,
     IntensityInput, IntensityOptions,
@@ -14,6 +17,7 @@ use crate::assign::lagrangian::{self, LagrangianOptions};
 use crate::assign::{CandidateSet, SdProblem};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
+use crate::geometry::model::Space;
 
 /// The solver each scan's candidates go to.
 #[derive(Debug, Clone)]
@@ -42,25 +46,26 @@ pub struct ScanResult {
 }
 
 /// Associates every scan. `false_alarm_density` holds one value per scan and sensor
-/// (row-major `scans × S`), as each scan's default is estimated from its own reports.
+/// (row-major `scans × S`), or is `None` for each scan's default from its own reports
+/// ([`false_alarms`](super::false_alarms)).
 ///
 /// Fails on invalid input (naming the scan), or with `Interrupted` on a stop request.
 pub fn associate_scans(
     sensors: &Sensors<'_>,
     table: &Measurements<'_>,
     scans: Scans<'_>,
-    (pd, false_alarm_density): (&[f64], &[f64]),
+    (pd, false_alarm_density): (&[f64], Option<&[f64]>),
     enumerate: &EnumerateOptions,
     solver: &ScanSolver,
 ) -> CoreResult<Vec<ScanResult>> {
     let n_scans = scans.offsets.len().saturating_sub(1);
     let s = sensors.len();
-    if false_alarm_density.len() != n_scans * s {
+    if let Some(given) = false_alarm_density.filter(|d| d.len() != n_scans * s) {
         return Err(CoreError::shape(
             "false_alarm_density",
             format!(
                 "expected scans × sensors = {n_scans} × {s} values, got {}",
-                false_alarm_density.len()
+                given.len()
             ),
         ));
     }
@@ -75,6 +80,7 @@ pub fn associate_scans(
             format!("row {bad} is beyond the table's {} rows", table.len()),
         ));
     }
+    let spatial = sensors.space() == Space::Spatial;
     (0..n_scans)
         .into_par_iter()
         .map(|k| {
@@ -82,8 +88,11 @@ pub fn associate_scans(
                 return Err(CoreError::Interrupted);
             }
             let rows = &scans.rows[scans.offsets[k]..scans.offsets[k + 1]];
-            let density = &false_alarm_density[k * s..(k + 1) * s];
-            one_scan(sensors, table, rows, (pd, density), enumerate, solver)
+            let density = match false_alarm_density {
+                Some(given) => Cow::Borrowed(&given[k * s..(k + 1) * s]),
+                None => Cow::Owned(table_density(table, rows.iter().copied(), s, spatial)),
+            };
+            one_scan(sensors, table, rows, (pd, &density), enumerate, solver)
         })
         .collect()
 }

@@ -56,6 +56,7 @@ mod chain_block;
 mod chains;
 pub mod cost;
 mod enumerate;
+pub mod false_alarms;
 pub mod intensity;
 mod intensity_input;
 mod measurement_ids;
