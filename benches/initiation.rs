@@ -24,6 +24,7 @@ use passive_assoc_core::fti::{
 };
 use passive_assoc_core::geometry::model::{predict, Motion, Space, StateLayout};
 use passive_assoc_core::parallel::with_threads;
+use passive_assoc_core::progress::Silent;
 
 const TARGETS: [[f64; 6]; 4] = [
     [1340.0, 15000.0, 1000.0, 173.2, -100.0, 0.0],
@@ -195,6 +196,7 @@ fn bench_descent(c: &mut Criterion) {
         measurements: rows,
         layout: StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 }),
         t0: 0.0,
+        progress: &Silent,
     };
     let scans = Scans::new(&rows, 2);
     let pairs = resolve_pairs(None, &scans).expect("two sensors with scans");

@@ -15,7 +15,7 @@ CORE = Path(__file__).resolve().parents[1] / "rust" / "core"
 #: Lowest first; modules on one layer may not use each other either.
 LAYERS = [
     ["error"],
-    ["parallel", "geometry"],
+    ["parallel", "progress", "geometry"],
     ["data", "evidence"],
     ["estimation"],
     ["assign"],

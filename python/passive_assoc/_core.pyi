@@ -6,6 +6,7 @@ attribute) and, where they have several settings, one object from ``passive_asso
 arrays or the frozen classes below.
 """
 
+from collections.abc import Callable
 from typing import Literal, final
 
 import numpy as np
@@ -184,6 +185,7 @@ def initiate(
     pairs: NDArray[np.int64],
     spreads: tuple[NDArray[np.float64], NDArray[np.float64]],
     settings: InitiationSettings,
+    progress: Callable[[str, float], object] | None = None,
 ) -> InitiationOutput: ...
 def closeness(
     measurements: MeasurementTable,

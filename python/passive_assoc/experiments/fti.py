@@ -108,7 +108,8 @@ def run_once(
     scenario: Scenario, initiator: FuzzyTrackInitiator, crlbs: NDArray[np.float64]
 ) -> tuple[FtiRun, InitiationResult]:
     start = time.perf_counter()
-    result = initiator.initiate(scenario.measurements, scenario.sensors, t0=scenario.t0)
+    # No bar of its own: the runs have theirs, and its reports would be in the timed call.
+    result = initiator.initiate(scenario.measurements, scenario.sensors, t0=scenario.t0, progress=False)
     seconds = time.perf_counter() - start
     truth = scenario.true_states
     match = match_tracks(result, truth, crlbs)

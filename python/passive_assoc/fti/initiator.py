@@ -10,7 +10,6 @@ ambiguity resolution, final ML fit) runs in the Rust core with the GIL released.
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
@@ -23,9 +22,11 @@ from scipy.special import ndtri
 from .. import _core
 from .._inputs import check_pair
 from .._params import Boolean, Constraint, Interval, Options, validate
+from .._progress import stage_bar
 from .._settings import InitiationSettings
 from .._validation import as_float_scalar, as_int_array
 from ..data import MeasurementTable, SensorNetwork
+from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, warn_if_no_candidate
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
@@ -33,23 +34,6 @@ CHI2_2DOF_999 = 13.815510557964274
 
 #: A finite number > 0.
 POSITIVE = Interval(float, 0.0, None, closed="neither")
-
-
-#: The stages of :class:`InitiationDiagnostics` ``stage_counts``, in pipeline order.
-STAGE_COUNT_NAMES = (
-    "raw",
-    "ray_gate",
-    "behind",
-    "v_max",
-    "fitted",
-    "chi2_gate",
-    "supported",
-    "optima",
-    "merged",
-    "detected",
-)
-#: The timed stages (``stage_seconds`` calls the last one ``"final"``).
-STAGE_SECOND_NAMES = ("candidates", "fit", "support", "descent", "detection", "final_fit")
 
 
 @dataclass(frozen=True)
@@ -310,7 +294,12 @@ class FuzzyTrackInitiator:
         return self.spread_factor * sensors.sigma_azimuth, self.spread_factor * np.asarray(sigma_el, dtype=float)
 
     def initiate(
-        self, measurements: MeasurementTable, sensors: SensorNetwork, *, t0: float | None = None
+        self,
+        measurements: MeasurementTable,
+        sensors: SensorNetwork,
+        *,
+        t0: float | None = None,
+        progress: bool | None = None,
     ) -> InitiationResult:
         """Find the targets in ``measurements``.
 
@@ -322,12 +311,16 @@ class FuzzyTrackInitiator:
         sensors : SensorNetwork
         t0 : float, optional
             Epoch of the returned initial states; default the earliest measurement time.
+        progress : bool, optional
+            A progress bar on stderr (each pass's candidate formation and search): None shows
+            it on a terminal once the call has run 2 s, True always, False never.
 
         Returns
         -------
         InitiationResult
         """
         table, network = check_pair(measurements, sensors)
+        shown = validate({"progress": progress}, {"progress": [Boolean(), None]})["progress"]
         epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
         spread_az, spread_el = self._spreads(sensors)
         settings = InitiationSettings(
@@ -352,7 +345,13 @@ class FuzzyTrackInitiator:
             search_stage=self.search_stage,
             n_threads=self.n_threads,
         )
-        out = _core.initiate(table, network, self._pairs(network.n_sensors), (spread_az, spread_el), settings)
+        bar = stage_bar(shown, "candidates")
+        try:
+            pairs, spreads = self._pairs(network.n_sensors), (spread_az, spread_el)
+            out = _core.initiate(table, network, pairs, spreads, settings, bar)
+        finally:
+            if bar is not None:
+                bar.close()
         labels = out.labels
         tracks = [
             InitiatedTrack(
@@ -368,31 +367,5 @@ class FuzzyTrackInitiator:
         seconds = {name: float(getattr(out.stage_seconds, name)) for name in STAGE_SECOND_NAMES}
         seconds["final"] = seconds.pop("final_fit")
         diagnostics = InitiationDiagnostics(counts, out.descent_iterations, seconds)
-        _warn_if_no_candidate(counts)
+        warn_if_no_candidate(counts)
         return InitiationResult(tracks, labels, epoch, diagnostics)
-
-
-#: What usually empties each pruning stage, for the warning below.
-_EMPTIED_BY = {
-    "raw": "a sensor of every pair has an empty outer scan",
-    "ray_gate": "no two rays meet within ray_gate_sigmas: are the angles radians, the sensor positions metres?",
-    "behind": "every crossing is behind a sensor: check the azimuth convention and the sensor positions",
-    "v_max": "every candidate moves faster than v_max: raise v_max, or check the times' unit (seconds)",
-    "fitted": "no candidate fit converged",
-    "chi2_gate": "no candidate fit passes chi2_gate: are the sensors' stds right?",
-    "supported": "no candidate is seen in more than n_detect scans: lower n_detect, or check the stds and times",
-}
-
-
-def _warn_if_no_candidate(counts: dict[str, int]) -> None:
-    """A scene where no candidate survives pruning gives no track for a reason the user can
-    usually fix (units, conventions, a too-tight bound): name the stage that emptied and why."""
-    for stage, hint in _EMPTIED_BY.items():
-        if counts[stage] == 0:
-            funnel = " -> ".join(f"{name} {counts[name]}" for name in STAGE_COUNT_NAMES[:7])
-            warnings.warn(
-                f"no candidate survived the {stage!r} stage ({funnel}), so no track can be initiated: {hint}",
-                UserWarning,
-                stacklevel=3,
-            )
-            return

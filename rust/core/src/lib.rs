@@ -10,7 +10,7 @@
 //! * [`geometry`] — angles, the measurement model, line-of-sight geometry;
 //! * [`data`], [`evidence`] — validated borrowed views of the measurements, emitter-attribute
 //!   evidence;
-//! * [`error`], [`parallel`] — the error type, thread pools.
+//! * [`error`], [`parallel`], [`progress`] — the error type, thread pools, progress reports.
 
 pub mod assign;
 pub mod data;
@@ -21,6 +21,7 @@ pub mod formation;
 pub mod fti;
 pub mod geometry;
 pub mod parallel;
+pub mod progress;
 pub mod radar_esm;
 pub mod static_los;
 pub mod topology;

@@ -10,15 +10,17 @@ use super::convert::{
 };
 use super::errors::{value_error, BindError, BindResult};
 use super::interrupt;
+use super::progress::PyProgress;
 use passive_assoc_core::data::Sensors;
 use passive_assoc_core::error::ensure_finite;
 use passive_assoc_core::fti::closeness::closeness_batch;
 use passive_assoc_core::fti::descent::descend_from;
 use passive_assoc_core::fti::{
-    initiate as core_initiate, DescentOptions, Initiation, InitiationOptions, Precomputed, Spreads,
+    initiate_reporting, DescentOptions, Initiation, InitiationOptions, Precomputed, Spreads,
     StageCounts as CoreCounts, StageSeconds as CoreSeconds,
 };
 use passive_assoc_core::parallel::with_threads;
+use passive_assoc_core::progress::{Progress, Silent};
 
 /// The membership spreads per sensor, (azimuth, elevation), radians.
 type SpreadArrays<'py> = (PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, f64>);
@@ -120,9 +122,10 @@ pub struct InitiationOutput {
 }
 
 /// Fuzzy track initiation. `pairs` is (K, 2) sensor indices; an empty (0, 2) array means every
-/// pair a < b; `spreads` is (azimuth, elevation), one per sensor.
+/// pair a < b; `spreads` is (azimuth, elevation), one per sensor. `progress`, when given, is
+/// called `(stage, fraction)` as the passes go (module `progress`); what it raises is raised.
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, pairs, spreads, settings))]
+#[pyo3(signature = (measurements, sensors, pairs, spreads, settings, progress=None))]
 pub fn initiate(
     py: Python<'_>,
     measurements: MeasurementsArg<'_>,
@@ -130,6 +133,7 @@ pub fn initiate(
     pairs: PyReadonlyArray2<'_, i64>,
     spreads: SpreadArrays<'_>,
     settings: InitiationSettings,
+    progress: Option<Py<PyAny>>,
 ) -> BindResult<InitiationOutput> {
     let network = sensors.view()?;
     let columns = measurements.columns(network.space())?;
@@ -138,12 +142,20 @@ pub fn initiate(
     let options = settings.options(pair_list(slice2("pairs", &pairs, 2)?)?)?;
     let n_threads = threads(settings.n_threads)?;
     let t0 = settings.t0;
+    let sink = progress.map(PyProgress::new);
+    let reported: &dyn Progress = match &sink {
+        Some(sink) => sink,
+        None => &Silent,
+    };
     let result = interrupt::detach(py, || {
         with_threads(n_threads, || {
-            core_initiate(&network, &table, &spreads, t0, &options)
+            initiate_reporting(&network, &table, &spreads, t0, &options, reported)
         })
-    })???;
-    initiation_output(py, result)
+    })??;
+    if let Some(error) = sink.and_then(PyProgress::into_error) {
+        return Err(error.into());
+    }
+    initiation_output(py, result?)
 }
 
 fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<InitiationOutput> {

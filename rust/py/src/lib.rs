@@ -12,6 +12,7 @@ mod formation;
 mod fti;
 mod interrupt;
 mod kalman;
+mod progress;
 mod radar_esm;
 mod static_los;
 mod topology;

@@ -40,6 +40,7 @@ use crate::estimation::fit::gauss_newton::{fit_into, FitSlots};
 use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::los::{closest_points, direction, intersect_bearings, pseudo_linear_state};
 use crate::geometry::model::{Observation, Space, MAX_DIM};
+use crate::progress::{Progress, Tally};
 
 /// Candidate fits stop once the Gauss-Newton step is shorter than this many standard
 /// deviations (Mahalanobis). The remaining χ² decrease is then of order its square (0.01),
@@ -131,7 +132,8 @@ pub fn generate(
         let rows = scans.scan(k).iter().copied();
         rows.filter(|&m| available.is_none_or(|a| a[m])).collect()
     };
-    for &slot in slots {
+    let tally = Tally::new(problem.progress, "candidates", slots.len() as u64);
+    for (index, &slot) in slots.iter().enumerate() {
         let [sa1, sb1, sa2, sb2] = slot.map(rows_of);
         let raw = [sa1.len(), sb1.len(), sa2.len(), sb2.len()]
             .iter()
@@ -147,10 +149,35 @@ pub fn generate(
             .counts
             .behind
             .saturating_add(firsts.len().saturating_mul(lasts.len()));
-        combine::combine(problem, &firsts, &lasts, options, gate, &mut set)?;
+        // The combination reports how far through this slot it is; the tally makes that a
+        // fraction of the whole stage.
+        let within = SlotProgress {
+            tally: &tally,
+            index: index as u64,
+        };
+        let slot_problem = Problem {
+            progress: &within,
+            ..*problem
+        };
+        combine::combine(&slot_problem, &firsts, &lasts, options, gate, &mut set)?;
+        within.report("candidates", 1.0);
     }
     set.seconds_enumerate = start.elapsed().as_secs_f64() - set.seconds_fit - set.seconds_support;
     Ok(set)
+}
+
+/// One slot's share of the candidate stage: a report of `part` of the slot done is the stage's
+/// slots before it plus that part.
+#[derive(Debug)]
+struct SlotProgress<'a> {
+    tally: &'a Tally<'a>,
+    index: u64,
+}
+
+impl Progress for SlotProgress<'_> {
+    fn report(&self, _stage: &'static str, part: f64) {
+        self.tally.within(self.index, part);
+    }
 }
 
 /// Pairs every row of `rows_a` with every row of `rows_b` under the ray gate and the

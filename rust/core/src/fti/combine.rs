@@ -74,7 +74,9 @@ pub(super) fn combine_with(
         });
     }
     let mut chunk: Vec<(&RayPair, &RayPair)> = Vec::with_capacity(CHUNK);
-    for block in firsts.chunks(BLOCK) {
+    let blocks = firsts.len().div_ceil(BLOCK).max(1) as f64;
+    for (done, block) in firsts.chunks(BLOCK).enumerate() {
+        (problem.progress).report("candidates", done as f64 / blocks);
         if crate::parallel::interrupted() {
             return Ok(()); // the binding raises KeyboardInterrupt; nothing partial escapes
         }
@@ -241,6 +243,7 @@ mod tests {
                 measurements: table,
                 layout: StateLayout::new(sc.space, Motion::ConstantVelocity { t0: 0.0 }),
                 t0: 0.0,
+                progress: &crate::progress::Silent,
             };
             let scans = Scans::new(&table, sensors.len());
             let options = InitiationOptions::default()

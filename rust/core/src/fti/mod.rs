@@ -49,14 +49,17 @@ mod sim;
 mod tests;
 #[cfg(test)]
 mod tests_missed;
+#[cfg(test)]
+mod tests_progress;
 
 pub use closeness::{closeness, closeness_and_gradient, Precomputed, Spreads};
 pub use options::{DescentOptions, DetectionOrder, InitiationOptions, Scaling, CHI2_2DOF_999};
-pub use pipeline::initiate;
+pub use pipeline::{initiate, initiate_reporting};
 pub use track_test::{chi2_quantile, TRACK_TEST_Z};
 
 use crate::data::{Measurements, Sensors};
 use crate::geometry::model::{Observation, StateLayout};
+use crate::progress::Progress;
 
 /// The data of one initiation call: the validated views, the constant-velocity layout and
 /// its epoch t0.
@@ -66,6 +69,8 @@ pub struct Problem<'a> {
     pub measurements: Measurements<'a>,
     pub layout: StateLayout,
     pub t0: f64,
+    /// Where the stages report how far they are ([`crate::progress`]).
+    pub progress: &'a dyn Progress,
 }
 
 impl Problem<'_> {

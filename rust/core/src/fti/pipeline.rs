@@ -19,6 +19,7 @@ use crate::error::{CoreError, CoreResult};
 use crate::estimation::fit::gauss_newton::fit;
 use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::model::{Motion, StateLayout, MAX_DIM};
+use crate::progress::{Progress, Silent};
 
 /// Fuzzy track initiation of constant-velocity targets with epoch `t0` (METHODS §1).
 ///
@@ -31,12 +32,26 @@ pub fn initiate(
     t0: f64,
     options: &InitiationOptions,
 ) -> CoreResult<Initiation> {
+    initiate_reporting(sensors, measurements, spreads, t0, options, &Silent)
+}
+
+/// [`initiate`], reporting each pass's candidate formation and search to `progress` (stages
+/// `"candidates"` and `"search"`, once per pass).
+pub fn initiate_reporting(
+    sensors: &Sensors<'_>,
+    measurements: &Measurements<'_>,
+    spreads: &Spreads<'_>,
+    t0: f64,
+    options: &InitiationOptions,
+    progress: &dyn Progress,
+) -> CoreResult<Initiation> {
     let pre = Precomputed::new(sensors, measurements, spreads, t0)?;
     let problem = Problem {
         sensors: *sensors,
         measurements: *measurements,
         layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0 }),
         t0,
+        progress,
     };
     let dim = problem.layout.dim();
     let scans = Scans::new(measurements, sensors.len());
@@ -342,6 +357,7 @@ pub(crate) fn candidates_of(
         measurements: *measurements,
         layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0 }),
         t0,
+        progress: &Silent,
     };
     let scans = Scans::new(measurements, sensors.len());
     let pairs = resolve_pairs(options.pairs(), &scans)?;

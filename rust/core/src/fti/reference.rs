@@ -52,6 +52,7 @@ fn all_rules_off_is_the_unpruned_paper_algorithm() {
             measurements: table,
             layout: StateLayout::new(sc.space, Motion::ConstantVelocity { t0: 0.0 }),
             t0: 0.0,
+            progress: &crate::progress::Silent,
         };
         let expected = all_fitted(&problem, &scans, &pairs);
         assert_eq!(counts.raw, counts.v_max);

@@ -223,5 +223,6 @@ pub fn problem<'a>(sensors: Sensors<'a>, measurements: Measurements<'a>) -> Prob
         measurements,
         layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0: 0.0 }),
         t0: 0.0,
+        progress: &crate::progress::Silent,
     }
 }

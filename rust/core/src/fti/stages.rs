@@ -76,7 +76,15 @@ pub(super) fn search_and_detect(
     };
     let mut queue = search_order(problem, pre, candidates, stage);
     let mut batch: Vec<usize> = queue.drain(..stage.min(queue.len())).collect();
+    let mut searched = 0usize;
+    (problem.progress).report("search", 0.0);
     while !batch.is_empty() && !crate::parallel::interrupted() {
+        if searched > 0 {
+            // Of the candidates searched and those still queued (re-gating shrinks the queue).
+            let all = (searched + batch.len() + queue.len()) as f64;
+            (problem.progress).report("search", searched as f64 / all);
+        }
+        searched += batch.len();
         let taken = candidates.get_all(problem, &batch);
         let starts: Vec<&Candidate> = taken.iter().map(|c| c.as_ref()).collect();
         let optima = descend_all(pre, &starts, options.descent());
@@ -100,6 +108,7 @@ pub(super) fn search_and_detect(
         out.seconds_regate += clock.elapsed().as_secs_f64();
         batch = queue.drain(..stage.min(queue.len())).collect();
     }
+    (problem.progress).report("search", 1.0);
     out
 }
 

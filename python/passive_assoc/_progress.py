@@ -1,0 +1,75 @@
+"""A progress bar for one long compiled call. The core reports ``(stage, fraction)`` as it goes
+(the binding forwards a report at most every 0.2 s, and each change of stage); this shows them
+on one ``tqdm`` bar, a stage at a time, numbering the passes of a pipeline that runs its stages
+more than once."""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Any
+
+from tqdm import tqdm
+
+__all__ = ["StageBar", "stage_bar"]
+
+#: A stage's percentage and the call's elapsed time (a rate or ETA across stages would mislead).
+BAR = "{desc}{percentage:3.0f}%|{bar}| {elapsed}"
+
+#: Seconds a call runs before its bar appears when ``progress`` is None: short calls stay quiet.
+AUTO_DELAY = 2.0
+
+
+class StageBar:
+    """The callable the core reports to, drawing one bar per call.
+
+    ``first_stage`` begins a new pass each time it comes back ("pass 2: candidates"). With
+    ``always`` the bar is drawn from the first report on any stream; otherwise only on a
+    terminal, and only once the call has run :data:`AUTO_DELAY` seconds (no bar is even built
+    before: a short call pays one clock reading a report)."""
+
+    def __init__(self, first_stage: str, *, always: bool) -> None:
+        self.first_stage = first_stage
+        self.always = always
+        self.started = time.monotonic()
+        self.passes = 0
+        self.stage: str | None = None
+        self.bar: tqdm[Any] | None = None
+
+    def __call__(self, stage: str, fraction: float) -> None:
+        percent = round(100 * min(max(fraction, 0.0), 1.0))
+        if stage != self.stage:
+            self.passes += stage == self.first_stage or self.passes == 0
+            self.stage = stage
+            if self.bar is not None:  # a new stage is drawn at once, whatever the interval
+                self.bar.n = percent
+                self.bar.set_description(self._label())
+                return
+        if self.bar is None:
+            if not self.always and time.monotonic() - self.started < AUTO_DELAY:
+                return
+            self.bar = tqdm(
+                desc=f"{self._label()}: ",
+                total=100,
+                file=sys.stderr,
+                leave=False,
+                miniters=1,
+                bar_format=BAR,
+                disable=False if self.always else None,  # None: only on a terminal
+            )
+        # update(), not n = ... and refresh(): update() keeps tqdm's redraw interval.
+        self.bar.update(percent - self.bar.n)
+
+    def _label(self) -> str:
+        return f"pass {self.passes}: {self.stage}"
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def stage_bar(progress: bool | None, first_stage: str) -> StageBar | None:
+    """The bar ``progress`` asks for: None when False (the core then reports to nobody)."""
+    if progress is False:
+        return None
+    return StageBar(first_stage, always=progress is True)

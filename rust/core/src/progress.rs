@@ -1,0 +1,101 @@
+//! Progress of a long core call, for a progress bar: the call reports which stage it is in and
+//! how far through it, and the caller decides what to show (the Python binding forwards the
+//! reports to a `tqdm` bar a few times a second). The core stays free of any UI: a report is
+//! one virtual call, and [`Silent`] ignores them.
+
+use std::fmt::Debug;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Where a report goes. Reports may come from any thread of the pool, often; a sink that does
+/// real work per report should limit its own rate.
+pub trait Progress: Sync + Debug {
+    /// `stage` is `fraction` (in [0, 1]) done.
+    fn report(&self, stage: &'static str, fraction: f64);
+}
+
+/// Ignores every report: the sink of calls nobody watches.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Silent;
+
+impl Progress for Silent {
+    fn report(&self, _stage: &'static str, _fraction: f64) {}
+}
+
+/// Counts the units of one stage as threads finish them, and reports the fraction done.
+#[derive(Debug)]
+pub struct Tally<'a> {
+    sink: &'a dyn Progress,
+    stage: &'static str,
+    total: u64,
+    done: AtomicU64,
+}
+
+impl<'a> Tally<'a> {
+    /// A stage of `total` units, reported as begun.
+    pub fn new(sink: &'a dyn Progress, stage: &'static str, total: u64) -> Self {
+        sink.report(stage, 0.0);
+        Self {
+            sink,
+            stage,
+            total,
+            done: AtomicU64::new(0),
+        }
+    }
+
+    /// `units` more are done.
+    pub fn advance(&self, units: u64) {
+        let done = self.done.fetch_add(units, Ordering::Relaxed) + units;
+        self.sink.report(self.stage, fraction(done, self.total));
+    }
+
+    /// Unit `index` is `part` (in [0, 1]) done, the units before it all done: for stages
+    /// whose units are done one after another, each in steps.
+    pub fn within(&self, index: u64, part: f64) {
+        let done = index as f64 + part.clamp(0.0, 1.0);
+        self.sink
+            .report(self.stage, (done / self.total.max(1) as f64).min(1.0));
+    }
+}
+
+fn fraction(done: u64, total: u64) -> f64 {
+    if total == 0 {
+        return 1.0;
+    }
+    (done as f64 / total as f64).min(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Progress, Tally};
+    use std::sync::Mutex;
+
+    #[derive(Debug, Default)]
+    struct Recorded(Mutex<Vec<(&'static str, f64)>>);
+
+    impl Progress for Recorded {
+        fn report(&self, stage: &'static str, fraction: f64) {
+            self.0.lock().expect("not poisoned").push((stage, fraction));
+        }
+    }
+
+    #[test]
+    fn a_tally_reports_fractions_of_its_stage() {
+        let sink = Recorded::default();
+        let tally = Tally::new(&sink, "search", 4);
+        tally.advance(1);
+        tally.advance(3);
+        let steps = Tally::new(&sink, "candidates", 2);
+        steps.within(1, 0.5);
+        steps.within(1, 7.0); // a part past 1 counts as the unit done
+        let got = sink.0.into_inner().expect("not poisoned");
+        let expected = [
+            ("search", 0.0),
+            ("search", 0.25),
+            ("search", 1.0),
+            ("candidates", 0.0),
+            ("candidates", 0.75),
+            ("candidates", 1.0),
+        ];
+        assert_eq!(got, expected);
+    }
+}

@@ -1,0 +1,61 @@
+//! The core's progress reports, forwarded to a Python callable `progress(stage, fraction)` (the
+//! package's `_progress.StageBar`). The callable runs under the GIL, taken for each report the
+//! core's thread forwards: at most one every [`INTERVAL`] within a stage, and every change of
+//! stage and every stage's end, so a bar costs the call nothing measurable.
+
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use pyo3::prelude::*;
+
+use passive_assoc_core::progress::Progress;
+
+/// Least time between two reports of one stage that reach Python.
+const INTERVAL: Duration = Duration::from_millis(200);
+
+/// A Python callable as a core progress sink. The first error the callable raises is kept
+/// (later reports are dropped) for the binding to raise when the call ends.
+#[derive(Debug)]
+pub struct PyProgress {
+    callback: Py<PyAny>,
+    state: Mutex<Forwarded>,
+}
+
+#[derive(Debug, Default)]
+struct Forwarded {
+    last: Option<(Instant, &'static str)>,
+    error: Option<PyErr>,
+}
+
+impl PyProgress {
+    pub fn new(callback: Py<PyAny>) -> Self {
+        Self {
+            callback,
+            state: Mutex::new(Forwarded::default()),
+        }
+    }
+
+    /// What the callable raised, if it did.
+    pub fn into_error(self) -> Option<PyErr> {
+        self.state.into_inner().ok().and_then(|state| state.error)
+    }
+}
+
+impl Progress for PyProgress {
+    fn report(&self, stage: &'static str, fraction: f64) {
+        // A poisoned lock (a panic while reporting) only ends the reports.
+        let Ok(mut state) = self.state.lock() else {
+            return;
+        };
+        let now = Instant::now();
+        let recent = state.last.is_some_and(|(at, last)| {
+            last == stage && now.duration_since(at) < INTERVAL && fraction < 1.0
+        });
+        if state.error.is_some() || recent {
+            return;
+        }
+        state.last = Some((now, stage));
+        let called = Python::attach(|py| self.callback.call1(py, (stage, fraction)).map(drop));
+        state.error = called.err();
+    }
+}
