@@ -42,7 +42,9 @@ class StageBar:
             self.passes += stage == self.first_stage or self.passes == 0
             self.stage = stage
             if self.bar is not None:  # a new stage is drawn at once, whatever the interval
-                self.bar.n = percent
+                # update() also moves tqdm's last drawn count back with a negative step; setting
+                # n would leave it at the old stage's end, and the new stage would not redraw.
+                self.bar.update(percent - self.bar.n)
                 self.bar.set_description(self._label())
                 return
         if self.bar is None:

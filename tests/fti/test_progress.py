@@ -3,6 +3,8 @@ nothing in the answer, what a failing callback does, and that short calls build 
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import passive_assoc as pa
 import passive_assoc.fti.initiator as initiator_module
@@ -84,3 +86,17 @@ def test_progress_must_be_a_bool_or_none() -> None:
     s = scene()
     with pytest.raises(TypeError, match="progress: expected a bool"):
         FuzzyTrackInitiator().initiate(s.measurements, s.sensors, progress="yes")  # type: ignore[arg-type]
+
+
+def test_a_new_stage_redraws_as_it_goes(capsys: pytest.CaptureFixture[str]) -> None:
+    """After a stage ends at 100 %, the next stage's progress is drawn (tqdm's last drawn count
+    follows the bar back to 0)."""
+    bar = StageBar("candidates", always=True)
+    bar("candidates", 0.0)
+    time.sleep(0.15)  # past tqdm's redraw interval
+    bar("candidates", 1.0)
+    bar("search", 0.0)
+    time.sleep(0.15)
+    bar("search", 0.5)
+    bar.close()
+    assert "pass 1: search:  50%" in capsys.readouterr().err

@@ -4,7 +4,7 @@
 //! one virtual call, and [`Silent`] ignores them.
 
 use std::fmt::Debug;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// Where a report goes. Reports may come from any thread of the pool, often; a sink that does
 /// real work per report should limit its own rate.
@@ -21,31 +21,40 @@ impl Progress for Silent {
     fn report(&self, _stage: &'static str, _fraction: f64) {}
 }
 
-/// Counts the units of one stage as threads finish them, and reports the fraction done.
+/// Counts the units of one stage as threads finish them, and reports the fraction done. The
+/// count and its report are made under one lock, so the reports never go back.
 #[derive(Debug)]
 pub struct Tally<'a> {
     sink: &'a dyn Progress,
     stage: &'static str,
     total: u64,
-    done: AtomicU64,
+    done: Mutex<u64>,
 }
 
 impl<'a> Tally<'a> {
     /// A stage of `total` units, reported as begun.
     pub fn new(sink: &'a dyn Progress, stage: &'static str, total: u64) -> Self {
-        sink.report(stage, 0.0);
+        Self::resumed(sink, stage, 0, total)
+    }
+
+    /// A stage of `total` units of which `done` are done, reported so.
+    pub fn resumed(sink: &'a dyn Progress, stage: &'static str, done: u64, total: u64) -> Self {
+        sink.report(stage, fraction(done, total));
         Self {
             sink,
             stage,
             total,
-            done: AtomicU64::new(0),
+            done: Mutex::new(done),
         }
     }
 
     /// `units` more are done.
     pub fn advance(&self, units: u64) {
-        let done = self.done.fetch_add(units, Ordering::Relaxed) + units;
-        self.sink.report(self.stage, fraction(done, self.total));
+        // A poisoned lock (a panic in another report) only ends the reports.
+        if let Ok(mut done) = self.done.lock() {
+            *done += units;
+            self.sink.report(self.stage, fraction(*done, self.total));
+        }
     }
 
     /// Unit `index` is `part` (in [0, 1]) done, the units before it all done: for stages

@@ -39,6 +39,7 @@ use super::closeness::{closeness_and_gradient, Precomputed};
 use super::{DescentOptions, Scaling};
 use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::geometry::model::MAX_DIM;
+use crate::progress::Tally;
 
 /// Armijo sufficient-increase constant.
 const ARMIJO: f64 = 1e-4;
@@ -66,6 +67,7 @@ pub fn descend_all(
     pre: &Precomputed,
     candidates: &[&Candidate],
     options: &DescentOptions,
+    tally: &Tally<'_>,
 ) -> Vec<Optimum> {
     candidates
         .par_iter()
@@ -76,6 +78,7 @@ pub fn descend_all(
             };
             let mut opt = descend(pre, &c.estimate, &factor, options);
             opt.scale = c.scale;
+            tally.advance(1);
             opt
         })
         .collect()

@@ -38,6 +38,7 @@ use super::pool::Pool;
 use super::scans::Scans;
 use super::support::{Gate, SupportTable};
 use super::{InitiationOptions, Problem};
+use crate::progress::Tally;
 
 /// What one pass's search and detection produced.
 pub(super) struct Searched {
@@ -76,18 +77,16 @@ pub(super) fn search_and_detect(
     };
     let mut queue = search_order(problem, pre, candidates, stage);
     let mut batch: Vec<usize> = queue.drain(..stage.min(queue.len())).collect();
-    let mut searched = 0usize;
+    let mut searched = 0u64;
     (problem.progress).report("search", 0.0);
     while !batch.is_empty() && !crate::parallel::interrupted() {
-        if searched > 0 {
-            // Of the candidates searched and those still queued (re-gating shrinks the queue).
-            let all = (searched + batch.len() + queue.len()) as f64;
-            (problem.progress).report("search", searched as f64 / all);
-        }
-        searched += batch.len();
+        // Of the candidates searched and those still queued (re-gating shrinks the queue).
+        let all = searched + (batch.len() + queue.len()) as u64;
+        let tally = Tally::resumed(problem.progress, "search", searched, all);
+        searched += batch.len() as u64;
         let taken = candidates.get_all(problem, &batch);
         let starts: Vec<&Candidate> = taken.iter().map(|c| c.as_ref()).collect();
-        let optima = descend_all(pre, &starts, options.descent());
+        let optima = descend_all(pre, &starts, options.descent(), &tally);
         drop(taken);
         // Moved, not copied, on the first stage: a one-stage pass holds them once.
         match out.optima.is_empty() {
