@@ -221,6 +221,7 @@ def associate_scans(
     method: str,
     sd: SdSettings,
     intensity: IntensitySettings,
+    progress: Callable[[str, float], object] | None = None,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]: ...
 def default_false_alarm_density(
     sensor: NDArray[np.int64],

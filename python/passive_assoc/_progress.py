@@ -1,7 +1,7 @@
 """A progress bar for one long compiled call. The core reports ``(stage, fraction)`` as it goes
 (the binding forwards a report at most every 0.2 s, and each change of stage); this shows them
-on one ``tqdm`` bar, a stage at a time, numbering the passes of a pipeline that runs its stages
-more than once."""
+on one ``tqdm`` bar, a stage at a time, and numbers the passes of a pipeline that runs its
+stages more than once."""
 
 from __future__ import annotations
 
@@ -23,12 +23,13 @@ AUTO_DELAY = 2.0
 class StageBar:
     """The callable the core reports to, drawing one bar per call.
 
-    ``first_stage`` begins a new pass each time it comes back ("pass 2: candidates"). With
+    ``first_stage``, when given, begins a new pass each time it comes back ("pass 2:
+    candidates"); without it the stage is the whole label. With
     ``always`` the bar is drawn from the first report on any stream; otherwise only on a
     terminal, and only once the call has run :data:`AUTO_DELAY` seconds (no bar is even built
     before: a short call pays one clock reading a report)."""
 
-    def __init__(self, first_stage: str, *, always: bool) -> None:
+    def __init__(self, first_stage: str | None, *, always: bool) -> None:
         self.first_stage = first_stage
         self.always = always
         self.started = time.monotonic()
@@ -63,14 +64,14 @@ class StageBar:
         self.bar.update(percent - self.bar.n)
 
     def _label(self) -> str:
-        return f"pass {self.passes}: {self.stage}"
+        return f"{self.stage}" if self.first_stage is None else f"pass {self.passes}: {self.stage}"
 
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
 
 
-def stage_bar(progress: bool | None, first_stage: str) -> StageBar | None:
+def stage_bar(progress: bool | None, first_stage: str | None = None) -> StageBar | None:
     """The bar ``progress`` asks for: None when False (the core then reports to nobody)."""
     if progress is False:
         return None

@@ -10,6 +10,7 @@ use super::convert::{
 };
 use super::errors::{value_error, BindResult};
 use super::interrupt;
+use super::progress::Sink;
 use super::static_los::{
     enumeration_options, intensity_options, EnumerationSettings, IntensitySettings,
 };
@@ -17,12 +18,13 @@ use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::static_los::{associate_scans as core_associate_scans, ScanSolver, Scans};
 
 /// Associates every scan: `rows` (the table's rows scan by scan) and `offsets` (CSR over
-/// scans), `pd` per sensor, `false_alarm_density` per scan and sensor (`None`: each scan's default). `method` picks the
-/// solver ("intensity", "lagrangian", or "exact": the branch-and-bound). Returns (labels per
-/// entry of `rows`: target index within its scan or −1; targets per scan; positions of every
-/// target, scan by scan, `(targets, dim)`).
+/// scans), `pd` per sensor, `false_alarm_density` per scan and sensor (`None`: each scan's
+/// default). `method` picks the solver ("intensity", "lagrangian", or "exact": the
+/// branch-and-bound). Returns (labels per entry of `rows`: target index within its scan or −1;
+/// targets per scan; positions of every target, scan by scan, `(targets, dim)`). `progress`,
+/// when given, is called `("scans", fraction)` as scans finish (module `progress`).
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, rows, offsets, pd, false_alarm_density, enumeration, method, sd, intensity))]
+#[pyo3(signature = (measurements, sensors, rows, offsets, pd, false_alarm_density, enumeration, method, sd, intensity, progress=None))]
 #[allow(clippy::too_many_arguments)] // one scan's settings, as the one-scan calls take them
 pub fn associate_scans<'py>(
     py: Python<'py>,
@@ -36,6 +38,7 @@ pub fn associate_scans<'py>(
     method: &str,
     sd: SdSettings,
     intensity: IntensitySettings,
+    progress: Option<Py<PyAny>>,
 ) -> BindResult<(I64Array<'py>, I64Array<'py>, F64Array<'py>)> {
     let (enumerate, n_threads) = enumeration_options(&enumeration)?;
     let solver = match method {
@@ -64,11 +67,16 @@ pub fn associate_scans<'py>(
         rows: &rows,
         offsets: &offsets,
     };
+    let sink = Sink::new(progress);
+    let reported = sink.progress();
     let results = interrupt::detach(py, || {
         with_threads(n_threads, || {
-            core_associate_scans(&network, &table, scans, (pd, density), &enumerate, &solver)
+            let settings = (&enumerate, &solver);
+            core_associate_scans(&network, &table, scans, (pd, density), settings, reported)
         })
-    })???;
+    })??;
+    sink.finish()?;
+    let results = results?;
     let dim =
         usize::from(network.space() == passive_assoc_core::geometry::model::Space::Spatial) + 2;
     let labels: Vec<i64> = results

@@ -10,7 +10,7 @@ use super::convert::{
 };
 use super::errors::{value_error, BindError, BindResult};
 use super::interrupt;
-use super::progress::PyProgress;
+use super::progress::Sink;
 use passive_assoc_core::data::Sensors;
 use passive_assoc_core::error::ensure_finite;
 use passive_assoc_core::fti::closeness::closeness_batch;
@@ -20,7 +20,6 @@ use passive_assoc_core::fti::{
     StageCounts as CoreCounts, StageSeconds as CoreSeconds,
 };
 use passive_assoc_core::parallel::with_threads;
-use passive_assoc_core::progress::{Progress, Silent};
 
 /// The membership spreads per sensor, (azimuth, elevation), radians.
 type SpreadArrays<'py> = (PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, f64>);
@@ -142,19 +141,14 @@ pub fn initiate(
     let options = settings.options(pair_list(slice2("pairs", &pairs, 2)?)?)?;
     let n_threads = threads(settings.n_threads)?;
     let t0 = settings.t0;
-    let sink = progress.map(PyProgress::new);
-    let reported: &dyn Progress = match &sink {
-        Some(sink) => sink,
-        None => &Silent,
-    };
+    let sink = Sink::new(progress);
+    let reported = sink.progress();
     let result = interrupt::detach(py, || {
         with_threads(n_threads, || {
             initiate_reporting(&network, &table, &spreads, t0, &options, reported)
         })
     })??;
-    if let Some(error) = sink.and_then(PyProgress::into_error) {
-        return Err(error.into());
-    }
+    sink.finish()?;
     initiation_output(py, result?)
 }
 

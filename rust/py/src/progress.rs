@@ -8,15 +8,40 @@ use std::time::{Duration, Instant};
 
 use pyo3::prelude::*;
 
-use passive_assoc_core::progress::Progress;
+use passive_assoc_core::progress::{Progress, Silent};
 
 /// Least time between two reports of one stage that reach Python.
 const INTERVAL: Duration = Duration::from_millis(200);
 
+/// A binding's optional `progress` argument as the core sees it: the callable's sink, or
+/// [`Silent`] without one.
+pub struct Sink(Option<PyProgress>);
+
+impl Sink {
+    pub fn new(callback: Option<Py<PyAny>>) -> Self {
+        Self(callback.map(PyProgress::new))
+    }
+
+    pub fn progress(&self) -> &dyn Progress {
+        match &self.0 {
+            Some(sink) => sink,
+            None => &Silent,
+        }
+    }
+
+    /// What the callable raised, to raise once the call is over.
+    pub fn finish(self) -> PyResult<()> {
+        match self.0.and_then(PyProgress::into_error) {
+            Some(error) => Err(error),
+            None => Ok(()),
+        }
+    }
+}
+
 /// A Python callable as a core progress sink. The first error the callable raises is kept
 /// (later reports are dropped) for the binding to raise when the call ends.
 #[derive(Debug)]
-pub struct PyProgress {
+struct PyProgress {
     callback: Py<PyAny>,
     state: Mutex<Forwarded>,
 }
@@ -28,7 +53,7 @@ struct Forwarded {
 }
 
 impl PyProgress {
-    pub fn new(callback: Py<PyAny>) -> Self {
+    fn new(callback: Py<PyAny>) -> Self {
         Self {
             callback,
             state: Mutex::new(Forwarded::default()),
@@ -36,7 +61,7 @@ impl PyProgress {
     }
 
     /// What the callable raised, if it did.
-    pub fn into_error(self) -> Option<PyErr> {
+    fn into_error(self) -> Option<PyErr> {
         self.state.into_inner().ok().and_then(|state| state.error)
     }
 }

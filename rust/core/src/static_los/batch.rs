@@ -18,6 +18,7 @@ use crate::assign::{CandidateSet, SdProblem};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;
+use crate::progress::{Progress, Tally};
 
 /// The solver each scan's candidates go to.
 #[derive(Debug, Clone)]
@@ -49,14 +50,15 @@ pub struct ScanResult {
 /// (row-major `scans × S`), or is `None` for each scan's default from its own reports
 /// ([`false_alarms`](super::false_alarms)).
 ///
-/// Fails on invalid input (naming the scan), or with `Interrupted` on a stop request.
+/// Fails on invalid input (naming the scan), or with `Interrupted` on a stop request. Reports
+/// the scans done to `progress` (stage `"scans"`).
 pub fn associate_scans(
     sensors: &Sensors<'_>,
     table: &Measurements<'_>,
     scans: Scans<'_>,
     (pd, false_alarm_density): (&[f64], Option<&[f64]>),
-    enumerate: &EnumerateOptions,
-    solver: &ScanSolver,
+    (enumerate, solver): (&EnumerateOptions, &ScanSolver),
+    progress: &dyn Progress,
 ) -> CoreResult<Vec<ScanResult>> {
     let n_scans = scans.offsets.len().saturating_sub(1);
     let s = sensors.len();
@@ -81,6 +83,7 @@ pub fn associate_scans(
         ));
     }
     let spatial = sensors.space() == Space::Spatial;
+    let tally = Tally::new(progress, "scans", n_scans as u64);
     (0..n_scans)
         .into_par_iter()
         .map(|k| {
@@ -92,7 +95,9 @@ pub fn associate_scans(
                 Some(given) => Cow::Borrowed(&given[k * s..(k + 1) * s]),
                 None => Cow::Owned(table_density(table, rows.iter().copied(), s, spatial)),
             };
-            one_scan(sensors, table, rows, (pd, &density), enumerate, solver)
+            let result = one_scan(sensors, table, rows, (pd, &density), enumerate, solver);
+            tally.advance(1);
+            result
         })
         .collect()
 }
