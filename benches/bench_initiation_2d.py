@@ -4,7 +4,7 @@ support gate. Prints the time, the tracks, how many rows of each track are one t
 the stage counts.
 
     python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
-        [--repeat N] [--threads T]
+        [--repeat N] [--threads T] [--passes]
     python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9] [--gate-pd 0.9]
         [--search-stage 2048]
 """
@@ -66,6 +66,29 @@ def found_over_seeds(
     )
 
 
+class PassClock:
+    """A ``progress`` callable that keeps when each stage began and ended, from the call's start
+    (the wall time of each pass's candidate formation and search)."""
+
+    def __init__(self) -> None:
+        self.start = time.perf_counter()
+        self.spans: list[tuple[str, float, float]] = []  # (stage, began, ended)
+
+    def __call__(self, stage: str, fraction: float) -> None:
+        now = time.perf_counter() - self.start
+        if self.spans and self.spans[-1][0] == stage:
+            self.spans[-1] = (stage, self.spans[-1][1], now)
+        else:
+            self.spans.append((stage, now, now))
+
+    def summary(self) -> str:
+        passes, parts = 0, []
+        for stage, began, ended in self.spans:
+            passes += stage == "candidates"
+            parts.append(f"pass {passes} {stage} {ended - began:.3f}")
+        return ", ".join(parts)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--targets", type=int, nargs="+", default=[5, 8])
@@ -81,6 +104,7 @@ def main() -> None:
         "--search-stage", default=None, help="search_stage: an integer or 'none' (default: its default)"
     )
     parser.add_argument("--detection-order", default=None, help="detection_order (default: its default)")
+    parser.add_argument("--passes", action="store_true", help="also print each pass's stage times (last run)")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
@@ -99,8 +123,9 @@ def main() -> None:
             )
             times, rss_before = [], peak_rss_mb()
             for _ in range(args.repeat):
-                start = time.perf_counter()
-                result = initiator.initiate(scenario.measurements, scenario.sensors)
+                start, clock = time.perf_counter(), PassClock()
+                passes = {"progress": clock} if args.passes else {}  # older builds lack the argument
+                result = initiator.initiate(scenario.measurements, scenario.sensors, **passes)
                 times.append(time.perf_counter() - start)
             truth = scenario.measurements.truth
             assert truth is not None
@@ -117,6 +142,8 @@ def main() -> None:
             seconds = ", ".join(f"{k} {v:.3f}" for k, v in result.diagnostics.stage_seconds.items())
             print(f"  stage seconds (last run) {seconds}")
             print(f"  stage counts {result.diagnostics.stage_counts}")
+            if args.passes:
+                print(f"  seconds by pass and stage (last run, from the progress reports) {clock.summary()}")
             print(f"  peak RSS of the process {rss_before:.0f} MB before the initiations, {peak_rss_mb():.0f} MB after")
 
 

@@ -7,11 +7,14 @@ from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
+import numpy as np
 from tqdm import tqdm
 
-__all__ = ["StageBar", "stage_bar"]
+__all__ = ["ProgressArg", "StageBar", "reporting"]
 
 #: A stage's percentage and the call's elapsed time (a rate or ETA across stages would mislead).
 BAR = "{desc}{percentage:3.0f}%|{bar}| {elapsed}"
@@ -71,8 +74,26 @@ class StageBar:
             self.bar.close()
 
 
-def stage_bar(progress: bool | None, first_stage: str | None = None) -> StageBar | None:
-    """The bar ``progress`` asks for: None when False (the core then reports to nobody)."""
+#: What a ``progress`` argument may be: a bar on a terminal after a while (None), always
+#: (True), never (False), or a callable of your own that receives every ``(stage, fraction)``.
+ProgressArg = bool | None | Callable[[str, float], object]
+
+
+@contextmanager
+def reporting(progress: ProgressArg, first_stage: str | None = None) -> Iterator[Callable[[str, float], object] | None]:
+    """What the core reports to for ``progress`` (checked), closing the bar it draws, if any."""
+    if isinstance(progress, np.bool_):
+        progress = bool(progress)
     if progress is False:
-        return None
-    return StageBar(first_stage, always=progress is True)
+        yield None  # the core then reports to nobody
+    elif progress is None or progress is True:
+        bar = StageBar(first_stage, always=progress is True)
+        try:
+            yield bar
+        finally:
+            bar.close()
+    elif callable(progress):
+        yield progress
+    else:
+        kind = type(progress).__name__
+        raise TypeError(f"progress: expected a bool, None or a callable (stage, fraction), got {kind} {progress!r}")

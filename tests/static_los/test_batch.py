@@ -5,9 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import passive_assoc as pa
-import passive_assoc.static_los.batch as batch_module
 import pytest
-from passive_assoc._progress import StageBar
 from passive_assoc.simulation import static_scan
 
 
@@ -57,9 +55,7 @@ def test_thread_count_and_scan_columns() -> None:
         pa.associate_scans(table, sensors, method="exact", exact_backend="highs")
 
 
-def test_the_progress_bar_counts_scans_and_changes_nothing(
-    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_the_progress_bar_counts_scans_and_changes_nothing(capsys: pytest.CaptureFixture[str]) -> None:
     table, sensors = stream(12)
     shown = pa.associate_scans(table, sensors, method="lagrangian", progress=True)
     assert "scans:   0%" in capsys.readouterr().err
@@ -67,21 +63,13 @@ def test_the_progress_bar_counts_scans_and_changes_nothing(
     assert capsys.readouterr().err == "" and np.array_equal(shown.labels, quiet.labels)
 
     reports: list[tuple[str, float]] = []
-
-    class Recording(StageBar):
-        def __call__(self, stage: str, fraction: float) -> None:
-            reports.append((stage, fraction))
-
-    class Failing(StageBar):
-        def __call__(self, stage: str, fraction: float) -> None:
-            raise RuntimeError(f"the bar broke at {stage}")
-
-    monkeypatch.setattr(batch_module, "stage_bar", lambda progress, first=None: Recording(first, always=False))
-    pa.associate_scans(table, sensors, method="lagrangian")
+    pa.associate_scans(table, sensors, method="lagrangian", progress=lambda *r: reports.append(r))
     fractions = [f for stage, f in reports if stage == "scans"]
     assert len(fractions) == len(reports) >= 2  # the start and the end at least (rate-limited)
     assert fractions[0] == 0.0 and fractions[-1] == 1.0 and fractions == sorted(fractions)
 
-    monkeypatch.setattr(batch_module, "stage_bar", lambda progress, first=None: Failing(first, always=False))
+    def failing(stage: str, fraction: float) -> None:
+        raise RuntimeError(f"the bar broke at {stage}")
+
     with pytest.raises(RuntimeError, match="the bar broke at scans"):
-        pa.associate_scans(table, sensors, method="lagrangian")
+        pa.associate_scans(table, sensors, method="lagrangian", progress=failing)

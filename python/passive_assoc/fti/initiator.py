@@ -22,7 +22,7 @@ from scipy.special import ndtri
 from .. import _core
 from .._inputs import check_pair
 from .._params import Boolean, Constraint, Interval, Options, validate
-from .._progress import stage_bar
+from .._progress import ProgressArg, reporting
 from .._settings import InitiationSettings
 from .._validation import as_float_scalar, as_int_array
 from ..data import MeasurementTable, SensorNetwork
@@ -299,7 +299,7 @@ class FuzzyTrackInitiator:
         sensors: SensorNetwork,
         *,
         t0: float | None = None,
-        progress: bool | None = None,
+        progress: ProgressArg = None,
     ) -> InitiationResult:
         """Find the targets in ``measurements``.
 
@@ -311,16 +311,17 @@ class FuzzyTrackInitiator:
         sensors : SensorNetwork
         t0 : float, optional
             Epoch of the returned initial states; default the earliest measurement time.
-        progress : bool, optional
+        progress : bool or callable, optional
             A progress bar on stderr (each pass's candidate formation and search): None shows
-            it on a terminal once the call has run 2 s, True always, False never.
+            it on a terminal once the call has run 2 s, True always, False never. A callable
+            gets every report instead, ``progress(stage, fraction)``: stages ``"candidates"``
+            and ``"search"``, once per pass, each from 0 to 1.
 
         Returns
         -------
         InitiationResult
         """
         table, network = check_pair(measurements, sensors)
-        shown = validate({"progress": progress}, {"progress": [Boolean(), None]})["progress"]
         epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
         spread_az, spread_el = self._spreads(sensors)
         settings = InitiationSettings(
@@ -345,13 +346,9 @@ class FuzzyTrackInitiator:
             search_stage=self.search_stage,
             n_threads=self.n_threads,
         )
-        bar = stage_bar(shown, "candidates")
-        try:
-            pairs, spreads = self._pairs(network.n_sensors), (spread_az, spread_el)
-            out = _core.initiate(table, network, pairs, spreads, settings, bar)
-        finally:
-            if bar is not None:
-                bar.close()
+        pairs, spreads = self._pairs(network.n_sensors), (spread_az, spread_el)
+        with reporting(progress, "candidates") as report:
+            out = _core.initiate(table, network, pairs, spreads, settings, report)
         labels = out.labels
         tracks = [
             InitiatedTrack(

@@ -16,8 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._inputs import check_pair
-from .._params import Boolean, validate
-from .._progress import stage_bar
+from .._progress import ProgressArg, reporting
 from .._settings import EnumerationSettings, IntensitySettings, SdSettings
 from ..assignment.sd import ASSIGN_SD_MAX_NODES
 from ..data import MeasurementTable, SensorNetwork
@@ -59,7 +58,7 @@ def associate_scans(
     scan: str | ArrayLike = "time",
     method: Method = "intensity",
     *,
-    progress: bool | None = None,
+    progress: ProgressArg = None,
     **settings: Any,
 ) -> ScanAssociation:
     """Associate every scan of a table in one call: per scan what :func:`associate_static`
@@ -76,9 +75,10 @@ def associate_scans(
         As :class:`StaticAssociator` (``n_threads`` sets the threads over scans). Not
         supported here: emitter ``attributes``; ``method="exact"`` runs the core's
         branch-and-bound (``exact_backend="branch_bound"``).
-    progress : bool, optional
+    progress : bool or callable, optional
         A progress bar over the scans on stderr: None shows it on a terminal once the call
-        has run 2 s, True always, False never.
+        has run 2 s, True always, False never; a callable gets every report instead,
+        ``progress("scans", fraction)``.
 
     Examples
     --------
@@ -94,7 +94,6 @@ def associate_scans(
     """
     associator = _associator(method, settings)
     table, network = check_pair(measurements, sensors)
-    shown = validate({"progress": progress}, {"progress": [Boolean(), None]})["progress"]
     if associator.attributes:
         raise ValueError("attributes: associate_scans does not take emitter attributes; use associate_static")
     if associator.method == "exact" and associator.exact_backend == "highs":
@@ -109,8 +108,7 @@ def associate_scans(
         )
     a = associator
     sd_method: Literal["lagrangian", "exact"] = "exact" if a.method == "exact" else "lagrangian"  # unused by intensity
-    bar = stage_bar(shown)
-    try:
+    with reporting(progress) as report:
         labels_in_order, per_scan, positions = _core.associate_scans(
             table,
             network,
@@ -124,11 +122,8 @@ def associate_scans(
                 sd_method, a.max_iter, a.gap_tol, ASSIGN_SD_MAX_NODES, a.time_limit, "auto", a.sensor_order, a.polish
             ),
             IntensitySettings(a.vote_fraction, a.valid_airspace, a.max_chains, None),
-            bar,
+            report,
         )
-    finally:
-        if bar is not None:
-            bar.close()
     first_target = np.concatenate([[0], np.cumsum(per_scan)]).astype(np.int64)
     labels = np.full(len(table), -1, dtype=np.int64)
     found = labels_in_order >= 0
