@@ -160,7 +160,7 @@ def _associate_partition(
     from .data.measurement_files import write_parquet
 
     table = MeasurementTable.from_parquet(source)
-    found = associate_scans(table, sensors, scan, progress=False, **settings)  # a worker: no bar
+    found = associate_scans(table, sensors, scan, **{**settings, "progress": False})  # a worker: no bar
     columns = {
         "row": np.arange(len(table), dtype=np.int64),
         "sensor": table.sensor,

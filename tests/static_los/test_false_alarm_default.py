@@ -66,17 +66,35 @@ def test_the_default_density_counts_the_excess_report() -> None:
 
 
 def numpy_reference(sensor: np.ndarray, angles: list[np.ndarray], n_sensors: int, p_false: float) -> np.ndarray:
-    """The rule in plain NumPy (``np.median``, ``ufunc.at``), as the library computed it
-    before the core did: the core must give the same densities to the bit."""
+    """The rule as the library computed it in NumPy until session 17 (6df669d's
+    ``default_false_alarm_density``, ``expected_false_alarms``, ``_median_last_axis`` and
+    ``_spans``, inlined): the core must give the same densities to the bit."""
+
+    def spans(sensor: np.ndarray, values: np.ndarray, counts: np.ndarray) -> np.ndarray:
+        order = np.lexsort((values, sensor))
+        ends = np.cumsum(counts)
+        present = counts > 0
+        out = np.full(len(counts), np.pi)
+        ordered = values[order]
+        out[present] = ordered[ends[present] - 1] - ordered[ends[present] - counts[present]]
+        return out
+
+    def median_last_axis(counts: np.ndarray) -> np.ndarray:
+        ordered = np.sort(counts, axis=-1)
+        n = ordered.shape[-1]
+        middle = ordered[..., n // 2 : n // 2 + 1].astype(np.float64)
+        if n % 2 == 0 and n > 0:
+            middle = 0.5 * (middle + ordered[..., n // 2 - 1 : n // 2])
+        return middle
+
+    ours = sensor < n_sensors
+    sensor = sensor[ours]
     counts = np.bincount(sensor, minlength=n_sensors)
-    area = np.ones(n_sensors)
-    for values in angles:
-        low, high = np.full(n_sensors, np.inf), np.full(n_sensors, -np.inf)
-        np.minimum.at(low, sensor, values)
-        np.maximum.at(high, sensor, values)
-        area = area * np.maximum(np.where(counts > 0, high - low, np.pi), 1e-3)
-    area = np.where(counts > 0, area, np.pi)
-    expected = np.maximum(p_false * np.maximum(counts, 1), counts - np.median(counts))
+    area = np.maximum(spans(sensor, angles[0][ours], counts), 1e-3)
+    if len(angles) == 2:
+        heights = np.maximum(spans(sensor, angles[1][ours], counts), 1e-3)
+        area = np.where(counts > 0, area * heights, area)
+    expected = np.maximum(p_false * np.maximum(counts, 1), counts - median_last_axis(counts))
     return np.maximum(expected / area, 1e-12)
 
 
@@ -86,14 +104,14 @@ def test_the_core_density_equals_the_numpy_rule(ndim: int) -> None:
     with_excess = 0
     for _ in range(300):
         n_sensors, n = int(rng.integers(1, 6)), int(rng.integers(0, 14))
-        sensor = rng.integers(0, n_sensors, n)
+        sensor = rng.integers(0, n_sensors + 1, n)  # some rows of a sensor beyond the network
         # Some repeated angles, so zero spans (clamped to 10⁻³) occur too.
         angles = [rng.choice([0.5, 0.5, *rng.uniform(-np.pi, np.pi, 3)], n) for _ in range(ndim - 1)]
         p_false = float(rng.choice([0.0, 0.05, 0.3]))
         elevation = angles[1] if ndim == 3 else None
         got = _core.default_false_alarm_density(sensor, angles[0], elevation, n_sensors, p_false)
         assert np.array_equal(got, numpy_reference(sensor, angles, n_sensors, p_false))
-        counts = np.bincount(sensor, minlength=n_sensors)
+        counts = np.bincount(sensor[sensor < n_sensors], minlength=n_sensors)
         with_excess += int(np.any(counts - np.median(counts) > p_false * np.maximum(counts, 1)))
     assert with_excess > 50  # the excess rule was exercised, not only the P_FA fraction
 
@@ -102,6 +120,8 @@ def test_the_density_helper_rejects_bad_input() -> None:
     table = hand_written_scan()
     with pytest.raises(ValueError, match="p_false"):
         default_false_alarm_density(table, 3, p_false=1.5)
+    with pytest.raises(ValueError, match="n_sensors"):
+        default_false_alarm_density(table, -1)
     with pytest.raises(ValueError, match="elevation: has 2 values"):
         _core.default_false_alarm_density(table.sensor, table.azimuth, np.zeros(2), 3, 0.05)
     with pytest.raises(ValueError, match="sensor: row 0 names sensor -1"):

@@ -314,8 +314,9 @@ class FuzzyTrackInitiator:
         progress : bool or callable, optional
             A progress bar on stderr (each pass's candidate formation and search): None shows
             it on a terminal once the call has run 2 s, True always, False never. A callable
-            gets every report instead, ``progress(stage, fraction)``: stages ``"candidates"``
-            and ``"search"``, once per pass, each from 0 to 1.
+            gets the reports instead, ``progress(stage, fraction)`` (stages ``"candidates"``
+            and ``"search"``, once per pass, each from 0 to 1; at most one every 0.2 s within
+            a stage), on one of the call's threads; what it raises is raised after the call.
 
         Returns
         -------

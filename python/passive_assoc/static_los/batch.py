@@ -77,8 +77,8 @@ def associate_scans(
         branch-and-bound (``exact_backend="branch_bound"``).
     progress : bool or callable, optional
         A progress bar over the scans on stderr: None shows it on a terminal once the call
-        has run 2 s, True always, False never; a callable gets every report instead,
-        ``progress("scans", fraction)``.
+        has run 2 s, True always, False never; a callable gets the reports instead,
+        ``progress("scans", fraction)``, at most one every 0.2 s, on one of the call's threads.
 
     Examples
     --------

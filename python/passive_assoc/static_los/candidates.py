@@ -48,6 +48,13 @@ def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) ->
     return arr
 
 
+#: Declared constraints of :func:`default_false_alarm_density`'s scalars.
+DENSITY_CONSTRAINTS: dict[str, list[Constraint]] = {
+    "n_sensors": [Interval(int, 0, None)],
+    "p_false": [Interval(float, 0.0, 1.0, closed="both")],
+}
+
+
 def default_false_alarm_density(
     measurements: MeasurementTable, n_sensors: int, p_false: float = 0.05
 ) -> NDArray[np.float64]:
@@ -62,9 +69,10 @@ def default_false_alarm_density(
     elevation) sector the sensor's reports span, each span at least 10⁻³ rad (π for a sensor
     without reports). Computed in the Rust core, as the solvers compute it when
     ``false_alarm_density`` is None."""
+    checked = validate({"n_sensors": n_sensors, "p_false": p_false}, DENSITY_CONSTRAINTS)
     elevation = measurements.elevation if measurements.ndim == 3 else None
     density: NDArray[np.float64] = _core.default_false_alarm_density(
-        measurements.sensor, measurements.azimuth, elevation, int(n_sensors), float(p_false)
+        measurements.sensor, measurements.azimuth, elevation, checked["n_sensors"], checked["p_false"]
     )
     return density
 

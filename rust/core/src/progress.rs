@@ -4,6 +4,7 @@
 //! one virtual call, and [`Silent`] ignores them.
 
 use std::fmt::Debug;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 
 /// Where a report goes. Reports may come from any thread of the pool, often; a sink that does
@@ -21,14 +22,19 @@ impl Progress for Silent {
     fn report(&self, _stage: &'static str, _fraction: f64) {}
 }
 
-/// Counts the units of one stage as threads finish them, and reports the fraction done. The
-/// count and its report are made under one lock, so the reports never go back.
+/// Counts the units of one stage as threads finish them, and reports the fraction done.
+///
+/// One thread reports at a time, under a lock it only tries: a thread that finds another
+/// reporting goes on with its work (the sink may be slow: the binding calls Python), and its
+/// units are in the next report. A report reads the count under the lock, so reports never go
+/// back; [`finish`](Self::finish) reports the end whoever held the lock last.
 #[derive(Debug)]
 pub struct Tally<'a> {
     sink: &'a dyn Progress,
     stage: &'static str,
     total: u64,
-    done: Mutex<u64>,
+    done: AtomicU64,
+    reported: Mutex<u64>,
 }
 
 impl<'a> Tally<'a> {
@@ -44,16 +50,32 @@ impl<'a> Tally<'a> {
             sink,
             stage,
             total,
-            done: Mutex::new(done),
+            done: AtomicU64::new(done),
+            reported: Mutex::new(done),
         }
     }
 
     /// `units` more are done.
     pub fn advance(&self, units: u64) {
-        // A poisoned lock (a panic in another report) only ends the reports.
-        if let Ok(mut done) = self.done.lock() {
-            *done += units;
-            self.sink.report(self.stage, fraction(*done, self.total));
+        self.done.fetch_add(units, Ordering::Relaxed);
+        // Busy (another thread is reporting) or poisoned (a panic in a report): skip this one.
+        if let Ok(reported) = self.reported.try_lock() {
+            self.report_locked(reported);
+        }
+    }
+
+    /// Reports the count now, waiting for the lock: the stage's last report.
+    pub fn finish(&self) {
+        if let Ok(reported) = self.reported.lock() {
+            self.report_locked(reported);
+        }
+    }
+
+    fn report_locked(&self, mut reported: std::sync::MutexGuard<'_, u64>) {
+        let done = self.done.load(Ordering::Relaxed);
+        if done > *reported {
+            *reported = done;
+            self.sink.report(self.stage, fraction(done, self.total));
         }
     }
 
@@ -93,6 +115,7 @@ mod tests {
         let tally = Tally::new(&sink, "search", 4);
         tally.advance(1);
         tally.advance(3);
+        tally.finish(); // nothing new since the last report: no report
         let steps = Tally::new(&sink, "candidates", 2);
         steps.within(1, 0.5);
         steps.within(1, 7.0); // a part past 1 counts as the unit done

@@ -75,8 +75,9 @@ pub fn associate_scans<'py>(
             core_associate_scans(&network, &table, scans, (pd, density), settings, reported)
         })
     })??;
-    sink.finish()?;
+    // The core's own error names the input; the bar's comes second.
     let results = results?;
+    sink.finish()?;
     let dim =
         usize::from(network.space() == passive_assoc_core::geometry::model::Space::Spatial) + 2;
     let labels: Vec<i64> = results

@@ -87,6 +87,7 @@ pub(super) fn search_and_detect(
         let taken = candidates.get_all(problem, &batch);
         let starts: Vec<&Candidate> = taken.iter().map(|c| c.as_ref()).collect();
         let optima = descend_all(pre, &starts, options.descent(), &tally);
+        tally.finish();
         drop(taken);
         // Moved, not copied, on the first stage: a one-stage pass holds them once.
         match out.optima.is_empty() {

@@ -84,7 +84,7 @@ pub fn associate_scans(
     }
     let spatial = sensors.space() == Space::Spatial;
     let tally = Tally::new(progress, "scans", n_scans as u64);
-    (0..n_scans)
+    let results = (0..n_scans)
         .into_par_iter()
         .map(|k| {
             if crate::parallel::interrupted() {
@@ -99,7 +99,9 @@ pub fn associate_scans(
             tally.advance(1);
             result
         })
-        .collect()
+        .collect();
+    tally.finish();
+    results
 }
 
 fn one_scan(
