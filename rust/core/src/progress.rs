@@ -88,6 +88,27 @@ impl<'a> Tally<'a> {
     }
 }
 
+impl Tally<'_> {
+    /// Unit `index` as a sink of its own: a report of `part` of it done is the stage's units
+    /// before it plus that part ([`within`](Self::within)), whatever stage it names.
+    pub fn unit(&self, index: u64) -> Unit<'_> {
+        Unit { tally: self, index }
+    }
+}
+
+/// One unit of a [`Tally`], reporting its own progress (see [`Tally::unit`]).
+#[derive(Debug)]
+pub struct Unit<'a> {
+    tally: &'a Tally<'a>,
+    index: u64,
+}
+
+impl Progress for Unit<'_> {
+    fn report(&self, _stage: &'static str, part: f64) {
+        self.tally.within(self.index, part);
+    }
+}
+
 fn fraction(done: u64, total: u64) -> f64 {
     if total == 0 {
         return 1.0;

@@ -151,10 +151,7 @@ pub fn generate(
             .saturating_add(firsts.len().saturating_mul(lasts.len()));
         // The combination reports how far through this slot it is; the tally makes that a
         // fraction of the whole stage.
-        let within = SlotProgress {
-            tally: &tally,
-            index: index as u64,
-        };
+        let within = tally.unit(index as u64);
         let slot_problem = Problem {
             progress: &within,
             ..*problem
@@ -164,20 +161,6 @@ pub fn generate(
     }
     set.seconds_enumerate = start.elapsed().as_secs_f64() - set.seconds_fit - set.seconds_support;
     Ok(set)
-}
-
-/// One slot's share of the candidate stage: a report of `part` of the slot done is the stage's
-/// slots before it plus that part.
-#[derive(Debug)]
-struct SlotProgress<'a> {
-    tally: &'a Tally<'a>,
-    index: u64,
-}
-
-impl Progress for SlotProgress<'_> {
-    fn report(&self, _stage: &'static str, part: f64) {
-        self.tally.within(self.index, part);
-    }
 }
 
 /// Pairs every row of `rows_a` with every row of `rows_b` under the ray gate and the
