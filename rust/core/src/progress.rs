@@ -116,19 +116,28 @@ fn fraction(done: u64, total: u64) -> f64 {
     (done as f64 / total as f64).min(1.0)
 }
 
+/// A sink that keeps every report, for tests.
+#[cfg(test)]
+#[derive(Debug, Default)]
+pub(crate) struct Recorded(Mutex<Vec<(&'static str, f64)>>);
+
+#[cfg(test)]
+impl Recorded {
+    pub(crate) fn reports(self) -> Vec<(&'static str, f64)> {
+        self.0.into_inner().expect("not poisoned")
+    }
+}
+
+#[cfg(test)]
+impl Progress for Recorded {
+    fn report(&self, stage: &'static str, fraction: f64) {
+        self.0.lock().expect("not poisoned").push((stage, fraction));
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{Progress, Tally};
-    use std::sync::Mutex;
-
-    #[derive(Debug, Default)]
-    struct Recorded(Mutex<Vec<(&'static str, f64)>>);
-
-    impl Progress for Recorded {
-        fn report(&self, stage: &'static str, fraction: f64) {
-            self.0.lock().expect("not poisoned").push((stage, fraction));
-        }
-    }
+    use super::{Recorded, Tally};
 
     #[test]
     fn a_tally_reports_fractions_of_its_stage() {
@@ -140,7 +149,7 @@ mod tests {
         let steps = Tally::new(&sink, "candidates", 2);
         steps.within(1, 0.5);
         steps.within(1, 7.0); // a part past 1 counts as the unit done
-        let got = sink.0.into_inner().expect("not poisoned");
+        let got = sink.reports();
         let expected = [
             ("search", 0.0),
             ("search", 0.25),

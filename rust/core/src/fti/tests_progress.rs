@@ -1,20 +1,9 @@
 //! The initiation's progress reports: what a progress bar is shown.
 
-use std::sync::Mutex;
-
 use super::sim;
 use super::tests::run;
 use super::{initiate_reporting, InitiationOptions};
-use crate::progress::Progress;
-
-#[derive(Debug, Default)]
-struct Recorded(Mutex<Vec<(&'static str, f64)>>);
-
-impl Progress for Recorded {
-    fn report(&self, stage: &'static str, fraction: f64) {
-        self.0.lock().expect("not poisoned").push((stage, fraction));
-    }
-}
+use crate::progress::Recorded;
 
 /// Each pass reports its candidate formation, then its search, each from 0 to 1 without going
 /// back; the reports change nothing in the answer.
@@ -28,7 +17,7 @@ fn each_pass_reports_its_stages_in_order_and_the_answer_is_unchanged() {
         let reported = initiate_reporting(&sensors, &table, &sc.spreads(), 0.0, &options, &sink)
             .expect("runs");
         assert_eq!(reported.labels, run(&sc, &options).expect("runs").labels);
-        let reports = sink.0.into_inner().expect("not poisoned");
+        let reports = sink.reports();
         // Runs of one stage, in the order they came.
         let mut runs: Vec<(&str, Vec<f64>)> = Vec::new();
         for (stage, fraction) in reports {
