@@ -86,9 +86,7 @@ impl<'a> Tally<'a> {
         self.sink
             .report(self.stage, (done / self.total.max(1) as f64).min(1.0));
     }
-}
 
-impl Tally<'_> {
     /// Unit `index` as a sink of its own: a report of `part` of it done is the stage's units
     /// before it plus that part ([`within`](Self::within)), whatever stage it names.
     pub fn unit(&self, index: u64) -> Unit<'_> {
