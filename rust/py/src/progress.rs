@@ -1,7 +1,7 @@
 //! The core's progress reports, forwarded to a Python callable `progress(stage, fraction)` (the
-//! package's `_progress.StageBar`). The callable runs under the GIL, taken for each report the
-//! core's thread forwards: at most one every [`INTERVAL`] within a stage, and every change of
-//! stage and every stage's end, so a bar costs the call nothing measurable.
+//! package's `_progress.StageBar`, or a user's own). The callable runs under the GIL, taken for
+//! each report a core thread forwards: at most one every [`INTERVAL`] within a stage, and every
+//! change of stage and every stage's end, so a bar costs the call nothing measurable.
 
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
