@@ -316,7 +316,7 @@ class FuzzyTrackInitiator:
             it on a terminal once the call has run 2 s, True always, False never. A callable
             gets the reports instead, ``progress(stage, fraction)`` (stages ``"candidates"``
             and ``"search"``, once per pass, each from 0 to 1; at most one every 0.2 s within
-            a stage), on one of the call's threads; what it raises is raised after the call.
+            a stage), on one of the call's threads; raising in it stops the call, and is raised.
 
         Returns
         -------

@@ -78,7 +78,8 @@ def associate_scans(
     progress : bool or callable, optional
         A progress bar over the scans on stderr: None shows it on a terminal once the call
         has run 2 s, True always, False never; a callable gets the reports instead,
-        ``progress("scans", fraction)``, at most one every 0.2 s, on one of the call's threads.
+        ``progress("scans", fraction)``, at most one every 0.2 s, on one of the call's threads;
+        raising in it stops the call, and is raised.
 
     Examples
     --------

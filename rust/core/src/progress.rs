@@ -12,6 +12,12 @@ use std::sync::Mutex;
 pub trait Progress: Sync + Debug {
     /// `stage` is `fraction` (in [0, 1]) done.
     fn report(&self, stage: &'static str, fraction: f64);
+
+    /// Whether the watcher wants the call to stop (the binding's: its callable raised). The
+    /// long loops poll it where they poll Ctrl-C, and the call then ends as interrupted.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// Ignores every report: the sink of calls nobody watches.
@@ -104,6 +110,10 @@ pub struct Unit<'a> {
 impl Progress for Unit<'_> {
     fn report(&self, _stage: &'static str, part: f64) {
         self.tally.within(self.index, part);
+    }
+
+    fn cancelled(&self) -> bool {
+        self.tally.sink.cancelled()
     }
 }
 

@@ -75,9 +75,7 @@ pub fn associate_scans<'py>(
             core_associate_scans(&network, &table, scans, (pd, density), settings, reported)
         })
     })??;
-    // The core's own error names the input; the bar's comes second.
-    let results = results?;
-    sink.finish()?;
+    let results = sink.settle(results)?;
     let dim =
         usize::from(network.space() == passive_assoc_core::geometry::model::Space::Spatial) + 2;
     let labels: Vec<i64> = results

@@ -148,10 +148,7 @@ pub fn initiate(
             initiate_reporting(&network, &table, &spreads, t0, &options, reported)
         })
     })??;
-    // The core's own error names the input; the bar's comes second.
-    let result = result?;
-    sink.finish()?;
-    initiation_output(py, result)
+    initiation_output(py, sink.settle(result)?)
 }
 
 fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<InitiationOutput> {

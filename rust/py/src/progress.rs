@@ -3,12 +3,16 @@
 //! each report a core thread forwards: at most one every [`INTERVAL`] within a stage, and every
 //! change of stage and every stage's end, so a bar costs the call nothing measurable.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use pyo3::prelude::*;
 
+use passive_assoc_core::error::{CoreError, CoreResult};
 use passive_assoc_core::progress::{Progress, Silent};
+
+use super::errors::BindResult;
 
 /// Least time between two reports of one stage that reach Python.
 const INTERVAL: Duration = Duration::from_millis(200);
@@ -29,21 +33,26 @@ impl Sink {
         }
     }
 
-    /// What the callable raised, to raise once the call is over.
-    pub fn finish(self) -> PyResult<()> {
-        match self.0.and_then(PyProgress::into_error) {
-            Some(error) => Err(error),
-            None => Ok(()),
+    /// The call's answer, once it is over. When the callable raised, the call stopped early
+    /// (it ends as interrupted) and the callable's error is raised; otherwise the call's own
+    /// error, which names the input, comes first.
+    pub fn settle<R>(self, result: CoreResult<R>) -> BindResult<R> {
+        let raised = self.0.and_then(PyProgress::into_error);
+        match (result, raised) {
+            (Err(CoreError::Interrupted) | Ok(_), Some(error)) => Err(error.into()),
+            (result, _) => Ok(result?),
         }
     }
 }
 
 /// A Python callable as a core progress sink. The first error the callable raises is kept
-/// (later reports are dropped) for the binding to raise when the call ends.
+/// (later reports are dropped), the call is asked to stop, and the binding raises the error.
 #[derive(Debug)]
 struct PyProgress {
     callback: Py<PyAny>,
     state: Mutex<Forwarded>,
+    /// Set once the callable raised: polled by the core's loops, so without the lock.
+    failed: AtomicBool,
 }
 
 #[derive(Debug, Default)]
@@ -57,6 +66,7 @@ impl PyProgress {
         Self {
             callback,
             state: Mutex::new(Forwarded::default()),
+            failed: AtomicBool::new(false),
         }
     }
 
@@ -81,6 +91,13 @@ impl Progress for PyProgress {
         }
         state.last = Some((now, stage));
         let called = Python::attach(|py| self.callback.call1(py, (stage, fraction)).map(drop));
-        state.error = called.err();
+        if let Err(error) = called {
+            state.error = Some(error);
+            self.failed.store(true, Ordering::Relaxed);
+        }
+    }
+
+    fn cancelled(&self) -> bool {
+        self.failed.load(Ordering::Relaxed)
     }
 }

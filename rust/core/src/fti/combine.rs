@@ -77,8 +77,8 @@ pub(super) fn combine_with(
     let blocks = firsts.len().div_ceil(BLOCK).max(1) as f64;
     for (done, block) in firsts.chunks(BLOCK).enumerate() {
         (problem.progress).report("candidates", done as f64 / blocks);
-        if crate::parallel::interrupted() {
-            return Ok(()); // the binding raises KeyboardInterrupt; nothing partial escapes
+        if problem.stopped() {
+            return Ok(()); // the pipeline ends as interrupted; nothing partial escapes
         }
         let passing: Vec<Vec<usize>> = block
             .par_iter()

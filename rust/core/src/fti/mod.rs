@@ -74,6 +74,11 @@ pub struct Problem<'a> {
 }
 
 impl Problem<'_> {
+    /// Whether the call should end now: Ctrl-C, or the progress watcher asked.
+    pub fn stopped(&self) -> bool {
+        crate::parallel::interrupted() || self.progress.cancelled()
+    }
+
     /// Row `m` as the model sees it.
     #[inline]
     pub fn observation(&self, m: usize) -> Observation {

@@ -163,7 +163,7 @@ impl Run {
         self.seconds.support += clock.elapsed().as_secs_f64();
 
         let set = candidates::generate(problem, scans, slots, mask, options, gate.as_ref())?;
-        stop_if_interrupted()?;
+        stop_if_stopped(problem)?;
         let mut counts = set.counts;
         self.seconds.candidates += set.seconds_enumerate;
         self.seconds.fit += set.seconds_fit;
@@ -179,7 +179,7 @@ impl Run {
             gate.as_ref(),
             available,
         );
-        stop_if_interrupted()?;
+        stop_if_stopped(problem)?;
         let seconds = clock.elapsed().as_secs_f64();
         let (detection, regate) = (searched.seconds_detection, searched.seconds_regate);
         self.seconds.descent += seconds - detection - regate;
@@ -366,7 +366,7 @@ pub(crate) fn candidates_of(
         .flat_map(|&p| scans.scan_slots(p, 1, false))
         .collect();
     let set = candidates::generate(&problem, &scans, &slots, None, options, None)?;
-    stop_if_interrupted()?;
+    stop_if_stopped(&problem)?;
     Ok((
         set.candidates.into_whole(&problem),
         set.counts,
@@ -375,10 +375,11 @@ pub(crate) fn candidates_of(
     ))
 }
 
-/// Ends the pipeline between stages when the user asked to stop: the stages after an
-/// interrupted one would otherwise run on its partial output (millions of descents).
-fn stop_if_interrupted() -> CoreResult<()> {
-    match crate::parallel::interrupted() {
+/// Ends the pipeline between stages when the user asked to stop (Ctrl-C, or the progress
+/// watcher): the stages after an interrupted one would otherwise run on its partial output
+/// (millions of descents).
+fn stop_if_stopped(problem: &Problem<'_>) -> CoreResult<()> {
+    match problem.stopped() {
         true => Err(CoreError::Interrupted),
         false => Ok(()),
     }

@@ -79,7 +79,7 @@ pub(super) fn search_and_detect(
     let mut batch: Vec<usize> = queue.drain(..stage.min(queue.len())).collect();
     let mut searched = 0u64;
     (problem.progress).report("search", 0.0);
-    while !batch.is_empty() && !crate::parallel::interrupted() {
+    while !batch.is_empty() && !problem.stopped() {
         // Of the candidates searched and those still queued (re-gating shrinks the queue).
         let all = searched + (batch.len() + queue.len()) as u64;
         let tally = Tally::resumed(problem.progress, "search", searched, all);
@@ -94,7 +94,7 @@ pub(super) fn search_and_detect(
             true => out.optima = optima,
             false => out.optima.extend(optima),
         }
-        if crate::parallel::interrupted() {
+        if problem.stopped() {
             break; // the pipeline raises; the descents' partial output is not merged
         }
         let order = merge(&out.optima, dim, options.merge_tol());

@@ -3,7 +3,8 @@
 use super::sim;
 use super::tests::run;
 use super::{initiate_reporting, InitiationOptions};
-use crate::progress::Recorded;
+use crate::error::CoreError;
+use crate::progress::{Progress, Recorded};
 
 /// Each pass reports its candidate formation, then its search, each from 0 to 1 without going
 /// back; the reports change nothing in the answer.
@@ -37,4 +38,38 @@ fn each_pass_reports_its_stages_in_order_and_the_answer_is_unchanged() {
             );
         }
     }
+}
+
+/// A watcher that cancels at its first report stops the call in its first stage: it ends as
+/// interrupted, before any search.
+#[test]
+fn a_cancelling_watcher_stops_the_call_before_the_search() {
+    #[derive(Debug, Default)]
+    struct Cancelling(Recorded);
+
+    impl Progress for Cancelling {
+        fn report(&self, stage: &'static str, fraction: f64) {
+            self.0.report(stage, fraction);
+        }
+
+        fn cancelled(&self) -> bool {
+            true
+        }
+    }
+
+    let sc = sim::paper(3, true, 8, 8);
+    let sensors = sc.sensors();
+    let table = sc.measurements(&sensors);
+    let sink = Cancelling::default();
+    let options = InitiationOptions::default();
+    let outcome = initiate_reporting(&sensors, &table, &sc.spreads(), 0.0, &options, &sink);
+    assert!(
+        matches!(outcome, Err(CoreError::Interrupted)),
+        "{outcome:?}"
+    );
+    let stages: Vec<&str> = sink.0.reports().iter().map(|(stage, _)| *stage).collect();
+    assert!(
+        !stages.is_empty() && stages.iter().all(|&s| s == "candidates"),
+        "{stages:?}"
+    );
 }

@@ -87,7 +87,7 @@ pub fn associate_scans(
     let results = (0..n_scans)
         .into_par_iter()
         .map(|k| {
-            if crate::parallel::interrupted() {
+            if crate::parallel::interrupted() || progress.cancelled() {
                 return Err(CoreError::Interrupted);
             }
             let rows = &scans.rows[scans.offsets[k]..scans.offsets[k + 1]];
