@@ -75,7 +75,8 @@ class StageBar:
 
 
 #: What a ``progress`` argument may be: a bar on a terminal after a while (None), always
-#: (True), never (False), or a callable of your own that receives every ``(stage, fraction)``.
+#: (True), never (False), or a callable of your own that receives the ``(stage, fraction)``
+#: reports instead (rate-limited by the binding).
 ProgressArg = bool | None | Callable[[str, float], object]
 
 

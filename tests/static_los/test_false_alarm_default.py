@@ -122,6 +122,10 @@ def test_the_density_helper_rejects_bad_input() -> None:
         default_false_alarm_density(table, 3, p_false=1.5)
     with pytest.raises(ValueError, match="n_sensors"):
         default_false_alarm_density(table, -1)
+    with pytest.raises(ValueError, match="n_sensors"):  # the result's length bounds its memory
+        default_false_alarm_density(table, 10**12)
+    with pytest.raises(ValueError, match="n_sensors: 1099511627776 exceeds the maximum"):
+        _core.default_false_alarm_density(table.sensor, table.azimuth, None, 2**40, 0.05)
     with pytest.raises(ValueError, match="elevation: has 2 values"):
         _core.default_false_alarm_density(table.sensor, table.azimuth, np.zeros(2), 3, 0.05)
     with pytest.raises(ValueError, match="sensor: row 0 names sensor -1"):

@@ -50,7 +50,7 @@ def _per_sensor(name: str, value: ArrayLike, n: int, low: float, high: float) ->
 
 #: Declared constraints of :func:`default_false_alarm_density`'s scalars.
 DENSITY_CONSTRAINTS: dict[str, list[Constraint]] = {
-    "n_sensors": [Interval(int, 0, None)],
+    "n_sensors": [Interval(int, 0, 2**20)],  # the core's MAX_SENSORS: the result's length
     "p_false": [Interval(float, 0.0, 1.0, closed="both")],
 }
 

@@ -16,7 +16,7 @@ use super::interrupt;
 use passive_assoc_core::assign::CandidateSet;
 use passive_assoc_core::geometry::model::Space;
 use passive_assoc_core::parallel::with_threads_unless_sequential;
-use passive_assoc_core::static_los::false_alarms::{check_p_false, scan_density, table_density};
+use passive_assoc_core::static_los::false_alarms::{check, scan_density, table_density};
 use passive_assoc_core::static_los::{
     enumerate_with_attributes, enumerates_sequentially, intensity_search as core_intensity_search,
     searches_sequentially, Candidates as CoreCandidates, DetectionModel, EnumerateOptions,
@@ -74,7 +74,7 @@ pub fn default_false_alarm_density<'py>(
     n_sensors: usize,
     p_false: f64,
 ) -> BindResult<Bound<'py, PyArrayDyn<f64>>> {
-    check_p_false(p_false)?;
+    check(n_sensors, p_false)?;
     let (sensor, azimuth) = (slice1("sensor", &sensor)?, slice1("azimuth", &azimuth)?);
     let elevation = match &elevation {
         Some(e) => Some(slice1("elevation", e)?),
@@ -100,7 +100,7 @@ pub fn default_false_alarm_density<'py>(
         ));
     }
     let reports = (0..sensor.len()).map(|m| {
-        // Beyond usize: not one of the sensors, so not counted (as any index ≥ n_sensors).
+        // Non-negative (checked above); an index past usize would not be a sensor either.
         let j = usize::try_from(sensor[m]).unwrap_or(usize::MAX);
         (j, azimuth[m], elevation.map_or(0.0, |e| e[m]))
     });

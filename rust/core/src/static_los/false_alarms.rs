@@ -62,8 +62,19 @@ impl Extent {
     }
 }
 
-/// Checks that `p_false` is a probability.
-pub fn check_p_false(p_false: f64) -> CoreResult<()> {
+/// Most sensors a density is asked for: the result holds one value per sensor, so a caller's
+/// `n_sensors` bounds its memory (a network has far fewer).
+pub const MAX_SENSORS: usize = 1 << 20;
+
+/// Checks the scalars a caller gives: at most [`MAX_SENSORS`] sensors, `p_false` a
+/// probability.
+pub fn check(n_sensors: usize, p_false: f64) -> CoreResult<()> {
+    if n_sensors > MAX_SENSORS {
+        return Err(CoreError::out_of_range(
+            "n_sensors",
+            format!("{n_sensors} exceeds the maximum of {MAX_SENSORS}"),
+        ));
+    }
     if (0.0..=1.0).contains(&p_false) {
         return Ok(());
     }
