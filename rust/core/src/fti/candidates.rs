@@ -26,10 +26,7 @@
 //! A ray pair without a unique meeting (parallel rays) fails every enabled geometric rule;
 //! with the rules off its candidate starts from the pseudo-linear solution instead.
 
-use std::time::Instant;
-
-use rayon::prelude::*;
-
+use super::batch::{Batch, ScanPairRays};
 use super::combine;
 use super::pool::Pool;
 use super::scans::Scans;
@@ -41,6 +38,7 @@ use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::los::{closest_points, direction, intersect_bearings, pseudo_linear_state};
 use crate::geometry::model::{Observation, Space, MAX_DIM};
 use crate::progress::{Progress, Tally};
+use std::time::Instant;
 
 /// Candidate fits stop once the Gauss-Newton step is shorter than this many standard
 /// deviations (Mahalanobis). The remaining χ² decrease is then of order its square (0.01),
@@ -48,10 +46,6 @@ use crate::progress::{Progress, Tally};
 /// instead of at 1e-6 σ halves the fitting time (clutter 4-tuples have large residuals and
 /// Gauss-Newton converges only linearly on them).
 const CANDIDATE_STEP_SIGMAS: f64 = 0.1;
-
-/// Candidates fitted per parallel batch: large enough to feed every thread, small enough that
-/// the unfitted 4-tuples never take noticeable memory.
-pub(super) const CHUNK: usize = 2048;
 
 /// A fitted candidate: its rows (a-first, b-first, a-last, b-last), X0, the fit's standard
 /// deviations and the lower Cholesky factor of its covariance (the descent's scalings).
@@ -122,10 +116,23 @@ pub fn generate(
     options: &InitiationOptions,
     gate: Option<&Gate<'_>>,
 ) -> CoreResult<CandidateSet> {
+    let batch = Batch::new(problem, options, gate);
+    generate_in(problem, scans, slots, available, options, batch)
+}
+
+/// [`generate`], fitting in `batch` (whose limits the tests shrink).
+pub(super) fn generate_in(
+    problem: &Problem<'_>,
+    scans: &Scans,
+    slots: &[[usize; 4]],
+    available: Option<&[bool]>,
+    options: &InitiationOptions,
+    mut batch: Batch<'_>,
+) -> CoreResult<CandidateSet> {
     let start = Instant::now();
     let mut set = CandidateSet {
         // Compact past one stage when the gate scores them (module `pool`).
-        candidates: Pool::new(gate.and(options.search_stage())),
+        candidates: Pool::new(options.search_stage().filter(|_| batch.gated())),
         ..CandidateSet::default()
     };
     let rows_of = |k: usize| -> Vec<usize> {
@@ -133,6 +140,7 @@ pub fn generate(
         rows.filter(|&m| available.is_none_or(|a| a[m])).collect()
     };
     let tally = Tally::new(problem.progress, "candidates", slots.len() as u64);
+    // One batch across the slots (module `batch`).
     for (index, &slot) in slots.iter().enumerate() {
         let [sa1, sb1, sa2, sb2] = slot.map(rows_of);
         let raw = [sa1.len(), sb1.len(), sa2.len(), sb2.len()]
@@ -156,8 +164,15 @@ pub fn generate(
             progress: &within,
             ..*problem
         };
-        combine::combine(&slot_problem, &firsts, &lasts, options, gate, &mut set)?;
+        let rays = ScanPairRays {
+            firsts: firsts.into(),
+            lasts: lasts.into(),
+        };
+        combine::combine(&slot_problem, &rays, options, (&mut batch, &mut set))?;
         within.report("candidates", 1.0);
+    }
+    if !problem.stopped() {
+        batch.flush(&mut set)?;
     }
     set.seconds_enumerate = start.elapsed().as_secs_f64() - set.seconds_fit - set.seconds_support;
     Ok(set)
@@ -253,56 +268,8 @@ fn ray_gate_passes(problem: &Problem<'_>, pair: &RayPair, options: &InitiationOp
     m.distance <= gate * noise + motion
 }
 
-/// Fits one chunk in parallel (collected in order), applies the χ² gate and then the support
-/// `gate` (when on), and keeps the survivors. Gating each chunk as it is fitted, instead of
-/// every candidate after all are fitted, keeps only the survivors in memory (6 145 of the
-/// 465 152 fitted on issue 16's 2-D scene, each ≈ 0.45 kB; peak RSS 208 → 111 MB).
-pub(super) fn fit_chunk(
-    problem: &Problem<'_>,
-    chunk: &[(&RayPair, &RayPair)],
-    options: &InitiationOptions,
-    gate: Option<&Gate<'_>>,
-    set: &mut CandidateSet,
-) -> CoreResult<()> {
-    let start = Instant::now();
-    let fitted: Vec<Option<Candidate>> = chunk
-        .par_iter()
-        .map(|(f, l)| fit_candidate(problem, f, l))
-        .collect();
-    let chi2_gate = match problem.layout.space {
-        Space::Spatial => options.chi2_gate(),
-        Space::Planar => None, // 0 degrees of freedom: see the module doc
-    };
-    let mut passed = Vec::with_capacity(fitted.len());
-    for candidate in fitted.into_iter().flatten() {
-        set.counts.fitted += 1;
-        if chi2_gate.is_some_and(|g| candidate.chi2.is_nan() || candidate.chi2 > g) {
-            continue;
-        }
-        set.counts.chi2_gate += 1;
-        passed.push(candidate);
-    }
-    set.seconds_fit += start.elapsed().as_secs_f64();
-
-    let start = Instant::now();
-    let keep: Vec<Option<f64>> = match gate {
-        Some(g) => passed.par_iter().map(|c| g.keeps(problem, c)).collect(),
-        None => vec![None; passed.len()],
-    };
-    for (mut candidate, score) in passed.into_iter().zip(keep) {
-        if gate.is_some() && score.is_none() {
-            continue;
-        }
-        candidate.support_score = score;
-        set.counts.supported += 1;
-        (set.candidates).push(candidate, "fitted candidates", OOM_HINT)?;
-    }
-    set.seconds_support += start.elapsed().as_secs_f64();
-    Ok(())
-}
-
 /// What to do when the candidates outgrow memory (max_candidates bounds them only by count).
-const OOM_HINT: &str =
+pub(super) const OOM_HINT: &str =
     "lower max_candidates, set v_max, tighten ray_gate_sigmas or enable reject_behind";
 
 /// Gauss-Newton fit of the 4 measurements from the triangulated start; `None` when the fit

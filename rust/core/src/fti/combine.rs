@@ -18,9 +18,9 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::candidates::{fit_chunk, CandidateSet, RayPair, CHUNK};
+use super::batch::{Batch, ScanPairRays};
+use super::candidates::{CandidateSet, RayPair};
 use super::motion_gate;
-use super::support::Gate;
 use super::{InitiationOptions, Problem};
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;
@@ -36,29 +36,28 @@ const BLOCK: usize = 64;
 /// Below this many cubes along the scene's longest side the grid prunes too little to pay.
 const MIN_CELLS_ACROSS: f64 = 4.0;
 
-/// Combines `firsts` × `lasts` (module doc) and fits the survivors into `set`.
+/// Combines a scan pair's first × last ray pairs (module doc) and adds the survivors to
+/// `batch`, which fits them into `set` as it fills (the caller flushes the rest).
 pub(super) fn combine(
     problem: &Problem<'_>,
-    firsts: &[RayPair],
-    lasts: &[RayPair],
+    rays: &ScanPairRays,
     options: &InitiationOptions,
-    gate: Option<&Gate<'_>>,
-    set: &mut CandidateSet,
+    (batch, set): (&mut Batch<'_>, &mut CandidateSet),
 ) -> CoreResult<()> {
+    let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
     let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
-    combine_with(problem, firsts, lasts, grid.as_ref(), options, gate, set)
+    combine_with(problem, rays, grid.as_ref(), options, (batch, set))
 }
 
 /// [`combine`] with the grid given (`None`: test every last pair).
 pub(super) fn combine_with(
     problem: &Problem<'_>,
-    firsts: &[RayPair],
-    lasts: &[RayPair],
+    rays: &ScanPairRays,
     grid: Option<&Grid>,
     options: &InitiationOptions,
-    gate: Option<&Gate<'_>>,
-    set: &mut CandidateSet,
+    (batch, set): (&mut Batch<'_>, &mut CandidateSet),
 ) -> CoreResult<()> {
+    let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
     let work: usize = match grid {
         Some(g) => firsts.par_iter().map(|f| g.count_near(f)).sum(),
         None => firsts.len().saturating_mul(lasts.len()),
@@ -73,7 +72,7 @@ pub(super) fn combine_with(
                    max_candidates (the cap is 200 tests per allowed candidate)",
         });
     }
-    let mut chunk: Vec<(&RayPair, &RayPair)> = Vec::with_capacity(CHUNK);
+    let pair = batch.begin(rays.clone(), set)?;
     let blocks = firsts.len().div_ceil(BLOCK).max(1) as f64;
     for (done, block) in firsts.chunks(BLOCK).enumerate() {
         (problem.progress).report("candidates", done as f64 / blocks);
@@ -93,7 +92,8 @@ pub(super) fn combine_with(
                 }
             })
             .collect();
-        for (f, survivors) in block.iter().zip(passing) {
+        for (i, survivors) in passing.into_iter().enumerate() {
+            let f = done * BLOCK + i;
             for l in survivors {
                 set.counts.v_max += 1;
                 if set.counts.v_max > options.max_candidates() {
@@ -105,15 +105,11 @@ pub(super) fn combine_with(
                                sensor pairs, or raise max_candidates",
                     });
                 }
-                chunk.push((f, &lasts[l]));
-                if chunk.len() == CHUNK {
-                    fit_chunk(problem, &chunk, options, gate, set)?;
-                    chunk.clear();
-                }
+                batch.push([pair, f, l], set)?;
             }
         }
     }
-    fit_chunk(problem, &chunk, options, gate, set)
+    Ok(())
 }
 
 pub(super) fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) -> bool {
@@ -259,34 +255,26 @@ mod tests {
                     .expect("fits")
                     .0
             };
-            let (firsts, lasts) = (pairs(a1, b1), pairs(a2, b2));
-            let grid = Grid::new(sc.space, &firsts, &lasts, options.v_max()).expect("applies");
+            let rays = ScanPairRays {
+                firsts: pairs(a1, b1).into(),
+                lasts: pairs(a2, b2).into(),
+            };
+            let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
+            let grid = Grid::new(sc.space, firsts, lasts, options.v_max()).expect("applies");
             let tests: usize = firsts.iter().map(|f| grid.count_near(f)).sum();
             assert!(
                 tests < firsts.len() * lasts.len() / 2,
                 "seed {seed}: {tests}"
             );
-            let (mut with, mut without) = (CandidateSet::default(), CandidateSet::default());
-            combine_with(
-                &problem,
-                &firsts,
-                &lasts,
-                Some(&grid),
-                &options,
-                None,
-                &mut with,
-            )
-            .expect("runs");
-            combine_with(
-                &problem,
-                &firsts,
-                &lasts,
-                None,
-                &options,
-                None,
-                &mut without,
-            )
-            .expect("runs");
+            let combined = |grid: Option<&Grid>| {
+                let mut batch = Batch::new(&problem, &options, None);
+                let mut set = CandidateSet::default();
+                let sink = (&mut batch, &mut set);
+                combine_with(&problem, &rays, grid, &options, sink).expect("runs");
+                batch.flush(&mut set).expect("fits");
+                set
+            };
+            let (with, without) = (combined(Some(&grid)), combined(None));
             assert!(with.counts.v_max > 0, "seed {seed}: nothing to compare");
             assert_eq!(with.counts.v_max, without.counts.v_max, "seed {seed}");
             assert_eq!(with.candidates, without.candidates, "seed {seed}");
@@ -294,16 +282,10 @@ mod tests {
             if tests >= 400 {
                 capped += 1;
                 let few = options.with_max_candidates(tests / 400).expect("valid");
+                let mut batch = Batch::new(&problem, &few, None);
                 let mut none = CandidateSet::default();
-                match combine_with(
-                    &problem,
-                    &firsts,
-                    &lasts,
-                    Some(&grid),
-                    &few,
-                    None,
-                    &mut none,
-                ) {
+                let sink = (&mut batch, &mut none);
+                match combine_with(&problem, &rays, Some(&grid), &few, sink) {
                     Err(CoreError::CapExceeded { count, .. }) => assert_eq!(count, tests),
                     other => panic!("seed {seed}: {other:?}"),
                 }

@@ -21,6 +21,7 @@
 //! Parallel stages (fits, descents, final fits) run on rayon and collect in input order; the
 //! sequential stages are order-defined, so results are bit-identical for any thread count.
 
+mod batch;
 pub mod candidates;
 pub mod closeness;
 mod combine;
