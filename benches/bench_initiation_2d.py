@@ -4,7 +4,7 @@ support gate. Prints the time, the tracks, how many rows of each track are one t
 the stage counts.
 
     python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
-        [--repeat N] [--threads T] [--passes]
+        [--repeat N] [--threads T] [--passes] [--busy-core]
     python3 benches/bench_initiation_2d.py --targets 5 --pd 0.9 --seeds 20 [--n-detect 9] [--gate-pd 0.9]
         [--search-stage 2048]
 """
@@ -12,8 +12,12 @@ the stage counts.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import resource
+import subprocess
+import sys
 import time
+from collections.abc import Iterator
 
 import numpy as np
 import passive_assoc as pa
@@ -89,6 +93,22 @@ class PassClock:
         return ", ".join(parts)
 
 
+@contextlib.contextmanager
+def busy_core(on: bool) -> Iterator[None]:
+    """With ``on``, a second process spins on one core throughout: a shared machine, where one
+    of the initiation's threads is now and then descheduled."""
+    if not on:
+        yield
+        return
+    spinner = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        time.sleep(0.2)  # let it start before the clock does
+        yield
+    finally:
+        spinner.kill()
+        spinner.wait()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--targets", type=int, nargs="+", default=[5, 8])
@@ -105,6 +125,7 @@ def main() -> None:
     )
     parser.add_argument("--detection-order", default=None, help="detection_order (default: its default)")
     parser.add_argument("--passes", action="store_true", help="also print each pass's stage times (last run)")
+    parser.add_argument("--busy-core", action="store_true", help="time it while another process spins on one core")
     args = parser.parse_args()
     if args.seeds:
         for n in args.targets:
@@ -112,6 +133,12 @@ def main() -> None:
                 n, args.pd, args.seeds, args.n_detect, args.gate_pd, args.search_stage, args.detection_order
             )
         return
+    with busy_core(args.busy_core):
+        timed(args)
+
+
+def timed(args: argparse.Namespace) -> None:
+    """Each case of ``args``, timed and printed."""
     for n in args.targets:
         scenario = pa.bearing_only_2d_scenario(3, n_targets=n, n_sensors=3, clutter_ratio=2)
         for gate in (True, False) if args.no_gate_too else (True,):
