@@ -1,10 +1,11 @@
 //! Fitting and gating the candidates that survive combination, in large parallel batches.
 //!
-//! Each batch is two parallel regions (fits, then gates) with serial steps between them, and
-//! small regions leave the second thread idle: on issue 16's 2-D scene, pass 1 on two
-//! threads, the support stage took 0.65–0.72 s with batches of 2 048 against 0.80–0.90 s on
-//! one thread, and 0.50–0.58 s with 16 384 (docs/performance.md, *Session 18*). So a batch
-//! gathers the 4-tuples of several scan pairs instead of ending with each: pass 2 combines
+//! Each batch is two parallel regions (fits, then gates) with serial steps between them. Each
+//! region ends when its slowest thread does, so many small regions lose most where a thread
+//! is now and then descheduled (a shared machine): batches of 2 048, ended with every scan
+//! pair, made the initiation of issue 16's 2-D scene slower there in most runs, and no
+//! faster on a quiet machine (docs/performance.md, *Session 18*, with the spread). So a
+//! batch gathers the 4-tuples of several scan pairs instead of ending with each: pass 2 combines
 //! fifteen slots per sensor pair, most with far fewer survivors than a batch. It holds each
 //! 4-tuple as indices into its scan pair's ray pairs, which it shares (`Arc`) until fitted:
 //! rebuilding the ray pairs from the rows instead costs sixteen sines and cosines a 4-tuple,
