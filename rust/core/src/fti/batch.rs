@@ -8,8 +8,8 @@
 //! batch gathers the 4-tuples of several scan pairs instead of ending with each: pass 2 combines
 //! fifteen slots per sensor pair, most with far fewer survivors than a batch. It holds each
 //! 4-tuple as indices into its scan pair's ray pairs, which it shares (`Arc`) until fitted:
-//! rebuilding the ray pairs from the rows instead costs sixteen sines and cosines a 4-tuple,
-//! and copying them costs a serial 0.4 kB a 4-tuple.
+//! rebuilding the two ray pairs from the rows would repeat their sines, cosines and meetings
+//! for every 4-tuple, and copying them would move 0.6 kB a 4-tuple on the serial path.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -26,7 +26,7 @@ use crate::geometry::model::Space;
 /// 16 384 × ≈ 0.45 kB ≈ 7 MB.
 pub(super) const BATCH: usize = 16_384;
 
-/// Past this many ray pairs held for unfitted 4-tuples (≈ 0.2 kB each) the batch is fitted
+/// Past this many ray pairs held for unfitted 4-tuples (0.3 kB each) the batch is fitted
 /// early, so that many sparse scan pairs cannot pile up their ray pairs.
 const MAX_HELD_PAIRS: usize = 1 << 18;
 
@@ -48,13 +48,12 @@ pub(super) struct Batch<'a> {
     /// The ray pairs of each scan pair begun, until no waiting 4-tuple needs them.
     held: Vec<Option<ScanPairRays>>,
     held_pairs: usize,
-    /// 4-tuples per batch, and ray pairs held before an early fit ([`BATCH`],
-    /// [`MAX_HELD_PAIRS`]; the tests shrink them).
-    limits: (usize, usize),
+    /// 4-tuples per batch ([`BATCH`]; the tests shrink it).
+    size: usize,
+    /// Ray pairs held before an early fit ([`MAX_HELD_PAIRS`]; the tests shrink it).
+    max_held_pairs: usize,
     /// `[scan pair, first, last]`: indices into `held` and its two lists.
     tuples: Vec<[usize; 3]>,
-    /// The fits of `tuples`, kept between batches so that each batch reuses their memory.
-    fitted: Vec<Option<Candidate>>,
 }
 
 impl<'a> Batch<'a> {
@@ -69,9 +68,9 @@ impl<'a> Batch<'a> {
             gate,
             held: Vec::new(),
             held_pairs: 0,
-            limits: (BATCH, MAX_HELD_PAIRS),
+            size: BATCH,
+            max_held_pairs: MAX_HELD_PAIRS,
             tuples: Vec::with_capacity(BATCH),
-            fitted: Vec::new(),
         }
     }
 
@@ -86,7 +85,7 @@ impl<'a> Batch<'a> {
         rays: ScanPairRays,
         set: &mut CandidateSet,
     ) -> CoreResult<usize> {
-        if self.held_pairs > self.limits.1 {
+        if self.held_pairs > self.max_held_pairs {
             self.flush(set)?;
         }
         self.held_pairs += rays.firsts.len() + rays.lasts.len();
@@ -102,7 +101,7 @@ impl<'a> Batch<'a> {
         set: &mut CandidateSet,
     ) -> CoreResult<()> {
         self.tuples.push([pair, first, last]);
-        if self.tuples.len() < self.limits.0 {
+        if self.tuples.len() < self.size {
             return Ok(());
         }
         self.flush(set)
@@ -125,21 +124,21 @@ impl<'a> Batch<'a> {
     /// instead of every candidate after all are fitted, keeps only the survivors in memory
     /// (6 145 of the 465 152 fitted on issue 16's 2-D scene, each ≈ 0.45 kB; peak RSS
     /// 208 → 111 MB).
-    fn fit_and_gate(&mut self, set: &mut CandidateSet) -> CoreResult<()> {
+    fn fit_and_gate(&self, set: &mut CandidateSet) -> CoreResult<()> {
         let (problem, options, gate) = (self.problem, self.options, self.gate);
         let start = Instant::now();
         let held = &self.held;
-        (self.tuples.par_iter())
+        let fitted: Vec<Option<Candidate>> = (self.tuples.par_iter())
             .map(|&[pair, first, last]| {
                 // Every waiting 4-tuple's scan pair is held (`flush`).
                 let rays = held.get(pair)?.as_ref()?;
                 fit_candidate(problem, rays.firsts.get(first)?, rays.lasts.get(last)?)
             })
-            .collect_into_vec(&mut self.fitted);
+            .collect();
         set.seconds_fit += start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let verdicts = judge(problem, &self.fitted, options, gate);
-        for (fit, verdict) in self.fitted.iter().zip(verdicts) {
+        let verdicts = judge(problem, &fitted, options, gate);
+        for (fit, verdict) in fitted.into_iter().zip(verdicts) {
             let Some(candidate) = fit else {
                 continue;
             };
@@ -154,7 +153,7 @@ impl<'a> Batch<'a> {
             set.counts.supported += 1;
             let kept = Candidate {
                 support_score: score,
-                ..candidate.clone()
+                ..candidate
             };
             (set.candidates).push(kept, "fitted candidates", OOM_HINT)?;
         }
@@ -163,8 +162,8 @@ impl<'a> Batch<'a> {
     }
 }
 
-/// The gates' verdict on each fit, in parallel. Gated where they were fitted, not copied
-/// out first: a serial copy of every fitted candidate held the second thread idle.
+/// The gates' verdict on each fit, in parallel, read where the fits lie: copying every fit
+/// out first (0.44 kB each) would be serial work, and only the survivors are moved.
 fn judge(
     problem: &Problem<'_>,
     fitted: &[Option<Candidate>],
@@ -227,7 +226,7 @@ mod tests {
             };
             let whole = run(Batch::new(&problem, &options, None));
             let mut small = Batch::new(&problem, &options, None);
-            small.limits = (7, 0);
+            (small.size, small.max_held_pairs) = (7, 0);
             let small = run(small);
             assert!(
                 whole.counts.fitted > 100 && slots.len() >= 9,

@@ -4,7 +4,7 @@
 //! The product of the four scans is never materialised. The first-scan rays of a and b are
 //! paired and the pair-level rules applied; likewise the last-scan rays; then surviving
 //! first-pairs × last-pairs are combined under the v_max rule (module `combine`: a grid over
-//! the meetings, parallel tests, a cap on the work) and fitted in chunks (in parallel,
+//! the meetings, parallel tests, a cap on the work) and fitted in large batches (module `batch`: in parallel,
 //! collected in order). The pruning rules, each optional:
 //!
 //! * **ray gate** (3-D only; `ray_gate` in σ): the two rays' closest-point distance must be
@@ -26,6 +26,8 @@
 //! A ray pair without a unique meeting (parallel rays) fails every enabled geometric rule;
 //! with the rules off its candidate starts from the pseudo-linear solution instead.
 
+use std::time::Instant;
+
 use super::batch::{Batch, ScanPairRays};
 use super::combine;
 use super::pool::Pool;
@@ -38,7 +40,6 @@ use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::los::{closest_points, direction, intersect_bearings, pseudo_linear_state};
 use crate::geometry::model::{Observation, Space, MAX_DIM};
 use crate::progress::{Progress, Tally};
-use std::time::Instant;
 
 /// Candidate fits stop once the Gauss-Newton step is shorter than this many standard
 /// deviations (Mahalanobis). The remaining χ² decrease is then of order its square (0.01),
@@ -116,6 +117,7 @@ pub fn generate(
     options: &InitiationOptions,
     gate: Option<&Gate<'_>>,
 ) -> CoreResult<CandidateSet> {
+    // One batch across the slots (module `batch`).
     let batch = Batch::new(problem, options, gate);
     generate_in(problem, scans, slots, available, options, batch)
 }
@@ -140,7 +142,6 @@ pub(super) fn generate_in(
         rows.filter(|&m| available.is_none_or(|a| a[m])).collect()
     };
     let tally = Tally::new(problem.progress, "candidates", slots.len() as u64);
-    // One batch across the slots (module `batch`).
     for (index, &slot) in slots.iter().enumerate() {
         let [sa1, sb1, sa2, sb2] = slot.map(rows_of);
         let raw = [sa1.len(), sb1.len(), sa2.len(), sb2.len()]
@@ -168,7 +169,7 @@ pub(super) fn generate_in(
             firsts: firsts.into(),
             lasts: lasts.into(),
         };
-        combine::combine(&slot_problem, &rays, options, (&mut batch, &mut set))?;
+        combine::combine(&slot_problem, &rays, options, &mut batch, &mut set)?;
         within.report("candidates", 1.0);
     }
     if !problem.stopped() {

@@ -42,11 +42,12 @@ pub(super) fn combine(
     problem: &Problem<'_>,
     rays: &ScanPairRays,
     options: &InitiationOptions,
-    (batch, set): (&mut Batch<'_>, &mut CandidateSet),
+    batch: &mut Batch<'_>,
+    set: &mut CandidateSet,
 ) -> CoreResult<()> {
     let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
     let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
-    combine_with(problem, rays, grid.as_ref(), options, (batch, set))
+    combine_with(problem, rays, grid.as_ref(), options, batch, set)
 }
 
 /// [`combine`] with the grid given (`None`: test every last pair).
@@ -55,7 +56,8 @@ pub(super) fn combine_with(
     rays: &ScanPairRays,
     grid: Option<&Grid>,
     options: &InitiationOptions,
-    (batch, set): (&mut Batch<'_>, &mut CandidateSet),
+    batch: &mut Batch<'_>,
+    set: &mut CandidateSet,
 ) -> CoreResult<()> {
     let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
     let work: usize = match grid {
@@ -269,8 +271,7 @@ mod tests {
             let combined = |grid: Option<&Grid>| {
                 let mut batch = Batch::new(&problem, &options, None);
                 let mut set = CandidateSet::default();
-                let sink = (&mut batch, &mut set);
-                combine_with(&problem, &rays, grid, &options, sink).expect("runs");
+                combine_with(&problem, &rays, grid, &options, &mut batch, &mut set).expect("runs");
                 batch.flush(&mut set).expect("fits");
                 set
             };
@@ -284,8 +285,7 @@ mod tests {
                 let few = options.with_max_candidates(tests / 400).expect("valid");
                 let mut batch = Batch::new(&problem, &few, None);
                 let mut none = CandidateSet::default();
-                let sink = (&mut batch, &mut none);
-                match combine_with(&problem, &rays, Some(&grid), &few, sink) {
+                match combine_with(&problem, &rays, Some(&grid), &few, &mut batch, &mut none) {
                     Err(CoreError::CapExceeded { count, .. }) => assert_eq!(count, tests),
                     other => panic!("seed {seed}: {other:?}"),
                 }
