@@ -1,4 +1,4 @@
-"""Type stubs for the compiled core (``rust/py``). Use the typed wrappers in the package.
+"""Type stubs for the compiled core (``rust/src``). Use the typed wrappers in the package.
 
 The functions take the validated ``SensorNetwork`` / ``MeasurementTable`` objects (read by
 attribute) and, where they have several settings, one object from ``passive_assoc._settings``;

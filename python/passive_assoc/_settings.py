@@ -1,7 +1,7 @@
 """The settings objects the compiled core reads, one per core entry point.
 
 Each is a frozen dataclass whose field names are the attribute names the binding layer
-(``rust/py``) extracts; the public classes and functions build them from their validated
+(``rust/src``) extracts; the public classes and functions build them from their validated
 parameters, so a public parameter may be renamed without touching Rust. Pure Python: must not
 import the compiled extension.
 """

@@ -1,5 +1,5 @@
 //! The one error type of the core. Every fallible core function returns [`CoreResult`]; the
-//! binding crate (`rust/py/src/errors.rs`) maps each variant to a Python exception in one place.
+//! binding crate (`rust/src/errors.rs`) maps each variant to a Python exception in one place.
 
 use thiserror::Error;
 

@@ -1,5 +1,5 @@
 //! `passive_assoc_core`: data association and track initiation for passive (angle-only)
-//! sensor networks, in plain Rust. The Python bindings are a separate crate (`rust/py`) that
+//! sensor networks, in plain Rust. The Python bindings are a separate crate (`rust`, sources in `rust/src`) that
 //! depends on this one; nothing here knows about Python.
 //!
 //! Layers, dependencies pointing down only:
