@@ -11,7 +11,8 @@ import argparse
 
 import numpy as np
 import passive_assoc.radar_esm.decision as decision
-from passive_assoc.experiments import wavelet as experiment
+from passive_assoc.experiments import wavelet_runs as experiment
+from passive_assoc.experiments.common import run_seeds
 from passive_assoc.radar_esm import NearestNeighbourTrackAssociator, filter_reports
 from passive_assoc.simulation.radar_esm import paper_wavelet_scenario
 from scipy.optimize import linear_sum_assignment
@@ -41,7 +42,7 @@ def main() -> None:
         return rows, cols, total
 
     decision.linear_assignment = compare  # the associator looks it up in this module
-    for seed in experiment.run_seeds(1, args.runs):
+    for seed in run_seeds(1, args.runs):
         scenario = paper_wavelet_scenario(np.random.default_rng(seed), n_clutter=0)
         tracks = filter_reports(scenario.measurements, experiment.PROCESS_NOISE, n_threads=1)
         NearestNeighbourTrackAssociator().associate(tracks.of(0), tracks.of(1))

@@ -12,7 +12,7 @@ import argparse
 import time
 
 import passive_assoc as pa
-from passive_assoc.experiments.wavelet import PROCESS_NOISE
+from passive_assoc.experiments.wavelet_runs import PROCESS_NOISE
 from passive_assoc.radar_esm import filter_reports
 from passive_assoc.simulation import paper_wavelet_scenario
 

@@ -11,7 +11,8 @@ import argparse
 import time
 
 import numpy as np
-from passive_assoc.experiments import wavelet as experiment
+from passive_assoc.experiments import wavelet_runs as experiment
+from passive_assoc.experiments.common import run_seeds
 from passive_assoc.radar_esm import filter_reports
 from passive_assoc.simulation.radar_esm import paper_wavelet_scenario
 
@@ -29,7 +30,7 @@ def main() -> None:
         return now
 
     methods = experiment.methods(experiment.Settings())
-    for seed in experiment.run_seeds(1, args.runs):
+    for seed in run_seeds(1, args.runs):
         start = time.perf_counter()
         scenario = paper_wavelet_scenario(np.random.default_rng(seed), n_clutter=args.clutter)
         start = timed("scenario", start)

@@ -9,8 +9,8 @@ from collections.abc import Callable
 import numpy as np
 import passive_assoc as pa
 import pytest
-from passive_assoc.experiments.wavelet import PROCESS_NOISE, score
 from passive_assoc.experiments.wavelet_passive import demo_tracks
+from passive_assoc.experiments.wavelet_runs import PROCESS_NOISE, score
 from passive_assoc.radar_esm import RadarEsmAssociation, coarse_gate, filter_reports
 from passive_assoc.radar_esm.fuzzy import _heading, membership
 from passive_assoc.radar_esm.scan_gate import gate_diagonal

@@ -17,7 +17,10 @@ column                    meaning
 
 The network is 3-D when it has an elevation std column, else 2-D (then ``z`` must be absent
 or all zero). Other columns (a name, a site code) are ignored with a warning that lists them.
-:func:`network_columns` writes the radian form, which reads back exactly.
+:meth:`SensorNetwork.to_columns` gives the radian form, which reads back exactly.
+
+This module works on columns only; :class:`~passive_assoc.data.SensorNetwork` builds itself
+from what :func:`network_arguments` returns.
 """
 
 from __future__ import annotations
@@ -31,21 +34,24 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._io import parse_column, read_csv_text, write_csv, zip_columns
-from .sensors import SensorNetwork
 
-__all__ = ["network_columns", "network_from_columns", "read_sensor_csv", "write_sensor_csv"]
+__all__ = ["NetworkArguments", "network_arguments", "read_sensor_columns", "write_sensor_columns"]
+
+#: What a sensor file gives the network's constructor: positions (S, 3), azimuth stds,
+#: elevation stds (None in 2-D) and the dimension.
+NetworkArguments = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None, int]
 
 _KNOWN = {"sensor", "x", "y", "z", "sigma_azimuth", "sigma_elevation", "sigma_azimuth_deg", "sigma_elevation_deg"}
 
 
-def read_sensor_csv(path: str | os.PathLike[str]) -> SensorNetwork:
-    """A :class:`SensorNetwork` from a CSV file in the format above.
+def read_sensor_columns(path: str | os.PathLike[str]) -> NetworkArguments:
+    """The network's constructor arguments from a CSV file in the format above.
 
     Raises
     ------
     ValueError
         Missing or duplicated columns, a cell that is not a number, ids that are not 0 … S − 1,
-        or any check of :class:`SensorNetwork` — naming the file and, where there is one, the
+        — naming the file and, where there is one, the
         column and line.
     """
     header, rows = read_csv_text(path)
@@ -60,14 +66,15 @@ def read_sensor_csv(path: str | os.PathLike[str]) -> SensorNetwork:
         if name in _KNOWN
     }
     extra = [name for name in header if name not in _KNOWN]
-    return network_from_columns(columns, source=repr(os.fspath(path)), ignored=extra)
+    return network_arguments(columns, source=repr(os.fspath(path)), ignored=extra)
 
 
-def network_from_columns(
+def network_arguments(
     columns: Mapping[str, Any], *, source: str = "columns", ignored: list[str] | None = None
-) -> SensorNetwork:
-    """A :class:`SensorNetwork` from named columns (the CSV format above); ``source`` names
-    where they came from in errors. Unknown column names are ignored with a warning."""
+) -> NetworkArguments:
+    """The network's constructor arguments from named columns (the CSV format above);
+    ``source`` names where they came from in errors. Unknown column names are ignored with a
+    warning."""
     extra = list(ignored or []) + [name for name in columns if name not in _KNOWN]
     if extra:
         warnings.warn(f"{source}: ignoring column(s) {extra} (not part of a sensor file)", UserWarning, stacklevel=3)
@@ -89,8 +96,8 @@ def network_from_columns(
                 f"{source}: sensors have heights (column 'z') but no elevation std column; a 3-D network "
                 "needs 'sigma_elevation' or 'sigma_elevation_deg', a 2-D one no 'z'"
             )
-        return SensorNetwork(positions, sigma_az[order], ndim=2)
-    return SensorNetwork(positions, sigma_az[order], sigma_el[order], ndim=3)
+        return positions, sigma_az[order], None, 2
+    return positions, sigma_az[order], sigma_el[order], 3
 
 
 def _order(columns: Mapping[str, Any], n: int, source: str) -> NDArray[np.intp]:
@@ -114,21 +121,7 @@ def _angle_column(columns: Mapping[str, Any], name: str, source: str) -> NDArray
     return None
 
 
-def network_columns(network: SensorNetwork) -> dict[str, NDArray[Any]]:
-    """The network as named columns in radians: sensor, x, y, [z, sigma_elevation], sigma_azimuth."""
-    out: dict[str, NDArray[Any]] = {
-        "sensor": np.arange(network.n_sensors, dtype=np.int64),
-        "x": network.positions[:, 0].copy(),
-        "y": network.positions[:, 1].copy(),
-    }
-    if network.ndim == 3:
-        out["z"] = network.positions[:, 2].copy()
-    out["sigma_azimuth"] = network.sigma_azimuth.copy()
-    if network.ndim == 3:
-        out["sigma_elevation"] = network.sigma_elevation.copy()
-    return out
-
-
-def write_sensor_csv(network: SensorNetwork, path: str | os.PathLike[str]) -> None:
-    """Write the network as a CSV file that :func:`read_sensor_csv` reads back exactly."""
-    write_csv(path, network_columns(network))
+def write_sensor_columns(columns: Mapping[str, NDArray[Any]], path: str | os.PathLike[str]) -> None:
+    """Write a network's columns (:meth:`SensorNetwork.to_columns`) as a CSV file that
+    :func:`read_sensor_columns` reads back exactly."""
+    write_csv(path, columns)

@@ -258,32 +258,59 @@ class SensorNetwork:
         >>> net.ndim, net.positions[:, 0].tolist(), round(float(net.sigma_azimuth[0]), 6)
         (2, [-20000.0, 20000.0], 0.005236)
         """
-        from .sensor_files import read_sensor_csv
+        from .sensor_files import read_sensor_columns
 
-        return read_sensor_csv(path)
+        return cls._from_arguments(*read_sensor_columns(path))
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
         """Write the network in :meth:`from_csv`'s format (radians), which reads back exactly."""
-        from .sensor_files import write_sensor_csv
+        from .sensor_files import write_sensor_columns
 
-        write_sensor_csv(self, path)
+        write_sensor_columns(self.to_columns(), path)
 
     @classmethod
     def from_pandas(cls, df: Any) -> SensorNetwork:
         """A network from a DataFrame with :meth:`from_csv`'s columns."""
         from ._io import import_pandas
-        from .sensor_files import network_from_columns
+        from .sensor_files import network_arguments
 
         if not isinstance(df, import_pandas().DataFrame):
             raise TypeError(f"df: expected a pandas.DataFrame, got {type(df).__name__}")
-        return network_from_columns({str(c): df[c].to_numpy() for c in df.columns}, source="df")
+        return cls._from_arguments(*network_arguments({str(c): df[c].to_numpy() for c in df.columns}, source="df"))
 
     def to_pandas(self) -> Any:
         """The network as a DataFrame in :meth:`from_csv`'s columns (radians)."""
         from ._io import import_pandas
-        from .sensor_files import network_columns
 
-        return import_pandas().DataFrame(network_columns(self))
+        return import_pandas().DataFrame(self.to_columns())
+
+    def to_columns(self) -> dict[str, NDArray[Any]]:
+        """The network as named columns in radians (:meth:`from_csv`'s format): ``sensor``,
+        ``x``, ``y``, [``z``], ``sigma_azimuth``, [``sigma_elevation``]."""
+        out: dict[str, NDArray[Any]] = {
+            "sensor": np.arange(self.n_sensors, dtype=np.int64),
+            "x": self.positions[:, 0].copy(),
+            "y": self.positions[:, 1].copy(),
+        }
+        if self.ndim == 3:
+            out["z"] = self.positions[:, 2].copy()
+        out["sigma_azimuth"] = self.sigma_azimuth.copy()
+        if self.ndim == 3:
+            out["sigma_elevation"] = self.sigma_elevation.copy()
+        return out
+
+    @classmethod
+    def _from_arguments(
+        cls,
+        positions: NDArray[np.float64],
+        sigma_az: NDArray[np.float64],
+        sigma_el: NDArray[np.float64] | None,
+        ndim: int,
+    ) -> SensorNetwork:
+        """A network from what a sensor file gives (:mod:`passive_assoc.data.sensor_files`)."""
+        if sigma_el is None:
+            return cls(positions, sigma_az, ndim=ndim)
+        return cls(positions, sigma_az, sigma_el, ndim)
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
         # Rebuilt through the constructor (copies): a transport's arrays may be unaligned.

@@ -382,6 +382,7 @@ def main(args: argparse.Namespace) -> int:
         from .formation_plot import plot_formation
 
         one = seed_tree(args.seed, 1)[("paper", 1.0)][0]
-        plot_formation(paper_formation_scene(np.random.default_rng(one), 1.0, "paper"), results, args.plot)
+        scene = paper_formation_scene(np.random.default_rng(one), 1.0, "paper")
+        plot_formation(scene, results, list(METHODS.values()), args.plot)
         print(f"plot saved to {args.plot}")
     return 0

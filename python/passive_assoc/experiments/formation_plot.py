@@ -4,6 +4,7 @@ choices) and every method's correct-association rate against σθ."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -13,7 +14,6 @@ from ..evidence import simple_support_assoc
 from ..formation import locate_formation
 from ..plots import _pyplot
 from ..simulation.formation import PAPER_SIGMAS_DEG, FormationScene
-from .formation import METHODS
 
 #: Length of the drawn lines of sight, metres (the targets are 90–110 km away).
 RAY_LENGTH = 160e3
@@ -81,10 +81,10 @@ def _chosen(ax: Any, scene: FormationScene) -> None:
     ax.plot(*out.positions[~right].T / 1e3, "rx", ms=11, mew=2, label="joint method: wrong", zorder=6)
 
 
-def _rates_panel(ax: Any, results: dict[str, NDArray[np.float64]]) -> None:
+def _rates_panel(ax: Any, results: dict[str, NDArray[np.float64]], labels: Sequence[str]) -> None:
     for noise, r in results.items():
         style = "-o" if noise == "paper" else "--s"
-        for k, label in enumerate(METHODS.values()):
+        for k, label in enumerate(labels):
             mean = r[k].mean(axis=1)
             # Wider lines first: a method drawn later over an identical one leaves it visible.
             width = 2.6 - 0.25 * k
@@ -98,10 +98,12 @@ def _rates_panel(ax: Any, results: dict[str, NDArray[np.float64]]) -> None:
     ax.legend(fontsize=7, loc="lower left")
 
 
-def plot_formation(scene: FormationScene, results: dict[str, NDArray[np.float64]], path: str) -> None:
+def plot_formation(
+    scene: FormationScene, results: dict[str, NDArray[np.float64]], labels: Sequence[str], path: str
+) -> None:
     """Save three panels to ``path``: the run's geometry, its baseline meetings around the
     formation, and the rates of every method against σθ (``results``: noise mode -> rates
-    (methods, σθ, targets) in %)."""
+    (methods, σθ, targets) in %; ``labels``: the methods' titles, in that order)."""
     plt = _pyplot()
     # The whole geometry is tall and narrow: a left column of its own; the zoom and the rates
     # are wide and share the right column.
@@ -111,6 +113,6 @@ def plot_formation(scene: FormationScene, results: dict[str, NDArray[np.float64]
     zoom = fig.add_subplot(grid[0, 1])
     dots = _scene_panel(zoom, scene, zoom=True)
     fig.colorbar(dots, ax=zoom, shrink=0.9, label="m(assoc) with the baseline report")
-    _rates_panel(fig.add_subplot(grid[1, 1]), results)
+    _rates_panel(fig.add_subplot(grid[1, 1]), results, labels)
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -24,7 +24,7 @@ from ..estimation import fit_ml
 from ..radar_esm import filter_reports
 from ..simulation.radar_esm import RadarEsmScenario, paper_wavelet_scenario
 from .common import print_rows, run_seeds
-from .wavelet import METHODS, RunScores, Settings, map_seeds, methods, score, summarise
+from .wavelet_runs import METHODS, RunScores, Settings, map_seeds, methods, score, summarise
 
 #: The three ESM sites (m): a triangle about 50 km around the targets' [0, 20] km square.
 ESM_SITES = np.array([[-40e3, -30e3], [60e3, -30e3], [10e3, 60e3]])
@@ -79,7 +79,7 @@ def _fix_rms(scenario: RadarEsmScenario, fixes: TrackTable) -> float:
 
 
 def demo_run(seed: np.random.SeedSequence, settings: Settings) -> tuple[RunScores, float]:
-    """One demo run's scores (as :func:`.wavelet.run_once`'s) and its fixes' RMS error (m)."""
+    """One demo run's scores (as :func:`.wavelet_runs.run_once`'s) and its fixes' RMS error (m)."""
     scenario, radar, fixes, passive = demo_tracks(seed, settings.process_noise)
     correct, keeps = {}, {}
     for name, method in methods(settings).items():
@@ -88,9 +88,9 @@ def demo_run(seed: np.random.SeedSequence, settings: Settings) -> tuple[RunScore
 
 
 def run_demo(pool: Executor | None, runs: int, seed: int, settings: Settings) -> dict[str, Any]:
-    """Summaries of the demo (as :func:`.wavelet.summarise`) and the fixes' mean RMS error."""
+    """Summaries of the demo (as :func:`.wavelet_runs.summarise`) and the fixes' mean RMS error."""
     seeds = run_seeds(seed + 1, runs)  # other scenes than the 1-D runs'
-    results = map_seeds(pool, "passive", seeds, 0, settings, "wavelet, 2-D radar + passive")
+    results = map_seeds(pool, demo_run, seeds, (settings,), "wavelet, 2-D radar + passive")
     summary = summarise([scores for scores, _ in results])
     rms = float(np.mean([r for _, r in results]))
     return {"runs": runs, "fix_rms_m": rms, "radar_noise_std_m": float(np.sqrt(0.5e6)), **summary}

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from .common import print_rows
-from .wavelet import METHODS, PAPER
+from .wavelet_runs import METHODS, PAPER
 
 __all__ = ["print_level", "print_losses", "print_summary"]
 
