@@ -45,7 +45,7 @@ def main() -> None:
     for seed in run_seeds(1, args.runs):
         scenario = paper_wavelet_scenario(np.random.default_rng(seed), n_clutter=0)
         tracks = filter_reports(scenario.measurements, experiment.PROCESS_NOISE, n_threads=1)
-        NearestNeighbourTrackAssociator().associate(tracks.of(0), tracks.of(1))
+        NearestNeighbourTrackAssociator().associate(local=tracks.of(1), system=tracks.of(0))
     print(counts)
 
 

@@ -40,7 +40,7 @@ def main() -> None:
             ("nearest", pa.NearestNeighbourAssociator(n_threads=1)),
         ):
             t = time.perf_counter()
-            method.associate(local, system)
+            method.associate(local=local, system=system)
             stages[name].append(time.perf_counter() - t)
     print(f"topology paper scenario, {args.runs} runs, bias ±{args.bias:g}°, median seconds per run:")
     for name, values in stages.items():

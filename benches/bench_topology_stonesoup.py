@@ -51,11 +51,11 @@ import numpy as np
 import passive_assoc as pa
 import stonesoup
 from numpy.typing import NDArray
-from passive_assoc.assignment.tracks import TrackPairs, UnpairedTracks
 from passive_assoc.data.conventions import covariance_to_interleaved, to_interleaved
 from passive_assoc.evaluation import track_association_scores
 from passive_assoc.experiments.topology import SYSTEM_RADAR, local_tracks
 from passive_assoc.simulation.topology import paper_topology_scenario
+from passive_assoc.track_association import TrackPairs, UnpairedTracks
 from stonesoup.dataassociator.tracktotrack import OneToOneTrackAssociator, TrackToTrackCounting
 from stonesoup.measures import Euclidean
 from stonesoup.measures.multi import MeanMeasure, RecentStateSequenceMeasure
@@ -212,7 +212,7 @@ def main() -> None:
             for name, make in ours.items():
                 method = make()
                 t = time.perf_counter()
-                result = method.associate(part, system)
+                result = method.associate(local=part, system=system)
                 seconds[name].append(time.perf_counter() - t)
                 found[name] |= of_ours(result)
             for name, make_ss in whole.items():

@@ -33,7 +33,7 @@ def main() -> None:
         best = float("inf")
         for _ in range(args.repeat):
             start = time.perf_counter()
-            result = associator.associate(radar, esm)
+            result = associator.associate(local=esm, system=radar)
             best = min(best, time.perf_counter() - start)
         print(
             f"{label:<15} {args.tracks} x {args.tracks} tracks, {scans} scans: {best:.3f} s a call, "

@@ -38,7 +38,7 @@ def main() -> None:
         radar, esm = tracks.of(0), tracks.of(1)
         start = timed("Kalman filters", start)
         for name, method in methods.items():
-            result = method.associate(radar, esm)
+            result = method.associate(local=esm, system=radar)
             start = timed(experiment.METHODS[name], start)
             experiment.score(result, radar, esm, scenario.scan_times)
             start = timed("scoring", start)

@@ -30,7 +30,7 @@ def main() -> None:
             tracks = local_tracks(scenario, rng)
             system = tracks.of(SYSTEM_RADAR)
             local = tracks.select(np.flatnonzero(tracks.source != SYSTEM_RADAR))
-            result = TopologyAssociator(n_threads=1).associate(local, system)
+            result = TopologyAssociator(n_threads=1).associate(local=local, system=system)
             seen = {(float(t), int(g)) for t, g in zip(system.time, system.truth, strict=True)}
             truth = {
                 (float(t), int(s), int(k)): int(g)

@@ -36,7 +36,7 @@ def assert_partition_of(result: pa.InitiationResult | pa.StaticAssociation, n_ro
     if isinstance(result, pa.InitiationResult):
         check_partition([t.measurements for t in result.tracks], result.clutter, result.labels, n_rows)
     elif isinstance(result, pa.StaticAssociation):
-        groups = [rows[rows >= 0] for rows in result.tuples]
+        groups = [rows[rows >= 0] for rows in result.rows]
         check_partition(groups, result.clutter, result.labels, n_rows)
     else:  # pragma: no cover - a test's mistake
         raise TypeError(f"no partition check for {type(result).__name__}")

@@ -127,7 +127,7 @@ def test_locate_formation(table: pa.MeasurementTable, std: Any, eta: Any, one_to
         result = pa.locate_formation(
             table, _network(), attribute_std={"rf": std}, eta=eta, one_to_one=one_to_one, r_max=r_max
         )
-        assert len(result.unassociated) + int((result.labels >= 0).sum()) == len(table)
+        assert len(result.clutter) + int((result.labels >= 0).sum()) == len(table)
 
     _accepts(call)
 
@@ -136,8 +136,8 @@ def test_locate_formation(table: pa.MeasurementTable, std: Any, eta: Any, one_to
 @given(table=scans(), method=st.sampled_from(["intensity", "lagrangian", "exact"]), pd=NUMBER, gate=NUMBER)
 def test_associate_static(table: pa.MeasurementTable, method: str, pd: Any, gate: Any) -> None:
     def call() -> None:
-        result = pa.associate_static(table, _network(), method, pd=pd, chi2_gate=gate, time_limit=1.0)  # type: ignore[arg-type]
-        assert len(result.clutter) + int((result.tuples >= 0).sum()) == len(table)
+        result = pa.associate_static(table, _network(), method, pd=pd, gate_sigmas=gate, time_limit=1.0)  # type: ignore[arg-type]
+        assert len(result.clutter) + int((result.rows >= 0).sum()) == len(table)
 
     _accepts(call)
 

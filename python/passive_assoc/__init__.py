@@ -18,13 +18,7 @@ from __future__ import annotations
 
 from . import evidence
 from ._core import __version__
-from .assignment import (
-    NearestNeighbourAssociator,
-    SdAssignment,
-    TrackAssociation,
-    assign_sd,
-    linear_assignment,
-)
+from .assignment import SdAssignment, assign_sd, linear_assignment
 from .data import MeasurementTable, SensorNetwork, TrackTable
 from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
 from .formation import FormationLocator, FormationResult, locate_formation
@@ -47,6 +41,7 @@ from .static_los import (
     enumerate_candidates,
 )
 from .topology import TopologyAssociator
+from .track_association import NearestNeighbourAssociator, TrackAssociation
 
 #: The fuzzy initiator's track under its pre-subpackage name (``passive_assoc.fti.InitiatedTrack``).
 Track = InitiatedTrack

@@ -1,16 +1,21 @@
 """Declared parameter constraints, checked in one place.
 
-Each configurable class (or function) states its scalar parameters once, as a table in the
-spirit of scikit-learn's ``_parameter_constraints``::
+Each parameter of a configurable class or function is declared once: its name, type,
+constraints and default on one line, the constraints as :data:`typing.Annotated` metadata::
 
-    _constraints = {
-        "gate_sigmas": [Interval(float, 0.0, None, closed="neither")],
-        "v_max": [Interval(float, 0.0, None, closed="neither"), None],
-        "descent_scaling": [Options("whitened", "diagonal")],
-        "one_per_scan": [Boolean()],
-    }
+    @dataclass(frozen=True)
+    class Initiator(Configurable):
+        gate_sigmas: Annotated[float, Interval(float, 0.0, None, closed="neither")] = 5.0
+        v_max: Annotated[float | None, Interval(float, 0.0, None, closed="neither"), None] = 500.0
+        descent_scaling: Annotated[Literal["whitened", "diagonal"], Options("whitened", "diagonal")] = "whitened"
 
-and :func:`validate` checks the values against it: a value passes when it satisfies any
+    @checked
+    def fit(table, *, max_iter: Annotated[int, Interval(int, 1, None)] = 20) -> ...: ...
+
+:func:`declared` reads the constraint table (name -> constraints, in the spirit of
+scikit-learn's ``_parameter_constraints``) off those annotations; :class:`Configurable`
+validates a dataclass's fields against it after construction, and :func:`checked` a
+function's arguments on each call. :func:`validate` checks values against a table: a value passes when it satisfies any
 constraint of its list (``None`` in the list allows ``None``). Wrong *kinds* (a string for a
 number, a bool for a count, a float for an int) raise :class:`TypeError`; wrong *values* raise
 :class:`ValueError`. Messages start with the parameter's name. The returned values are
@@ -21,15 +26,31 @@ their shape is known, not here. Pure Python: must not import the compiled extens
 
 from __future__ import annotations
 
+import functools
+import inspect
 import math
 import numbers
-from collections.abc import Mapping, Sequence
+import typing
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, TypeVar, cast
 
 import numpy as np
 
-__all__ = ["Boolean", "Constraint", "Interval", "Options", "validate"]
+__all__ = [
+    "COUNT",
+    "POSITIVE",
+    "Boolean",
+    "Configurable",
+    "Constraint",
+    "Epoch",
+    "Interval",
+    "Options",
+    "Threads",
+    "checked",
+    "declared",
+    "validate",
+]
 
 Closed = Literal["both", "left", "right", "neither"]
 
@@ -110,6 +131,17 @@ class Boolean:
 
 Constraint = Interval | Options | Boolean | None
 
+#: A finite number > 0.
+POSITIVE = Interval(float, 0.0, None, closed="neither")
+#: A count of at least one.
+COUNT = Interval(int, 1, None)
+#: ``n_threads`` of every parallel entry point: threads to use, None for every core. Results
+#: are identical for any value.
+Threads = typing.Annotated[int | None, COUNT, None]
+#: An epoch ``t0`` in seconds, or None for the data's earliest time. Beyond ±1e12 s (32 000
+#: years) an epoch swamps the measurement times: ``t − t0`` keeps no digits of ``t``.
+Epoch = typing.Annotated[float | None, Interval(float, -1e12, 1e12), None]
+
 
 def _check(name: str, value: Any, constraints: Sequence[Constraint]) -> Any:
     if value is None:
@@ -177,3 +209,78 @@ def validate(values: Mapping[str, Any], constraints: Mapping[str, Sequence[Const
     if missing:
         raise KeyError(f"no constraint declared for {sorted(missing)}")
     return {name: _check(name, value, constraints[name]) for name, value in values.items()}
+
+
+Table = dict[str, list[Constraint]]
+
+
+def _constraints_in(hint: Any) -> list[Constraint] | None:
+    """The constraints an ``Annotated[...]`` hint carries, or None if it carries none."""
+    if typing.get_origin(hint) is not typing.Annotated:
+        return None
+    found = [m for m in hint.__metadata__ if m is None or isinstance(m, (Interval, Options, Boolean))]
+    return found or None
+
+
+#: Each class's or function's table, read once.
+_TABLES: dict[object, Table] = {}
+
+
+def declared(owner: object) -> Table:
+    """The constraint table a class or function declares in its annotations: every parameter
+    annotated ``Annotated[type, constraint, ...]``, in declaration order (a class's inherited
+    parameters first). Parameters without constraints (arrays checked against the data, say)
+    are not in it.
+
+    >>> def f(n: typing.Annotated[int, Interval(int, 1, None)] = 1, name: str = "x") -> None: ...
+    >>> declared(f)
+    {'n': [Interval(kind=<class 'int'>, low=1, high=None, closed='both')]}
+    """
+    table = _TABLES.get(owner)
+    if table is None:
+        hints = typing.get_type_hints(owner, include_extras=True)
+        table = {name: c for name, hint in hints.items() if (c := _constraints_in(hint)) is not None}
+        _TABLES[owner] = table
+    return table
+
+
+class _DeclaredTable:
+    """``cls._constraints``: the class's :func:`declared` table, read off its annotations on
+    first use (the names they mention exist by then)."""
+
+    def __get__(self, instance: object, owner: type) -> Table:
+        return declared(owner)
+
+
+class Configurable:
+    """Base of the configured (frozen dataclass) classes: each field declared once with its
+    constraints (see the module); after construction every declared field is validated and
+    normalised (NumPy scalars become ``int``/``float``/``bool``). A subclass with checks of its
+    own calls ``super().__post_init__()`` first."""
+
+    _constraints: typing.ClassVar[_DeclaredTable] = _DeclaredTable()
+
+    def __post_init__(self) -> None:
+        table = declared(type(self))
+        values = validate({name: getattr(self, name) for name in table}, table)
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def checked(function: F) -> F:
+    """Decorator: validate (and normalise) the arguments of ``function``'s declared parameters
+    on every call, against the constraints in its annotations."""
+    signature = inspect.signature(function)
+
+    @functools.wraps(function)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        table = declared(function)
+        bound = signature.bind(*args, **kwargs)
+        given = {name: value for name, value in bound.arguments.items() if name in table}
+        bound.arguments.update(validate(given, table))
+        return function(*bound.args, **bound.kwargs)
+
+    return cast(F, wrapper)

@@ -26,6 +26,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from .data import MeasurementTable, SensorNetwork
+from .outcome import COMPLETED
 from .static_los.batch import ScanAssociation, associate_scans, scan_keys, scan_rows
 
 __all__ = ["associate_parquet", "associate_scans_on", "client_for", "current_client", "map_on_client", "using"]
@@ -118,11 +119,14 @@ def associate_scans_on(
         target_scan.append(block[part.target_scan])
         first_target += len(part.positions)
     return ScanAssociation(
-        scan_index,
-        keys,
-        labels,
-        np.concatenate(positions) if positions else np.empty((0, sensors.ndim)),
-        np.concatenate(target_scan).astype(np.int64) if target_scan else np.empty(0, np.int64),
+        termination=COMPLETED,
+        success=True,
+        message=f"{len(keys)} scan(s) associated",
+        scan=scan_index,
+        keys=keys,
+        labels=labels,
+        positions=np.concatenate(positions) if positions else np.empty((0, sensors.ndim)),
+        target_scan=np.concatenate(target_scan).astype(np.int64) if target_scan else np.empty(0, np.int64),
     )
 
 

@@ -178,7 +178,7 @@ def _one_grid(ax: Any, scenario: Any) -> None:
     from .topology import TopologyAssociator, topology_vectors
 
     associator = TopologyAssociator()
-    c = associator.config
+    c = associator
     mid = scenario.true_positions.shape[1] // 2
     points = scenario.true_positions[:, mid, :]
     lead = int(np.flatnonzero(scenario.formation >= 0)[0])

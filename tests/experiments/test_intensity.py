@@ -21,5 +21,5 @@ def test_every_method_with_the_prior_recovers_a_noiseless_scan(
     settings = scenario_prior(scan)
     for method in ("intensity", "lagrangian", "exact"):
         result = pa.associate_static(scan.measurements, scan.sensors, method, **settings)
-        found = {tuple(row) for row in result.tuples.tolist()}
+        found = {tuple(row) for row in result.rows.tolist()}
         assert all(tuple(t) in found for t in scan.true_tuples.tolist()), method

@@ -37,10 +37,10 @@ def _correct(result: pa.FormationResult, scene: FormationScene) -> np.ndarray:
 
 
 def _check_partition(result: pa.FormationResult, n_rows: int) -> None:
-    """Every row is in exactly one group or unassociated, and each group's rows carry it."""
+    """Every row is in exactly one group or in the clutter set, and each group's rows carry it."""
     labels = result.labels
     assert labels.shape == (n_rows,)
-    assert len(result.unassociated) + int((labels >= 0).sum()) == n_rows
+    assert len(result.clutter) + int((labels >= 0).sum()) == n_rows
     for b in np.flatnonzero(result.associated):
         chosen = result.rows[b][result.rows[b] >= 0]
         assert (result.times_chosen[chosen] >= 1).all()
@@ -59,7 +59,7 @@ def test_noiseless_paper_scene_every_method_is_exact() -> None:
     assert (joint.support[:, 1:] == 1.0).all()  # unperturbed attributes: every s_k = 1
     for method in ("lagrangian", "exact"):
         static = pa.associate_static(m, s, method, pd=0.99, attributes=None, attribute_std=std)
-        assert sorted(map(tuple, static.tuples)) == sorted(map(tuple, scene.true_tuples()))
+        assert sorted(map(tuple, static.rows)) == sorted(map(tuple, scene.true_tuples()))
     _check_partition(joint, len(m))
 
 
@@ -68,9 +68,9 @@ def test_azimuth_only_falls_for_the_exact_ghost_and_attributes_break_it() -> Non
     azimuth_only = pa.locate_formation(scene.measurements, scene.sensors, attributes=[])
     correct = _correct(azimuth_only, scene)
     assert not (correct[0] and correct[2]), "T1/T3's ghost meets at one point with the truth"
-    assert azimuth_only.report["attributes"] is False
+    assert azimuth_only.diagnostics.attributes is False
     assert (azimuth_only.support[:, 1:] == 1.0).all()  # no attributes: no evidence either way
-    assert azimuth_only.report["low_support"] == 0
+    assert azimuth_only.diagnostics.low_support == 0
 
 
 def test_identical_attributes_make_the_joint_method_the_azimuth_only_one() -> None:
@@ -82,7 +82,7 @@ def test_identical_attributes_make_the_joint_method_the_azimuth_only_one() -> No
     azimuth = pa.locate_formation(table, scene.sensors, attributes=[])
     np.testing.assert_array_equal(joint.rows, azimuth.rows)
     np.testing.assert_array_equal(joint.radius, azimuth.radius)
-    assert joint.report["low_support"] == 0 and joint.report["pairs"] == azimuth.report["pairs"]
+    assert joint.diagnostics.low_support == 0 and joint.diagnostics.pairs == azimuth.diagnostics.pairs
 
 
 @pytest.mark.parametrize("noise", ["paper", "realistic"])

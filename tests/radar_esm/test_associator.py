@@ -41,7 +41,7 @@ def keys(result: RadarEsmAssociation) -> list[tuple[float, int, int]]:
 @pytest.mark.parametrize("method", METHODS)
 def test_every_track_of_every_scan_is_paired_or_unpaired(method: str) -> None:
     radar, esm, _ = sensor_tracks(1, n_clutter=2)
-    result = METHODS[method]().associate(radar, esm)
+    result = METHODS[method]().associate(local=esm, system=radar)
     assert len(result.pairs) > 0.5 * len(esm), "most tracks are paired: the check is not vacuous"
     assert len(result.unpaired_local) > 0 or len(result.unpaired_system) > 0 or method == "nearest"
     p, u, v = result.pairs, result.unpaired_local, result.unpaired_system
@@ -68,8 +68,8 @@ def test_track_ids_do_not_matter(method: str) -> None:
             track=new[table.track], covariance=table.covariance, truth=table.truth, sort=True, **columns
         )
 
-    a = METHODS[method]().associate(radar, esm)
-    b = METHODS[method]().associate(relabelled(radar, new_r), relabelled(esm, new_e))
+    a = METHODS[method]().associate(local=esm, system=radar)
+    b = METHODS[method]().associate(local=relabelled(esm, new_e), system=relabelled(radar, new_r))
     mapped = sorted(
         zip(
             a.pairs.time.tolist(),
@@ -87,7 +87,7 @@ def test_noiseless_distinct_targets_are_all_paired_correctly(method: str) -> Non
     scenario = paper_wavelet_scenario(3, noise_variance=0.0)
     tracks = filter_reports(scenario.measurements, PROCESS_NOISE, noise=1.0)
     radar, esm = tracks.of(0), tracks.of(1)
-    correct, _ = score(METHODS[method]().associate(radar, esm), radar, esm, scenario.scan_times)
+    correct, _ = score(METHODS[method]().associate(local=esm, system=radar), radar, esm, scenario.scan_times)
     assert np.isnan(correct[:2]).all()  # the CA filter's first state is at the third report
     assert correct[2:].tolist() == [1.0] * 28
 
@@ -98,7 +98,7 @@ def test_two_and_three_dimensional_tracks(process_noise: float | None) -> None:
     covariance."""
     radar, esm, times = sensor_tracks(4, ndim=2)
     associator = pa.WaveletFuzzyAssociator(process_noise=process_noise)
-    correct, _ = score(associator.associate(radar, esm), radar, esm, times)
+    correct, _ = score(associator.associate(local=esm, system=radar), radar, esm, times)
     assert np.nanmean(correct[5:]) > 0.5
     # 3-D: the same tracks at a common altitude of 5 km, with a z variance like x's.
     lifted = []
@@ -123,7 +123,7 @@ def test_two_and_three_dimensional_tracks(process_noise: float | None) -> None:
                 table.truth,
             )
         )
-    correct_3d, _ = score(associator.associate(*lifted), lifted[0], lifted[1], times)
+    correct_3d, _ = score(associator.associate(local=lifted[1], system=lifted[0]), lifted[0], lifted[1], times)
     assert np.nanmean(correct_3d[5:]) > 0.5
 
 
@@ -131,7 +131,7 @@ def test_radar_against_passive_tracks_of_bearing_fixes() -> None:
     scenario, radar, fixes, passive = demo_tracks(5, PROCESS_NOISE)
     assert fixes.covariance is not None and not np.allclose(fixes.covariance[:, 0, 0], fixes.covariance[:, 1, 1])
     for name, make in METHODS.items():
-        correct, _ = score(make().associate(radar, passive), radar, passive, scenario.scan_times)
+        correct, _ = score(make().associate(local=passive, system=radar), radar, passive, scenario.scan_times)
         assert np.nanmean(correct[5:]) > 0.5, name
 
 
@@ -150,7 +150,7 @@ def test_memberships_and_heading_variance() -> None:
 
 def test_empty_sensor_leaves_everything_unpaired() -> None:
     radar, esm, _ = sensor_tracks(6)
-    result = pa.WaveletFuzzyAssociator().associate(radar, esm.select(np.array([], dtype=np.int64)))
+    result = pa.WaveletFuzzyAssociator().associate(local=esm.select(np.array([], dtype=np.int64)), system=radar)
     assert len(result.pairs) == 0 and len(result.unpaired_system) == len(radar)
 
 
@@ -186,14 +186,14 @@ def test_bad_tracks() -> None:
     shifted = pa.TrackTable.from_arrays(
         esm.source, esm.track, esm.time + 0.5, esm.position, esm.velocity, esm.acceleration, esm.covariance
     )
-    with pytest.raises(ValueError, match=r"esm: time 2\.5 s is not a scan time of radar"):
-        wavelet.associate(radar, shifted)
+    with pytest.raises(ValueError, match=r"local: time 2\.5 s is not a scan time of system"):
+        wavelet.associate(local=shifted, system=radar)
     positions_only = pa.TrackTable.from_arrays(radar.source, radar.track, radar.time, radar.position)
-    with pytest.raises(ValueError, match="radar: the method reads the velocity, acceleration, covariance"):
-        wavelet.associate(positions_only, esm)
-    with pytest.raises(ValueError, match="esm: the method reads the covariance"):
+    with pytest.raises(ValueError, match="system: the method reads the velocity, acceleration, covariance"):
+        wavelet.associate(local=esm, system=positions_only)
+    with pytest.raises(ValueError, match="local: the method reads the covariance"):
         pa.Chi2TrackAssociator().associate(
-            radar, pa.TrackTable.from_arrays(esm.source, esm.track, esm.time, esm.position)
+            local=pa.TrackTable.from_arrays(esm.source, esm.track, esm.time, esm.position), system=radar
         )
     both = pa.TrackTable.from_arrays(
         np.concatenate([radar.source, esm.source]),
@@ -201,10 +201,10 @@ def test_bad_tracks() -> None:
         np.concatenate([radar.time, esm.time]),
         np.concatenate([radar.position, esm.position]),
     )
-    with pytest.raises(ValueError, match=r"radar: one sensor's tracks expected, got sources \[0, 1\]"):
-        pa.NearestNeighbourTrackAssociator().associate(both, esm)
-    with pytest.raises(TypeError, match="esm: expected a TrackTable"):
-        wavelet.associate(radar, esm.position)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"system: one sensor's tracks expected, got sources \[0, 1\]"):
+        pa.NearestNeighbourTrackAssociator().associate(local=esm, system=both)
+    with pytest.raises(TypeError, match="local: expected a TrackTable"):
+        wavelet.associate(local=esm.position, system=radar)  # type: ignore[arg-type]
     # NaN states never reach an associator: the track table refuses them, naming the column.
     velocity = np.array(esm.velocity)
     velocity[3, 0] = np.nan
@@ -216,10 +216,10 @@ def test_bad_tracks() -> None:
 def test_a_table_that_is_not_a_track_table_is_a_type_error(method: str) -> None:
     """Chi2TrackAssociator read the tables' blocks before checking them (AttributeError)."""
     radar, esm, _ = sensor_tracks(7)
-    with pytest.raises(TypeError, match="radar: expected a TrackTable"):
-        METHODS[method]().associate(radar.to_arrays(), esm)  # type: ignore[arg-type]
-    with pytest.raises(TypeError, match="esm: expected a TrackTable"):
-        METHODS[method]().associate(radar, esm.position)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="system: expected a TrackTable"):
+        METHODS[method]().associate(local=esm, system=radar.to_arrays())  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="local: expected a TrackTable"):
+        METHODS[method]().associate(local=esm.position, system=radar)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize("whitened", [True, False])
@@ -233,11 +233,11 @@ def test_the_associators_gate_is_coarse_gate(whitened: bool) -> None:
     associator = pa.WaveletFuzzyAssociator(whitened=whitened, mode="periodization")
     expected = coarse_gate(radar_x, var_r, esm_x, var_e, whitened=whitened, mode="periodization").passed
     assert expected.any() and not expected.all()
-    assert np.array_equal(gate_diagonal(associator.config, radar_x, var_r, esm_x, var_e), expected)
+    assert np.array_equal(gate_diagonal(associator, radar_x, var_r, esm_x, var_e), expected)
 
 
 def test_sensors_of_different_dimension_are_refused() -> None:
     radar, _, _ = sensor_tracks(9)
     _, esm_2d, _ = sensor_tracks(9, ndim=2)
-    with pytest.raises(ValueError, match="esm: has 2-D positions, radar has 1-D"):
-        pa.WaveletFuzzyAssociator().associate(radar, esm_2d)
+    with pytest.raises(ValueError, match="local: has 2-D positions, system has 1-D"):
+        pa.WaveletFuzzyAssociator().associate(local=esm_2d, system=radar)

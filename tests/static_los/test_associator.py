@@ -28,8 +28,8 @@ def test_noiseless_scan_is_recovered_exactly(
     scan = noiseless_static_scan(seed, n_targets=6)
     result = pa.associate_static(scan.measurements, scan.sensors, method, pd=0.99)
     assert_partition(result, len(scan.measurements))
-    assert sorted(map(tuple, result.tuples.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
-    order = [int(np.flatnonzero((result.tuples == t).all(axis=1))[0]) for t in scan.true_tuples]
+    assert sorted(map(tuple, result.rows.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
+    order = [int(np.flatnonzero((result.rows == t).all(axis=1))[0]) for t in scan.true_tuples]
     np.testing.assert_allclose(result.positions[order], scan.targets, atol=1e-3)
 
 
@@ -37,7 +37,7 @@ def test_four_sensors_noiseless(noiseless_static_scan: NoiselessScan) -> None:
     scan = noiseless_static_scan(9, n_targets=5, n_sensors=4)
     for method in METHODS:
         result = pa.associate_static(scan.measurements, scan.sensors, method, pd=0.99)
-        assert sorted(map(tuple, result.tuples.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
+        assert sorted(map(tuple, result.rows.tolist())) == sorted(map(tuple, scan.true_tuples.tolist()))
 
 
 @settings(max_examples=25, deadline=None)
@@ -61,10 +61,10 @@ def test_lagrangian_reports_a_valid_bound_and_exact_is_no_worse() -> None:
     scan = static_scan(5, n_targets=8, ratio=15.0)
     lag = pa.associate_static(scan.measurements, scan.sensors, "lagrangian")
     exact = pa.associate_static(scan.measurements, scan.sensors, "exact", time_limit=5.0)
-    assert exact.report["optimal"]
-    assert lag.report["dual_bound"] <= exact.report["primal_cost"] + 1e-9
-    assert exact.report["primal_cost"] <= lag.report["primal_cost"] + 1e-9
-    assert lag.costs.sum() == pytest.approx(lag.report["primal_cost"])
+    assert exact.diagnostics.solver.optimal
+    assert lag.diagnostics.solver.dual_bound <= exact.diagnostics.solver.primal_cost + 1e-9
+    assert exact.diagnostics.solver.primal_cost <= lag.diagnostics.solver.primal_cost + 1e-9
+    assert lag.costs.sum() == pytest.approx(lag.diagnostics.solver.primal_cost)
 
 
 def test_enumeration_is_thread_count_invariant() -> None:
@@ -82,7 +82,7 @@ def test_enumeration_is_thread_count_invariant() -> None:
         (dict(pd=1.0), ValueError, r"pd: sensor 0 has 1.0, must be in \(0.0, 1.0\)"),
         (dict(pd=[0.9, 0.9]), ValueError, "pd: expected a scalar or 3 values"),
         (dict(false_alarm_density=-1.0), ValueError, "false_alarm_density"),
-        (dict(chi2_gate=float("nan")), ValueError, "chi2_gate"),
+        (dict(gate_sigmas=float("nan")), ValueError, "gate_sigmas"),
         (dict(min_intensity=1), ValueError, "min_intensity"),
         (dict(max_chains=0), ValueError, "max_chains"),
         (dict(max_candidates=3), ValueError, "max_candidates|cap"),
@@ -119,8 +119,8 @@ def test_solver_settings_reach_assign_sd_through_associate_static() -> None:
             result = associate_static(
                 scan.measurements, scan.sensors, "lagrangian", n_threads=1, sensor_order=order, polish=polish
             )
-            assert result.report["primal_cost"] == direct.primal_cost
-            assert result.report["dual_bound"] == direct.dual_bound
+            assert result.diagnostics.solver.primal_cost == direct.primal_cost
+            assert result.diagnostics.solver.dual_bound == direct.dual_bound
             costs.add(direct.primal_cost)
     assert len(costs) > 1
 
@@ -131,7 +131,7 @@ def test_the_default_vote_is_bounded_and_the_papers_rule_is_an_option() -> None:
     scan = static_scan(2, n_targets=20, ratio=2.0)
     bounded = pa.associate_static(scan.measurements, scan.sensors)
     paper = pa.associate_static(scan.measurements, scan.sensors, max_chains=None)
-    assert all(level["starts"] <= 64 for level in bounded.report["levels"])
-    assert max(level["starts"] for level in paper.report["levels"]) > 64
+    assert all(level.starts <= 64 for level in bounded.diagnostics.intensity.levels)
+    assert max(level.starts for level in paper.diagnostics.intensity.levels) > 64
     for result in (bounded, paper):  # either way every row is in one tuple or clutter
-        assert len(result.clutter) + int((result.tuples >= 0).sum()) == len(scan.measurements)
+        assert len(result.clutter) + int((result.rows >= 0).sum()) == len(scan.measurements)

@@ -31,8 +31,8 @@ def hand_written_scan() -> pa.MeasurementTable:
 def test_three_targets_and_the_false_alarm_as_clutter(method: str) -> None:
     table = hand_written_scan()
     result = pa.associate_static(table, SENSORS, method)
-    assert len(result.tuples) == 3
-    assert np.all(result.tuples >= 0)  # three full targets, none split
+    assert len(result.rows) == 3
+    assert np.all(result.rows >= 0)  # three full targets, none split
     assert result.clutter.tolist() == [9]  # the false alarm, the last row
     order = np.argsort(result.positions[:, 0])
     np.testing.assert_allclose(result.positions[order], TARGETS, atol=1.0)

@@ -51,23 +51,23 @@ def test_every_method_takes_the_prior_and_keeps_the_partition(method: str) -> No
     scan = static_scan(5, n_targets=8, ratio=15)
     plain = pa.associate_static(scan.measurements, scan.sensors, method)
     result = pa.associate_static(scan.measurements, scan.sensors, method, region=REGION, target_density=8 / AREA)
-    assert result.report["priced_candidates"] < result.report["candidates"]
+    assert result.diagnostics.priced_candidates < result.diagnostics.candidates
     margin = 3 * np.sqrt(np.stack([result.covariances[:, 0, 0], result.covariances[:, 1, 1]], axis=1))
     inside = (result.positions >= np.array([SQUARE_X[0], SQUARE_Y[0]]) - margin) & (
         result.positions <= np.array([SQUARE_X[1], SQUARE_Y[1]]) + margin
     )
     assert inside.all()
-    used = result.tuples[result.tuples >= 0]
+    used = result.rows[result.rows >= 0]
     assert len(np.unique(used)) == len(used)
     assert len(used) + len(result.clutter) == len(scan.measurements)
-    assert len(plain.tuples) > 0
+    assert len(plain.rows) > 0
 
 
 def test_an_empty_region_leaves_every_report_as_clutter() -> None:
     scan = static_scan(5, n_targets=8, ratio=15)
     behind = (-10e3, 10e3, -60e3, -40e3)  # behind the sensors: no line of sight passes there
     result = pa.associate_static(scan.measurements, scan.sensors, "lagrangian", region=behind, target_density=1e-9)
-    assert len(result.tuples) == 0 and len(result.clutter) == len(scan.measurements)
+    assert len(result.rows) == 0 and len(result.clutter) == len(scan.measurements)
 
 
 @pytest.mark.parametrize(

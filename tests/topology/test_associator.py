@@ -27,7 +27,7 @@ def measured_tracks(seed: int, bias_deg: float) -> tuple[pa.TrackTable, pa.Track
 
 def test_every_track_of_every_scan_is_paired_or_unpaired() -> None:
     local, system, _ = measured_tracks(1, 5.0)
-    result = pa.TopologyAssociator().associate(local, system)
+    result = pa.TopologyAssociator().associate(local=local, system=system)
     assert len(result.pairs) > 0.9 * len(local), "most tracks are paired: the check is not vacuous"
     seen = [(t, s, k) for t, s, k in zip(result.pairs.time, result.pairs.source, result.pairs.local_track, strict=True)]
     u = result.unpaired_local
@@ -52,7 +52,7 @@ def test_system_tracks_are_kept_where_a_source_has_no_track(
     times = system.scan_times()
     sources = local.sources
     local = local.select(~((local.source == sources[0]) & (local.time == times[3])) & (local.time != times[-1]))
-    result = method().associate(local, system)
+    result = method().associate(local=local, system=system)
     sys_seen = list(zip(result.pairs.time, result.pairs.source, result.pairs.system_track, strict=True))
     v = result.unpaired_system
     sys_seen += list(zip(v.time, v.source, v.track, strict=True))
@@ -62,8 +62,10 @@ def test_system_tracks_are_kept_where_a_source_has_no_track(
     assert sorted(v.track[at_gap].tolist()) == sorted(system.at(float(times[3])).track.tolist())
     # Streaming: a source seen before and silent now leaves the system tracks unpaired too.
     live = method()
-    live.update(local.at(float(times[0])), system.at(float(times[0])))
-    out = live.update(local.select(local.source != sources[0]).at(float(times[1])), system.at(float(times[1])))
+    live.update(local=local.at(float(times[0])), system=system.at(float(times[0])))
+    out = live.update(
+        local=local.select(local.source != sources[0]).at(float(times[1])), system=system.at(float(times[1]))
+    )
     assert sorted(out.unpaired_system.track[out.unpaired_system.source == sources[0]].tolist()) == sorted(
         system.at(float(times[1])).track.tolist()
     )
@@ -79,15 +81,19 @@ def test_topology_survives_bias_where_nearest_neighbour_does_not() -> None:
     assert abs(relative[worst]) > 4.0
     one = local.of(worst)
     since = float(scenario.scan_times[5])  # type: ignore[attr-defined]
-    topo = track_association_scores(pa.TopologyAssociator().associate(one, system), one, system, since=since)
-    near = track_association_scores(pa.NearestNeighbourAssociator().associate(one, system), one, system, since=since)
+    topo = track_association_scores(
+        pa.TopologyAssociator().associate(local=one, system=system), one, system, since=since
+    )
+    near = track_association_scores(
+        pa.NearestNeighbourAssociator().associate(local=one, system=system), one, system, since=since
+    )
     assert topo.f1 > 0.9
     assert near.f1 < 0.8
 
 
 def test_bias_is_estimated() -> None:
     local, system, scenario = measured_tracks(3, 5.0)
-    result = pa.TopologyAssociator().associate(local, system)
+    result = pa.TopologyAssociator().associate(local=local, system=system)
     truth = scenario.true_biases - scenario.true_biases[0]  # type: ignore[attr-defined]
     for radar, estimate in result.bias.items():
         assert abs(estimate.rotation - truth[radar]) < max(5 * estimate.rotation_std, np.radians(0.3)), radar
@@ -100,8 +106,8 @@ def test_track_ids_do_not_matter() -> None:
     renamed = pa.TrackTable.from_arrays(
         local.source, relabel[local.track], local.time, local.position, truth=local.truth, sort=True
     )
-    a = pa.TopologyAssociator().associate(local, system)
-    b = pa.TopologyAssociator().associate(renamed, system)
+    a = pa.TopologyAssociator().associate(local=local, system=system)
+    b = pa.TopologyAssociator().associate(local=renamed, system=system)
     key_a = sorted(zip(a.pairs.time, a.pairs.source, relabel[a.pairs.local_track], a.pairs.system_track, strict=True))
     key_b = sorted(zip(b.pairs.time, b.pairs.source, b.pairs.local_track, b.pairs.system_track, strict=True))
     assert key_a == key_b
@@ -109,9 +115,9 @@ def test_track_ids_do_not_matter() -> None:
 
 def test_streaming_update_equals_associate() -> None:
     local, system, _ = measured_tracks(5, 1.0)
-    batch = pa.TopologyAssociator().associate(local, system)
+    batch = pa.TopologyAssociator().associate(local=local, system=system)
     live = pa.TopologyAssociator()
-    parts = [live.update(local.at(t), system.at(t)) for t in local.scan_times()]
+    parts = [live.update(local=local.at(t), system=system.at(t)) for t in local.scan_times()]
     assert np.array_equal(np.concatenate([p.pairs.local_track for p in parts]), batch.pairs.local_track)
     assert np.array_equal(np.concatenate([p.pairs.system_track for p in parts]), batch.pairs.system_track)
 
@@ -119,7 +125,7 @@ def test_streaming_update_equals_associate() -> None:
 def test_an_empty_system_picture_leaves_everything_unpaired() -> None:
     local, system, _ = measured_tracks(6, 0.0)
     empty = system.select(np.array([], dtype=np.int64))
-    result = pa.TopologyAssociator().associate(local, empty)
+    result = pa.TopologyAssociator().associate(local=local, system=empty)
     assert len(result.pairs) == 0 and len(result.unpaired_local) == len(local)
 
 
@@ -146,11 +152,11 @@ def test_bad_tracks() -> None:
     local, system, _ = measured_tracks(7, 0.0)
     one_d = pa.TrackTable.from_arrays(local.source, local.track, local.time, local.position[:, 0], sort=True)
     with pytest.raises(ValueError, match="2-D or 3-D"):
-        pa.TopologyAssociator().associate(one_d, system)
+        pa.TopologyAssociator().associate(local=one_d, system=system)
     with pytest.raises(ValueError, match="velocities"):
-        pa.TopologyAssociator(heading_reference=True).associate(local, system)
+        pa.TopologyAssociator(heading_reference=True).associate(local=local, system=system)
     with pytest.raises(ValueError, match="one scan"):
-        pa.TopologyAssociator().update(local, system)
+        pa.TopologyAssociator().update(local=local, system=system)
 
 
 def test_correcting_the_estimated_bias_rescues_nearest_neighbour() -> None:
@@ -160,17 +166,17 @@ def test_correcting_the_estimated_bias_rescues_nearest_neighbour() -> None:
 
     local, system, scenario = measured_tracks(2, 5.0)
     since = float(scenario.scan_times[5])  # type: ignore[attr-defined]
-    first = pa.TopologyAssociator().associate(local, system)
+    first = pa.TopologyAssociator().associate(local=local, system=system)
     corrected = unbias(local, first.bias)
     near_before = track_association_scores(
-        pa.NearestNeighbourAssociator().associate(local, system), local, system, since=since
+        pa.NearestNeighbourAssociator().associate(local=local, system=system), local, system, since=since
     )
     near_after = track_association_scores(
-        pa.NearestNeighbourAssociator().associate(corrected, system), corrected, system, since=since
+        pa.NearestNeighbourAssociator().associate(local=corrected, system=system), corrected, system, since=since
     )
     # Measured at this seed: 0.938 before, over 0.99 after.
     assert near_before.f1 < 0.95 < 0.99 < near_after.f1
-    twice = pa.TopologyAssociator(correct_bias=True).associate(local, system)
+    twice = pa.TopologyAssociator(correct_bias=True).associate(local=local, system=system)
     assert twice.bias == first.bias and len(twice.pairs) > 0.9 * len(local)
 
 

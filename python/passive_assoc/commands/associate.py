@@ -90,7 +90,7 @@ def main(args: argparse.Namespace) -> int:
     for k, rows in enumerate(tqdm(groups, desc="associate", unit="scan", file=sys.stderr, disable=None, leave=False)):
         found = associator.associate(table.select(rows), sensors)
         for t in range(len(found.positions)):
-            used = found.tuples[t] >= 0
+            used = found.rows[t] >= 0
             targets.append(
                 {
                     "target": len(targets),
@@ -98,7 +98,7 @@ def main(args: argparse.Namespace) -> int:
                     "position": found.positions[t],
                     "covariance": found.covariances[t],
                     "cost": found.costs[t],
-                    "rows": rows[found.tuples[t][used]],
+                    "rows": rows[found.rows[t][used]],
                 }
             )
         inside = found.labels >= 0

@@ -19,10 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from ..assignment.tracks import TrackAssociation
 from ..data import TrackTable
 from ..radar_esm import WaveletFuzzyAssociator
 from ..topology import TopologyAssociator
+from ..track_association import TrackAssociation
 from .common import (
     add_parameter_options,
     given_parameters,
@@ -74,7 +74,7 @@ def main(args: argparse.Namespace) -> int:
             f"--method {args.method} does not take {', '.join('--' + u.replace('_', '-') for u in unused)}"
         )
     associator = cls(**given)
-    result = associator.associate(system, local) if args.method == "wavelet" else associator.associate(local, system)
+    result = associator.associate(local=local, system=system)
     columns = local_rows(local, result)
     paired = int(np.sum(columns["system_track"] >= 0))
     write_outputs(

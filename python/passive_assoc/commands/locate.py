@@ -5,7 +5,7 @@ with emitter attributes when the file has them).
 Writes, in ``--out``:
 
 * ``locate_measurements.csv`` — every input row once: row, sensor, time, azimuth and
-  ``group`` (the baseline report whose target it was assigned to, or −1: unassociated);
+  ``group`` (the baseline report whose target it was assigned to, or −1: clutter);
 * ``locate_targets.json`` — per baseline report: whether it was associated, its rows, the ML
   position and covariance, the cluster radius and the attribute supports.
 """
@@ -35,7 +35,7 @@ __all__ = ["add_arguments", "main"]
 DESCRIPTION = (
     "Locate formation targets from one snapshot of 2-D bearings of three or more sensors, "
     "associating them with emitter attributes when the file has attribute columns (METHODS §3). "
-    "Every measurement ends in one target's group or in the unassociated set."
+    "Every measurement ends in one target's group or in the clutter set."
 )
 
 
@@ -65,13 +65,13 @@ def main(args: argparse.Namespace) -> int:
     if args.attributes is not None:
         parameters["attributes"] = args.attributes
     result = FormationLocator(**parameters).locate(table, sensors)
-    located, unassociated = int(np.sum(result.associated)), int(np.sum(result.labels < 0))
+    located, clutter = int(np.sum(result.associated)), len(result.clutter)
     write_outputs(
         args,
         ("locate_measurements.csv", row_columns(table, result.labels, label_name="group")),
         ("locate_targets.json", target_summary(result)),
-        f"{located} of {len(result.baseline_rows)} baseline reports located, {unassociated} of {len(table)} "
-        "measurements unassociated",
+        f"{located} of {len(result.baseline_rows)} baseline reports located, {clutter} of {len(table)} "
+        "measurements clutter",
     )
     return 0
 
@@ -91,5 +91,8 @@ def target_summary(result: FormationResult) -> dict[str, Any]:
             }
             for b in range(len(result.baseline_rows))
         ],
-        "report": result.report,
+        "termination": result.termination,
+        "success": result.success,
+        "message": result.message,
+        "diagnostics": dataclasses.asdict(result.diagnostics),
     }

@@ -10,16 +10,26 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from typing import Annotated, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._params import Constraint, Interval, Options
-from .._settings import AttributeEvidence, Combination
+from .._params import Interval, Options
+from .._settings import AttributeEvidence
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
 
-__all__ = ["ATTRIBUTE_CONSTRAINTS", "AttributeStd", "STD_SUFFIX", "attribute_arrays", "attribute_evidence"]
+__all__ = [
+    "AttributeStd",
+    "Combination",
+    "CombinationName",
+    "DEFAULT_ETA",
+    "Eta",
+    "STD_SUFFIX",
+    "attribute_arrays",
+    "attribute_evidence",
+]
 
 #: Suffix of an attribute column holding the per-report std of the attribute it names.
 STD_SUFFIX = "_std"
@@ -29,11 +39,13 @@ STD_SUFFIX = "_std"
 AttributeStd = Sequence[float] | Mapping[str, float | Sequence[float]] | NDArray[np.float64]
 
 
-#: Declared constraints of the attribute gate's scalar parameters (shared with §2's gate).
-ATTRIBUTE_CONSTRAINTS: dict[str, list[Constraint]] = {
-    "eta": [Interval(float, 0.0, 1.0, closed="neither")],
-    "combination": [Options("simple", "two_outcome")],
-}
+#: The attribute gate's threshold η (METHODS §3): the declaration the formation locator and
+#: §2's gate share, and its default (the paper's 0.6).
+Eta = Annotated[float, Interval(float, 0.0, 1.0, closed="neither")]
+DEFAULT_ETA = 0.6
+#: The Dempster reading of the attribute supports (METHODS §3), declared once for both methods.
+CombinationName = Literal["simple", "two_outcome"]
+Combination = Annotated[CombinationName, Options("simple", "two_outcome")]
 
 
 def attribute_evidence(
@@ -42,10 +54,11 @@ def attribute_evidence(
     attributes: Sequence[str] | None,
     attribute_std: AttributeStd | None,
     eta: float,
-    combination: Combination,
+    combination: CombinationName,
 ) -> AttributeEvidence | None:
     """The attribute gate's input for the core, or None when no attribute is used. ``eta`` and
-    ``combination`` must have passed :data:`ATTRIBUTE_CONSTRAINTS` (callers validate once)."""
+    ``combination`` must have been validated (the callers' declarations, :data:`Eta` and
+    :data:`Combination`, check them once)."""
     names, values, stds = attribute_arrays(measurements, sensors, attributes, attribute_std)
     if not names:
         return None

@@ -10,34 +10,24 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._inputs import check_network, check_pair
-from .._params import Constraint, Interval, Options, validate
+from .._params import POSITIVE, Epoch, Interval, Options, Threads, checked
 from .._settings import FitSettings
 from .._validation import as_float_array, as_int_array, require_state_range
 from ..data import MeasurementTable, SensorNetwork
 
-Motion = Literal["static", "cv"]
+#: The fitted state: constant velocity at ``t0``, or a static position; declared once for
+#: :func:`fit_ml`, :func:`crlb` and :func:`fisher_and_crlb`.
+Motion = Annotated[Literal["static", "cv"], Options("cv", "static")]
 
 #: Step halvings per Gauss-Newton line search before the fit reports ``stalled``.
 MAX_HALVINGS = 30
-
-#: Declared constraints of :func:`fit_ml`'s (and :func:`crlb`'s) scalar parameters.
-FIT_CONSTRAINTS: dict[str, list[Constraint]] = {
-    "motion": [Options("cv", "static")],
-    # Beyond ±1e12 s (32 000 years) the epoch swamps the measurement times: t − t0 keeps no
-    # digits of t, and the fit came back singular (t0 = 2**70) instead of refusing.
-    "t0": [Interval(float, -1e12, 1e12), None],
-    "max_iter": [Interval(int, 1, None)],
-    "xtol": [Interval(float, 0.0, None, closed="neither")],
-    "step_sigmas": [Interval(float, 0.0, None)],
-    "n_threads": [Interval(int, 1, None), None],
-}
 
 #: Why one fit stopped.
 FitTermination = Literal["converged", "max_iterations", "stalled", "singular", "non_finite"]
@@ -124,6 +114,7 @@ def _groups_to_csr(groups: ArrayLike | Sequence[ArrayLike]) -> tuple[NDArray[np.
     return np.concatenate(parts), offsets
 
 
+@checked
 def fit_ml(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
@@ -131,11 +122,11 @@ def fit_ml(
     *,
     initial: ArrayLike | None = None,
     motion: Motion = "cv",
-    t0: float | None = None,
-    max_iter: int = 50,
-    xtol: float = 1e-10,
-    step_sigmas: float = 1e-6,
-    n_threads: int | None = None,
+    t0: Epoch = None,
+    max_iter: Annotated[int, Interval(int, 1, None)] = 50,
+    xtol: Annotated[float, POSITIVE] = 1e-10,
+    step_sigmas: Annotated[float, Interval(float, 0.0, None)] = 1e-6,
+    n_threads: Threads = None,
 ) -> FitResult:
     """Fit one state per group of measurements by Gauss-Newton maximum likelihood.
 
@@ -181,18 +172,14 @@ def fit_ml(
     ((4, 6), True)
     """
     table, network = check_pair(measurements, sensors)
-    checked = validate(
-        dict(motion=motion, t0=t0, max_iter=max_iter, xtol=xtol, step_sigmas=step_sigmas, n_threads=n_threads),
-        FIT_CONSTRAINTS,
-    )
-    if checked["t0"] is None:
-        checked["t0"] = float(table.time.min()) if len(table) else 0.0
+    if t0 is None:
+        t0 = float(table.time.min()) if len(table) else 0.0
     indices, offsets = _groups_to_csr(groups)
-    dim = network.ndim * (2 if checked["motion"] == "cv" else 1)
+    dim = network.ndim * (2 if motion == "cv" else 1)
     start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
-    settings = FitSettings(**checked, max_halvings=MAX_HALVINGS)
+    settings = FitSettings(motion, t0, max_iter, xtol, step_sigmas, MAX_HALVINGS, n_threads)
     out = _core.fit_batch(table, network, indices, offsets, start, settings)
-    return FitResult(*out, t0=checked["t0"])
+    return FitResult(*out, t0=t0)
 
 
 def crlb(
@@ -202,7 +189,7 @@ def crlb(
     truth: ArrayLike,
     *,
     motion: Motion = "cv",
-    t0: float | None = 0.0,
+    t0: Epoch = 0.0,
 ) -> NDArray[np.float64]:
     """Cramér-Rao lower bound of a true state observed once per (sensor, time) pair.
 
@@ -232,6 +219,7 @@ def crlb(
     return fisher_and_crlb(sensor_index, times, sensors, truth, motion=motion, t0=t0)[1]
 
 
+@checked
 def fisher_and_crlb(
     sensor_index: ArrayLike,
     times: ArrayLike,
@@ -239,21 +227,13 @@ def fisher_and_crlb(
     truth: ArrayLike,
     *,
     motion: Motion = "cv",
-    t0: float | None = 0.0,
+    t0: Epoch = 0.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The Fisher information and its inverse; see :func:`crlb`."""
     network = check_network(sensors)
-    checked = validate(dict(motion=motion, t0=t0), FIT_CONSTRAINTS)
     state = as_float_array("truth", truth, ndim=1)
     require_state_range("truth", state)
     when = as_float_array("times", times, ndim=1)
-    if checked["t0"] is None:  # None: the earliest time, as fit_ml's default
-        checked["t0"] = float(when.min()) if len(when) else 0.0
-    return _core.crlb(
-        network,
-        state,
-        as_int_array("sensor_index", sensor_index, ndim=1),
-        when,
-        checked["motion"],
-        checked["t0"],
-    )
+    if t0 is None:  # None: the earliest time, as fit_ml's default
+        t0 = float(when.min()) if len(when) else 0.0
+    return _core.crlb(network, state, as_int_array("sensor_index", sensor_index, ndim=1), when, motion, t0)

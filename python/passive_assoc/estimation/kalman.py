@@ -30,21 +30,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Annotated
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
-from .._params import Constraint, Interval, Options, validate
+from .._params import POSITIVE, Configurable, Interval, Options, Threads
 from .._settings import KalmanInit, KalmanMeasurement, KalmanMotion, KalmanSettings
 from .._validation import as_float_array
 from .fitting import _groups_to_csr
 
 __all__ = ["KalmanFilter", "KalmanResult"]
-
-#: A finite number > 0.
-POSITIVE = Interval(float, 0.0, None, closed="neither")
 
 
 @dataclass(frozen=True)
@@ -81,7 +78,7 @@ class KalmanResult:
 
 
 @dataclass(frozen=True, kw_only=True)
-class KalmanFilter:
+class KalmanFilter(Configurable):
     """Batched Kalman filter; see the module documentation for the models.
 
     Parameters
@@ -112,29 +109,13 @@ class KalmanFilter:
     [False, True, True, True, True]
     """
 
-    motion: KalmanMotion = "cv"
-    measurement: KalmanMeasurement = "position"
-    process_noise: float
-    init: KalmanInit = "differencing"
-    init_velocity_std: float = 500.0
-    init_acceleration_std: float = 50.0
-    n_threads: int | None = None
-
-    #: The declared constraints of every parameter.
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {
-        "motion": [Options("cv", "ca")],
-        "measurement": [Options("position", "polar", "polar_converted")],
-        "process_noise": [Interval(float, 0.0, None)],
-        "init": [Options("differencing", "single_point")],
-        "init_velocity_std": [POSITIVE],
-        "init_acceleration_std": [POSITIVE],
-        "n_threads": [Interval(int, 1, None), None],
-    }
-
-    def __post_init__(self) -> None:
-        checked = validate({name: getattr(self, name) for name in self._constraints}, self._constraints)
-        for name, value in checked.items():
-            object.__setattr__(self, name, value)  # normalised: NumPy scalars become int/float
+    motion: Annotated[KalmanMotion, Options("cv", "ca")] = "cv"
+    measurement: Annotated[KalmanMeasurement, Options("position", "polar", "polar_converted")] = "position"
+    process_noise: Annotated[float, Interval(float, 0.0, None)]
+    init: Annotated[KalmanInit, Options("differencing", "single_point")] = "differencing"
+    init_velocity_std: Annotated[float, POSITIVE] = 500.0
+    init_acceleration_std: Annotated[float, POSITIVE] = 50.0
+    n_threads: Threads = None
 
     def filter(
         self,

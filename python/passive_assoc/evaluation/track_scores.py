@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..assignment.tracks import TrackAssociation
 from ..data import TrackTable
+from ..track_association import TrackAssociation
 from .metrics import PairwiseScores, pairwise_scores
 
 __all__ = ["track_association_scores"]

@@ -108,7 +108,7 @@ def _static_correct(out: StaticAssociation, true: NDArray[np.int64]) -> NDArray[
     tuple is wrong)."""
     k = out.labels[true[:, 0]]
     found = k >= 0
-    correct: NDArray[np.bool_] = found & np.all(out.tuples[np.where(found, k, 0)] == true, axis=1)
+    correct: NDArray[np.bool_] = found & np.all(out.rows[np.where(found, k, 0)] == true, axis=1)
     return correct
 
 

@@ -62,14 +62,15 @@ def score(
     if prior:
         settings.update(scenario_prior(scan))
     result = associate_static(scan.measurements, scan.sensors, method, n_threads=1, max_chains=None, **settings)
-    found = {tuple(row) for row in result.tuples.tolist()}
+    found = {tuple(row) for row in result.rows.tolist()}
     hits = [t in found for t in true_tuples(scan)]
     g = gospa(result.positions, scan.targets[scan.observable()], c=GOSPA_CUTOFF_M)
     out = {"accuracy": float(np.mean(hits)) if hits else float("nan"), "gospa": g.total}
     if method == "exact" and not prior:
         out["ghosts"] = ghosts(scan, cands)
-        if result.report["optimal"]:
-            out["truth_beaten"] = float(truth_cost(scan, cands, cands.costs) > result.report["primal_cost"] + 1e-9)
+        solver = result.diagnostics.solver
+        if solver is not None and solver.optimal:
+            out["truth_beaten"] = float(truth_cost(scan, cands, cands.costs) > solver.primal_cost + 1e-9)
     return out
 
 

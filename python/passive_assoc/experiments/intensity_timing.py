@@ -76,14 +76,15 @@ def _time_scan(scan: StaticScan, solvers: Solvers) -> dict[str, Any]:
             continue  # far beyond what branch-and-bound can prove
         seconds, result = _timed(scan, method, solvers, repeats)
         out[f"{method}_s"] = seconds
-        out["candidates"] = result.report["candidates"]
-        if method != "intensity":
-            out[f"{method}_cost"] = result.report["primal_cost"]
-        if method == "lagrangian":
-            out["lagrangian_gap"] = result.report["gap"]
-            out["lagrangian_iterations"] = result.report["iterations"]
-        if method == "exact":
-            out["exact_proven"] = bool(result.report["optimal"])
+        out["candidates"] = result.diagnostics.candidates
+        solver = result.diagnostics.solver
+        if solver is not None:
+            out[f"{method}_cost"] = solver.primal_cost
+        if solver is not None and method == "lagrangian":
+            out["lagrangian_gap"] = solver.gap
+            out["lagrangian_iterations"] = solver.iterations
+        if solver is not None and method == "exact":
+            out["exact_proven"] = solver.optimal
     if out.get("exact_proven"):
         out["lagrangian_gap_to_optimum"] = (out["lagrangian_cost"] - out["exact_cost"]) / max(
             1.0, abs(out["exact_cost"])

@@ -18,12 +18,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..assignment.tracks import NearestNeighbourAssociator, TrackAssociator
 from ..data import TrackTable
 from ..estimation.kalman import KalmanFilter
 from ..evaluation.track_scores import track_association_scores
+from ..roles import TrackAssociator
 from ..simulation.topology import RadarScenario, paper_topology_scenario
 from ..topology import TopologyAssociator
+from ..track_association import NearestNeighbourAssociator
 from .common import finite_float, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
 
 #: The paper's precision, recall and F1 (%); its text swaps precision and recall (METHODS §4).
@@ -105,7 +106,7 @@ def run_once(seed: np.random.SeedSequence, bias_deg: float, settings: Settings) 
     scores: dict[str, tuple[float, float, float]] = {}
     bias_error = np.full(len(scenario.radars) - 1, np.nan)
     for name, method in methods.items():
-        result = method.associate(local, system)
+        result = method.associate(local=local, system=system)
         s = track_association_scores(result, local, system, since=since)
         scores[name] = (s.precision, s.recall, s.f1)
         if name == "topology":

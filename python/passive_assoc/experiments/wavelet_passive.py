@@ -83,7 +83,9 @@ def demo_run(seed: np.random.SeedSequence, settings: Settings) -> tuple[RunScore
     scenario, radar, fixes, passive = demo_tracks(seed, settings.process_noise)
     correct, keeps = {}, {}
     for name, method in methods(settings).items():
-        correct[name], keeps[name] = score(method.associate(radar, passive), radar, passive, scenario.scan_times)
+        correct[name], keeps[name] = score(
+            method.associate(local=passive, system=radar), radar, passive, scenario.scan_times
+        )
     return RunScores(correct, keeps), _fix_rms(scenario, fixes)
 
 

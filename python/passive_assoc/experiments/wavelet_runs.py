@@ -62,7 +62,7 @@ PROCESS_NOISE = maneuver_power()
 
 
 class Associator(Protocol):
-    def associate(self, radar: TrackTable, esm: TrackTable) -> RadarEsmAssociation: ...
+    def associate(self, *, local: TrackTable, system: TrackTable) -> RadarEsmAssociation: ...
 
 
 @dataclass(frozen=True)
@@ -155,12 +155,12 @@ def run_once(seed: np.random.SeedSequence, n_clutter: int, settings: Settings) -
     radar, esm = tracks.of(0), tracks.of(1)
     correct, keeps, above = {}, {}, None
     for name, method in methods(settings).items():
-        result = method.associate(radar, esm)
+        result = method.associate(local=esm, system=radar)
         correct[name], keeps[name] = score(result, radar, esm, scenario.scan_times)
         if name == "wavelet":
             assert isinstance(method, WaveletFuzzyAssociator)
             c = result.candidates
-            chosen = c.score > method.config.epsilon
+            chosen = c.score > method.epsilon
             above = true_pair_fraction(
                 c.time[chosen], c.local_track[chosen], c.system_track[chosen], radar, esm, scenario.scan_times
             )

@@ -14,28 +14,47 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .. import _core
 from .._inputs import check_pair
-from .._params import Boolean, Constraint, Interval, Options, validate
+from .._params import Boolean, Configurable, Interval, Options
 from .._settings import FormationSettings
 from ..data import MeasurementTable, SensorNetwork
-from ..data.attributes import ATTRIBUTE_CONSTRAINTS, AttributeStd, attribute_evidence
+from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta, attribute_evidence
+from ..outcome import COMPLETED, Outcome
 
-__all__ = ["FormationLocator", "FormationResult", "locate_formation"]
+__all__ = ["FormationDiagnostics", "FormationLocator", "FormationResult", "locate_formation"]
 
 
 @dataclass(frozen=True)
-class FormationResult:
+class FormationDiagnostics:
+    """What the location examined: whether attributes gated it, the baseline meetings
+    examined, and those pruned as parallel, by attribute support, by range, by region and
+    behind a sensor, and the candidate sets scored."""
+
+    attributes: bool
+    pairs: int
+    parallel: int
+    low_support: int
+    out_of_range: int
+    outside_region: int
+    behind: int
+    candidates: int
+
+
+@dataclass(frozen=True)
+class FormationResult(Outcome):
     """Output of :meth:`FormationLocator.locate`: one entry per report of the baseline sensor
     (``B`` of them, in table order).
 
     Attributes
     ----------
+    termination, success, message
+        As every result (:class:`~passive_assoc.outcome.Outcome`): ``"completed"``.
     baseline_rows : ndarray of int, shape (B,)
         Table row of each baseline report.
     rows : ndarray of int, shape (B, S)
@@ -50,12 +69,12 @@ class FormationResult:
         Dempster ``m(assoc)`` of the baseline report with each chosen report (NaN at the
         baseline and where none; 1 without attributes).
     labels : ndarray of int, shape (N,)
-        The group (baseline index) every input row ends in, or −1: the unassociated set. In
+        The group (baseline index) every input row ends in, or −1: the clutter set. In
         the independent mode a report chosen by several baselines belongs to the one whose set
         clusters tightest (ties: lower index); :attr:`times_chosen` counts them all.
     times_chosen : ndarray of int, shape (N,)
         How many baseline groups chose each row (≤ 1 with ``one_to_one``).
-    report : dict
+    diagnostics : FormationDiagnostics
         Meetings examined and pruned by support, range, region and direction, candidates scored.
     """
 
@@ -69,16 +88,17 @@ class FormationResult:
     chi2: NDArray[np.float64]
     labels: NDArray[np.int64]
     times_chosen: NDArray[np.int64]
-    report: dict[str, Any] = field(repr=False)
+    diagnostics: FormationDiagnostics = field(repr=False)
 
     @property
-    def unassociated(self) -> NDArray[np.int64]:
-        """Rows in no group (clutter, missed partners, reports nobody chose)."""
+    def clutter(self) -> NDArray[np.int64]:
+        """Rows in no group (false alarms, missed partners, reports nobody chose), as
+        :attr:`InitiationResult.clutter`."""
         return np.flatnonzero(self.labels < 0)
 
 
 @dataclass(frozen=True)
-class FormationLocator:
+class FormationLocator(Configurable):
     """The modified baseline least-distance method with emitter attributes (METHODS §3).
 
     Parameters
@@ -115,32 +135,19 @@ class FormationLocator:
 
     attributes: Sequence[str] | None = None
     attribute_std: AttributeStd | None = None
-    eta: float = 0.6
-    combination: Literal["simple", "two_outcome"] = "simple"
-    baseline_sensor: int = 0
-    reference: Literal["smallest"] | int = "smallest"
-    cluster_radius: Literal["2d", "1d"] = "2d"
-    one_to_one: bool = False
-    r_max: float = 200e3
+    eta: Eta = DEFAULT_ETA
+    combination: Combination = "simple"
+    baseline_sensor: Annotated[int, Interval(int, 0, None)] = 0
+    reference: Annotated[Literal["smallest"] | int, Options("smallest"), Interval(int, 0, None)] = "smallest"
+    cluster_radius: Annotated[Literal["2d", "1d"], Options("2d", "1d")] = "2d"
+    one_to_one: Annotated[bool, Boolean()] = False
+    r_max: Annotated[float, Interval(float, 0.0, None, closed="neither")] = 200e3
     region: tuple[float, float, float, float] | None = None
-    in_front: bool = False
-    n_threads: int | None = None
-
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {
-        **ATTRIBUTE_CONSTRAINTS,
-        "baseline_sensor": [Interval(int, 0, None)],
-        "reference": [Options("smallest"), Interval(int, 0, None)],
-        "cluster_radius": [Options("2d", "1d")],
-        "one_to_one": [Boolean()],
-        "r_max": [Interval(float, 0.0, None, closed="neither")],
-        "in_front": [Boolean()],
-        "n_threads": [Interval(int, 1, None), None],
-    }
+    in_front: Annotated[bool, Boolean()] = False
+    n_threads: Annotated[int | None, Interval(int, 1, None), None] = None
 
     def __post_init__(self) -> None:
-        checked = validate({name: getattr(self, name) for name in self._constraints}, self._constraints)
-        for name, value in checked.items():
-            object.__setattr__(self, name, value)
+        super().__post_init__()
         if self.region is not None:
             region = tuple(float(v) for v in np.asarray(self.region, dtype=np.float64).ravel())
             if len(region) != 4:
@@ -151,7 +158,7 @@ class FormationLocator:
         """Associate and locate one snapshot of 2-D bearings from ≥ 3 sensors.
 
         Every input row ends in exactly one group of :attr:`FormationResult.labels` or in
-        :attr:`FormationResult.unassociated`.
+        :attr:`FormationResult.clutter`.
         """
         table, network = check_pair(measurements, sensors)
         if network.ndim != 2:
@@ -178,7 +185,7 @@ def locate_formation(measurements: MeasurementTable, sensors: SensorNetwork, **s
     >>> from passive_assoc.simulation import paper_formation_scene
     >>> scene = paper_formation_scene(0, sigma_deg=0.0)
     >>> result = pa.locate_formation(scene.measurements, scene.sensors, attribute_std=scene.attribute_std)
-    >>> bool(result.associated.all()), len(result.unassociated)
+    >>> bool(result.associated.all()), len(result.clutter)
     (True, 0)
     """
     return FormationLocator(**settings).locate(measurements, sensors)
@@ -186,16 +193,16 @@ def locate_formation(measurements: MeasurementTable, sensors: SensorNetwork, **s
 
 def _result(out: _core.FormationOutput, with_attributes: bool) -> FormationResult:
     c = out.counts
-    report = {
-        "attributes": with_attributes,
-        "pairs": c.pairs,
-        "parallel": c.parallel,
-        "low_support": c.low_support,
-        "out_of_range": c.out_of_range,
-        "outside_region": c.outside_region,
-        "behind": c.behind,
-        "candidates": c.candidates,
-    }
+    diagnostics = FormationDiagnostics(
+        with_attributes,
+        c.pairs,
+        c.parallel,
+        c.low_support,
+        c.out_of_range,
+        c.outside_region,
+        c.behind,
+        c.candidates,
+    )
     return FormationResult(
         out.baseline_rows,
         out.rows,
@@ -207,5 +214,8 @@ def _result(out: _core.FormationOutput, with_attributes: bool) -> FormationResul
         out.chi2,
         out.labels,
         out.times_chosen,
-        report,
+        diagnostics,
+        termination=COMPLETED,
+        success=True,
+        message=f"{int((~np.isnan(out.radius)).sum())} of {len(out.radius)} baseline reports associated",
     )

@@ -7,15 +7,16 @@ the same kernels internally.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._inputs import check_pair
+from .._params import POSITIVE, Epoch, Interval, Options, Threads, checked
 from .._settings import DescentSettings
-from .._validation import as_float_array, as_float_scalar, as_int_scalar, require_state_range
+from .._validation import as_float_array, require_state_range
 from ..data import MeasurementTable, SensorNetwork
 
 
@@ -24,29 +25,27 @@ def _spreads(
 ) -> tuple[MeasurementTable, SensorNetwork, tuple[NDArray[np.float64], NDArray[np.float64]]]:
     """The checked pair plus the per-sensor spreads (azimuth, elevation)."""
     table, network = check_pair(measurements, sensors)
-    factor = as_float_scalar("spread_factor", spread_factor, finite=True)
-    if factor <= 0:
-        raise ValueError(f"spread_factor: must be > 0, got {factor}")
     sigma_el = sensors.sigma_azimuth if sensors.ndim == 2 else sensors.sigma_elevation
-    return table, network, (factor * sensors.sigma_azimuth, factor * np.asarray(sigma_el, dtype=float))
+    return table, network, (spread_factor * sensors.sigma_azimuth, spread_factor * np.asarray(sigma_el, dtype=float))
 
 
 def _epoch(measurements: MeasurementTable, t0: float | None) -> float:
-    """``t0``, checked, or the table's earliest time (0 for an empty table)."""
+    """``t0`` or the table's earliest time (0 for an empty table)."""
     if t0 is not None:
-        return as_float_scalar("t0", t0, finite=True)
+        return t0
     times = np.asarray(measurements.time)
     return float(times.min()) if times.size else 0.0
 
 
+@checked
 def closeness(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     states: ArrayLike,
     *,
-    t0: float | None = None,
-    spread_factor: float = 2.0,
-    n_threads: int | None = None,
+    t0: Epoch = None,
+    spread_factor: Annotated[float, POSITIVE] = 2.0,
+    n_threads: Threads = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """R and its gradient at each constant-velocity state.
 
@@ -84,17 +83,18 @@ class ClosenessOptima:
     evaluations: NDArray[np.int64]
 
 
+@checked
 def maximize_closeness(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     starts: ArrayLike,
     covariances: ArrayLike,
     *,
-    t0: float | None = None,
-    spread_factor: float = 2.0,
-    scaling: Literal["whitened", "diagonal"] = "whitened",
-    max_iter: int = 100,
-    n_threads: int | None = None,
+    t0: Epoch = None,
+    spread_factor: Annotated[float, POSITIVE] = 2.0,
+    scaling: Annotated[Literal["whitened", "diagonal"], Options("whitened", "diagonal")] = "whitened",
+    max_iter: Annotated[int, Interval(int, 0, None)] = 100,
+    n_threads: Threads = None,
 ) -> ClosenessOptima:
     """Steepest ascent of R with Armijo backtracking from each start (METHODS §1, eq. 19).
 
@@ -120,13 +120,6 @@ def maximize_closeness(
     x = as_float_array("starts", starts, shape=(None, d))
     require_state_range("starts", x)
     c = as_float_array("covariances", covariances, shape=(x.shape[0], d, d))
-    if scaling not in ("whitened", "diagonal"):
-        raise ValueError(f"scaling: must be 'whitened' or 'diagonal', got {scaling!r}")
-    settings = DescentSettings(
-        t0=_epoch(measurements, t0),
-        scaling=scaling,
-        max_iter=as_int_scalar("max_iter", max_iter, minimum=0),
-        n_threads=n_threads,
-    )
+    settings = DescentSettings(t0=_epoch(measurements, t0), scaling=scaling, max_iter=max_iter, n_threads=n_threads)
     out = _core.maximize_closeness(*_spreads(measurements, sensors, spread_factor), x, c, settings)
     return ClosenessOptima(*out)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import warnings
 
-__all__ = ["STAGE_COUNT_NAMES", "STAGE_SECOND_NAMES", "warn_if_no_candidate"]
+__all__ = ["STAGE_COUNT_NAMES", "STAGE_SECOND_NAMES", "empty_stage", "warn_if_no_candidate"]
 
 #: The stages of :class:`InitiationDiagnostics` ``stage_counts``, in pipeline order.
 STAGE_COUNT_NAMES = (
@@ -36,15 +36,17 @@ _EMPTIED_BY = {
 }
 
 
-def warn_if_no_candidate(counts: dict[str, int]) -> None:
-    """A scene where no candidate survives pruning gives no track for a reason the user can
-    usually fix (units, conventions, a too-tight bound): name the stage that emptied and why."""
+def empty_stage(counts: dict[str, int]) -> str | None:
+    """When no candidate survives pruning, why in words: the stage that emptied, the funnel
+    and the usual cause (units, conventions, a too-tight bound); None when some survived."""
     for stage, hint in _EMPTIED_BY.items():
         if counts[stage] == 0:
             funnel = " -> ".join(f"{name} {counts[name]}" for name in STAGE_COUNT_NAMES[:7])
-            warnings.warn(
-                f"no candidate survived the {stage!r} stage ({funnel}), so no track can be initiated: {hint}",
-                UserWarning,
-                stacklevel=3,
-            )
-            return
+            return f"no candidate survived the {stage!r} stage ({funnel}), so no track can be initiated: {hint}"
+    return None
+
+
+def warn_if_no_candidate(message: str) -> None:
+    """A scene where no candidate survives pruning gives no track for a reason the user can
+    usually fix: say so (``message`` from :func:`empty_stage`)."""
+    warnings.warn(message, UserWarning, stacklevel=3)

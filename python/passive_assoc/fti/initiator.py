@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
-from typing import ClassVar, Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,12 +21,13 @@ from scipy.special import ndtri
 
 from .. import _core
 from .._inputs import check_pair
-from .._params import Boolean, Constraint, Interval, Options, validate
+from .._params import Boolean, Configurable, Interval, Options
 from .._progress import ProgressArg, reporting
 from .._settings import InitiationSettings
 from .._validation import as_float_scalar, as_int_array
 from ..data import MeasurementTable, SensorNetwork
-from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, warn_if_no_candidate
+from ..outcome import COMPLETED, Outcome
+from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, empty_stage, warn_if_no_candidate
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
@@ -34,6 +35,8 @@ CHI2_2DOF_999 = 13.815510557964274
 
 #: A finite number > 0.
 POSITIVE = Interval(float, 0.0, None, closed="neither")
+#: A count of at least one.
+COUNT = Interval(int, 1, None)
 
 
 @dataclass(frozen=True)
@@ -78,11 +81,15 @@ class InitiationDiagnostics:
 
 
 @dataclass(frozen=True)
-class InitiationResult:
+class InitiationResult(Outcome):
     """Output of :meth:`FuzzyTrackInitiator.initiate`.
 
     Every input measurement is in exactly one track or in :attr:`clutter`; :attr:`labels`
     holds that partition as one array (track index, or -1 for clutter).
+
+    :attr:`termination` is ``"completed"``, or ``"no_candidates"`` when pruning left no
+    candidate (:attr:`message` names the stage that emptied and its usual cause; a warning
+    says the same).
     """
 
     tracks: list[InitiatedTrack]
@@ -104,7 +111,7 @@ class InitiationResult:
 
 
 @dataclass(frozen=True)
-class FuzzyTrackInitiator:
+class FuzzyTrackInitiator(Configurable):
     """Fuzzy track initiator with the paper's defaults.
 
     Parameters
@@ -220,59 +227,28 @@ class FuzzyTrackInitiator:
         Threads; default all cores. Results are identical for any value.
     """
 
-    spread_factor: float = 2.0
-    spread: float | None = None
-    gate_sigmas: float = 5.0
-    n_detect: int | None = None
-    pairs: Sequence[tuple[int, int]] | None = None
-    ray_gate_sigmas: float | None = 5.0
-    reject_behind: bool = True
-    v_max: float | None = 500.0
-    chi2_gate: float | None = CHI2_2DOF_999
-    one_per_scan: bool = True
-    detection_order: Literal["membership", "closeness"] = "membership"
-    merge_tol: float = 1.0
-    descent_scaling: Literal["whitened", "diagonal"] = "whitened"
-    descent_max_iter: int = 100
-    refine_passes: int = 2
-    candidate_scans: int = 4
-    support_gate: bool = True
-    gate_pd: float | None = None
-    search_stage: int | None = 8192
-    track_test: float | None = 1e-6
-    max_candidates: int = 500_000
-    n_threads: int | None = None
-
-    #: The declared constraints of every scalar parameter (``pairs`` is checked against the
-    #: network at :meth:`initiate`).
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {
-        "spread_factor": [POSITIVE],
-        "spread": [POSITIVE, None],
-        "gate_sigmas": [POSITIVE],
-        "n_detect": [Interval(int, 1, None), None],
-        "ray_gate_sigmas": [POSITIVE, None],
-        "reject_behind": [Boolean()],
-        "v_max": [POSITIVE, None],
-        "chi2_gate": [POSITIVE, None],
-        "one_per_scan": [Boolean()],
-        "detection_order": [Options("membership", "closeness")],
-        "merge_tol": [POSITIVE],
-        "descent_scaling": [Options("whitened", "diagonal")],
-        "descent_max_iter": [Interval(int, 1, None)],
-        "refine_passes": [Interval(int, 0, None)],
-        "candidate_scans": [Interval(int, 1, None)],
-        "support_gate": [Boolean()],
-        "gate_pd": [Interval(float, 0.0, 1.0, closed="neither"), None],
-        "search_stage": [Interval(int, 1, None), None],
-        "track_test": [Interval(float, 0.0, 0.5, closed="neither"), None],
-        "max_candidates": [Interval(int, 1, None)],
-        "n_threads": [Interval(int, 1, None), None],
-    }
-
-    def __post_init__(self) -> None:
-        checked = validate({name: getattr(self, name) for name in self._constraints}, self._constraints)
-        for name, value in checked.items():
-            object.__setattr__(self, name, value)  # normalised: NumPy scalars become int/float
+    spread_factor: Annotated[float, POSITIVE] = 2.0
+    spread: Annotated[float | None, POSITIVE, None] = None
+    gate_sigmas: Annotated[float, POSITIVE] = 5.0
+    n_detect: Annotated[int | None, COUNT, None] = None
+    pairs: Sequence[tuple[int, int]] | None = None  # checked against the network at initiate()
+    ray_gate_sigmas: Annotated[float | None, POSITIVE, None] = 5.0
+    reject_behind: Annotated[bool, Boolean()] = True
+    v_max: Annotated[float | None, POSITIVE, None] = 500.0
+    chi2_gate: Annotated[float | None, POSITIVE, None] = CHI2_2DOF_999
+    one_per_scan: Annotated[bool, Boolean()] = True
+    detection_order: Annotated[Literal["membership", "closeness"], Options("membership", "closeness")] = "membership"
+    merge_tol: Annotated[float, POSITIVE] = 1.0
+    descent_scaling: Annotated[Literal["whitened", "diagonal"], Options("whitened", "diagonal")] = "whitened"
+    descent_max_iter: Annotated[int, COUNT] = 100
+    refine_passes: Annotated[int, Interval(int, 0, None)] = 2
+    candidate_scans: Annotated[int, COUNT] = 4
+    support_gate: Annotated[bool, Boolean()] = True
+    gate_pd: Annotated[float | None, Interval(float, 0.0, 1.0, closed="neither"), None] = None
+    search_stage: Annotated[int | None, COUNT, None] = 8192
+    track_test: Annotated[float | None, Interval(float, 0.0, 0.5, closed="neither"), None] = 1e-6
+    max_candidates: Annotated[int, COUNT] = 500_000
+    n_threads: Annotated[int | None, COUNT, None] = None
 
     def _pairs(self, n_sensors: int) -> NDArray[np.int64]:
         if self.pairs is None:
@@ -365,5 +341,12 @@ class FuzzyTrackInitiator:
         seconds = {name: float(getattr(out.stage_seconds, name)) for name in STAGE_SECOND_NAMES}
         seconds["final"] = seconds.pop("final_fit")
         diagnostics = InitiationDiagnostics(counts, out.descent_iterations, seconds)
-        warn_if_no_candidate(counts)
-        return InitiationResult(tracks, labels, epoch, diagnostics)
+        emptied = empty_stage(counts)
+        termination, message = (
+            (COMPLETED, f"{len(tracks)} track(s) initiated") if emptied is None else ("no_candidates", emptied)
+        )
+        if emptied is not None:
+            warn_if_no_candidate(emptied)
+        return InitiationResult(
+            tracks, labels, epoch, diagnostics, termination=termination, success=True, message=message
+        )

@@ -13,8 +13,8 @@ come from its own Kalman filter (constant acceleration, METHODS §5 step 1). At 
 3. *Decision* (:mod:`.decision`): repeated maximum of f over the gated pairs while it exceeds
    ε, one-to-one.
 
-The radar is the *system* picture and the ESM the *local* one of the returned
-:class:`~passive_assoc.assignment.TrackAssociation`.
+The radar is the *system* picture and the ESM the *local* one, in the arguments and in the
+returned :class:`~passive_assoc.TrackAssociation`.
 """
 
 from __future__ import annotations
@@ -22,12 +22,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Annotated
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .._params import Boolean, Constraint, Interval, Options, validate
+from .._params import COUNT, POSITIVE, Boolean, Configurable, Interval, Options, Threads, validate
+from .._progress import ProgressArg, reporting
 from ..data import TrackTable
 from .coarse import MODES, approximation_operator
 from .decision import repeated_maximum
@@ -52,21 +53,7 @@ def check_weights(weights: Sequence[float]) -> tuple[float, float, float]:
 
 
 @dataclass(frozen=True)
-class _Config:
-    wavelet: str
-    level: int
-    mode: str
-    window: int | None
-    gate_probability: float
-    weights: tuple[float, float, float]
-    tau: float
-    epsilon: float
-    whitened: bool
-    process_noise: float | None
-    n_threads: int | None
-
-
-class WaveletFuzzyAssociator:
+class WaveletFuzzyAssociator(Configurable):
     """Wavelet-fuzzy radar/ESM track associator (METHODS §5).
 
     Parameters
@@ -103,73 +90,51 @@ class WaveletFuzzyAssociator:
     Examples
     --------
     >>> import passive_assoc as pa
-    >>> pa.WaveletFuzzyAssociator(epsilon=0.6).config.epsilon
+    >>> pa.WaveletFuzzyAssociator(epsilon=0.6).epsilon
     0.6
     """
 
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {
-        "level": [Interval(int, 1, None)],
-        "mode": [Options(*MODES)],
-        "window": [Interval(int, 1, None), None],
-        "gate_probability": [Interval(float, 0.0, 1.0, closed="neither")],
-        "tau": [Interval(float, 0.0, None, closed="neither")],
-        "epsilon": [UNIT],
-        "whitened": [Boolean()],
-        "process_noise": [Interval(float, 0.0, None), None],
-        "n_threads": [Interval(int, 1, None), None],
-    }
+    wavelet: str = "sym2"
+    level: Annotated[int, COUNT] = 3
+    mode: Annotated[str, Options(*MODES)] = "symmetric"
+    window: Annotated[int | None, COUNT, None] = None
+    gate_probability: Annotated[float, Interval(float, 0.0, 1.0, closed="neither")] = 0.99
+    weights: Sequence[float] = (0.5, 0.3, 0.2)
+    tau: Annotated[float, POSITIVE] = 0.5
+    epsilon: Annotated[float, UNIT] = 0.5
+    whitened: Annotated[bool, Boolean()] = True
+    process_noise: Annotated[float | None, Interval(float, 0.0, None), None] = None
+    n_threads: Threads = None
 
-    def __init__(
-        self,
-        wavelet: str = "sym2",
-        level: int = 3,
-        mode: str = "symmetric",
-        window: int | None = None,
-        gate_probability: float = 0.99,
-        weights: Sequence[float] = (0.5, 0.3, 0.2),
-        tau: float = 0.5,
-        epsilon: float = 0.5,
-        whitened: bool = True,
-        process_noise: float | None = None,
-        n_threads: int | None = None,
-    ) -> None:
-        values = dict(
-            level=level,
-            mode=mode,
-            window=window,
-            gate_probability=gate_probability,
-            tau=tau,
-            epsilon=epsilon,
-            whitened=whitened,
-            process_noise=process_noise,
-            n_threads=n_threads,
-        )
-        checked = validate(values, self._constraints)
-        if checked["process_noise"] is not None and not checked["whitened"]:
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.process_noise is not None and not self.whitened:
             raise ValueError("process_noise: the cross-time covariance is for the whitened statistic (whitened=True)")
         # Checks the wavelet's name, and that the longest window allows at least one level.
-        approximation_operator(checked["window"] or WINDOW_CAP, wavelet, checked["level"], checked["mode"])
-        self.config = _Config(wavelet=wavelet, weights=check_weights(weights), **checked)
+        approximation_operator(self.window or WINDOW_CAP, self.wavelet, self.level, self.mode)
+        object.__setattr__(self, "weights", check_weights(self.weights))
 
-    def __repr__(self) -> str:
-        fields = ", ".join(f"{k}={v!r}" for k, v in vars(self.config).items())
-        return f"WaveletFuzzyAssociator({fields})"
-
-    def associate(self, radar: TrackTable, esm: TrackTable) -> RadarEsmAssociation:
-        """Associate every scan of the two sensors' tracks.
+    def associate(self, *, local: TrackTable, system: TrackTable, progress: ProgressArg = None) -> RadarEsmAssociation:
+        """Associate every scan of the two sensors' tracks: ``local`` the ESM's, ``system``
+        the radar's.
 
         Both tables hold one sensor's tracks each, with velocity, acceleration and covariance
         columns, at common scan times. Every track of every scan ends in one pair or unpaired.
+        ``progress`` as :meth:`TopologyAssociator.associate`'s (stages ``"coarse"`` and
+        ``"fine"``).
         """
-        times, r, e = align(radar, esm, needs=("velocity", "acceleration", "covariance"))
+        times, r, e = align(system, local, needs=("velocity", "acceleration", "covariance"))
         if (trivial := all_unpaired(times, r, e)) is not None:
             return trivial
-        passed = self.coarse(r, e, times)
-        weights = np.asarray(self.config.weights)
-        similarity = np.einsum("l,lkre->kre", weights, fuzzy_memberships(r, e, self.config.tau))
-        pairs = repeated_maximum(
-            similarity, passed, self.config.epsilon, position_distance(r, e), self.config.n_threads
-        )
+        with reporting(progress) as report:
+            passed = self.coarse(r, e, times)
+            if report is not None:
+                report("coarse", 1.0)
+            weights = np.asarray(self.weights)
+            similarity = np.einsum("l,lkre->kre", weights, fuzzy_memberships(r, e, self.tau))
+            pairs = repeated_maximum(similarity, passed, self.epsilon, position_distance(r, e), self.n_threads)
+            if report is not None:
+                report("fine", 1.0)
         return association(times, r, e, pairs, similarity, candidates=passed)
 
     def coarse(
@@ -178,4 +143,4 @@ class WaveletFuzzyAssociator:
         """Which (radar, ESM) pairs pass the coarse gate at each scan, ``(K, n_r, n_e)``
         (:func:`.scan_gate.coarse_by_scan`); ``times``, the scan times, are needed with
         ``process_noise``."""
-        return coarse_by_scan(self.config, radar, esm, times)
+        return coarse_by_scan(self, radar, esm, times)

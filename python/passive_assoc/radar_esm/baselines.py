@@ -1,6 +1,6 @@
 """The two baselines the wavelet paper (METHODS §5 step 5) compares with, with the same
-interface as :class:`~passive_assoc.radar_esm.WaveletFuzzyAssociator`: ``associate(radar,
-esm)`` on 1-D, 2-D or 3-D track tables, radar = system picture, ESM = local.
+interface as :class:`~passive_assoc.radar_esm.WaveletFuzzyAssociator`: ``associate(local=esm,
+system=radar)`` on 1-D, 2-D or 3-D track tables.
 
 * :class:`NearestNeighbourTrackAssociator` — per scan, the gated optimal assignment on the
   Euclidean distance between the current positions. The gate is the position χ² test
@@ -16,20 +16,22 @@ esm)`` on 1-D, 2-D or 3-D track tables, radar = system picture, ESM = local.
 
 from __future__ import annotations
 
-from typing import ClassVar
+from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.stats import chi2
 
-from .._params import Constraint, Interval, validate
+from .._params import Configurable, Interval
 from ..data import TrackTable
 from .decision import gated_assignment, repeated_maximum
 from .scans import AlignedTracks, RadarEsmAssociation, align, all_unpaired, association, position_distance
 
 __all__ = ["Chi2TrackAssociator", "NearestNeighbourTrackAssociator", "chi2_statistic"]
 
-PROBABILITY = Interval(float, 0.0, 1.0, closed="neither")
+#: A probability in (0, 1).
+Probability = Annotated[float, Interval(float, 0.0, 1.0, closed="neither")]
 
 
 def chi2_statistic(radar: AlignedTracks, esm: AlignedTracks, blocks: int) -> NDArray[np.float64]:
@@ -82,7 +84,8 @@ def _blocks(radar: TrackTable, esm: TrackTable) -> int:
     return min(len(t.blocks) for t in (radar, esm) if len(t)) if len(radar) and len(esm) else 1
 
 
-class NearestNeighbourTrackAssociator:
+@dataclass(frozen=True)
+class NearestNeighbourTrackAssociator(Configurable):
     """Per-scan gated optimal assignment on position distance (the paper's nearest
     neighbour), any dimension.
 
@@ -92,19 +95,11 @@ class NearestNeighbourTrackAssociator:
         Probability of the position χ² gate; None: no gate (every pair may be made).
     """
 
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {"gate_probability": [PROBABILITY, None]}
+    gate_probability: Annotated[float | None, Interval(float, 0.0, 1.0, closed="neither"), None] = 0.99
 
-    def __init__(self, gate_probability: float | None = 0.99) -> None:
-        self.gate_probability: float | None = validate(dict(gate_probability=gate_probability), self._constraints)[
-            "gate_probability"
-        ]
-
-    def __repr__(self) -> str:
-        return f"NearestNeighbourTrackAssociator(gate_probability={self.gate_probability!r})"
-
-    def associate(self, radar: TrackTable, esm: TrackTable) -> RadarEsmAssociation:
+    def associate(self, *, local: TrackTable, system: TrackTable) -> RadarEsmAssociation:
         """Associate every scan (see the module documentation)."""
-        times, r, e = align(radar, esm)
+        times, r, e = align(system, local)
         if (trivial := all_unpaired(times, r, e)) is not None:
             return trivial
         distance = position_distance(r, e)
@@ -116,7 +111,8 @@ class NearestNeighbourTrackAssociator:
         return association(times, r, e, pairs, -distance, candidates=allowed)
 
 
-class Chi2TrackAssociator:
+@dataclass(frozen=True)
+class Chi2TrackAssociator(Configurable):
     """The traditional weighted (χ²) track-to-track test, one-to-one by increasing statistic.
 
     Parameters
@@ -126,20 +122,13 @@ class Chi2TrackAssociator:
         are never made.
     """
 
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {"gate_probability": [PROBABILITY]}
+    gate_probability: Probability = 0.99
 
-    def __init__(self, gate_probability: float = 0.99) -> None:
-        self.gate_probability: float = validate(dict(gate_probability=gate_probability), self._constraints)[
-            "gate_probability"
-        ]
-
-    def __repr__(self) -> str:
-        return f"Chi2TrackAssociator(gate_probability={self.gate_probability!r})"
-
-    def associate(self, radar: TrackTable, esm: TrackTable) -> RadarEsmAssociation:
-        """Associate every scan; the score of a pair is minus its statistic."""
-        times, r, e = align(radar, esm, needs=("covariance",))
-        blocks = _blocks(radar, esm)
+    def associate(self, *, local: TrackTable, system: TrackTable) -> RadarEsmAssociation:
+        """Associate every scan (``local``: the ESM's tracks, ``system``: the radar's); the
+        score of a pair is minus its statistic."""
+        times, r, e = align(system, local, needs=("covariance",))
+        blocks = _blocks(system, local)
         if (trivial := all_unpaired(times, r, e)) is not None:
             return trivial
         statistic = chi2_statistic(r, e, blocks)

@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from ..assignment.tracks import TrackAssociation, TrackPairs, UnpairedTracks
 from ..data import TrackTable
+from ..track_association import TrackAssociation, TrackPairs, UnpairedTracks
 
 __all__ = [
     "AlignedTracks",
@@ -79,9 +79,10 @@ def align(
     """Check the two tables and lay them on their common scan times.
 
     ``needs`` names the columns the method reads (``"velocity"``, ``"acceleration"``,
-    ``"covariance"``). Raises TypeError / ValueError naming ``radar`` or ``esm``.
+    ``"covariance"``). Raises TypeError / ValueError naming the argument: ``system`` (the
+    radar) or ``local`` (the ESM).
     """
-    for name, table in (("radar", radar), ("esm", esm)):
+    for name, table in (("system", radar), ("local", esm)):
         if not isinstance(table, TrackTable):
             raise TypeError(f"{name}: expected a TrackTable, got {type(table).__name__}")
         if len(table.sources) > 1:
@@ -93,7 +94,7 @@ def align(
                 "(filter the reports with KalmanFilter(motion='ca') and build it with TrackTable.from_states)"
             )
     if len(radar) and len(esm) and radar.ndim != esm.ndim:
-        raise ValueError(f"esm: has {esm.ndim}-D positions, radar has {radar.ndim}-D")
+        raise ValueError(f"local: has {esm.ndim}-D positions, system has {radar.ndim}-D")
     times = _common_times(radar, esm)
     return times, _aligned(radar, times), _aligned(esm, times)
 
@@ -104,8 +105,8 @@ def _common_times(radar: TrackTable, esm: TrackTable) -> NDArray[np.float64]:
     if len(radar) == 0 or len(esm) == 0:
         return np.union1d(radar_times, esm_times)
     for name, mine, other_name, other in (
-        ("esm", esm_times, "radar", radar_times),
-        ("radar", radar_times, "esm", esm_times),
+        ("local", esm_times, "system", radar_times),
+        ("system", radar_times, "local", esm_times),
     ):
         extra = np.setdiff1d(mine, other)
         if len(extra):

@@ -2,17 +2,22 @@
 
 from __future__ import annotations
 
-from .associator import Method, StaticAssociation, StaticAssociator, associate_static
+from .associator import Method, StaticAssociation, StaticAssociator, associate_static, enumerate_candidates
 from .batch import ScanAssociation, associate_scans
-from .candidates import CHI2_1DOF_99, Candidates, default_false_alarm_density, enumerate_candidates, stage_counts
+from .candidates import DEFAULT_GATE_SIGMAS, Candidates, default_false_alarm_density
+from .diagnostics import IntensityDiagnostics, IntensityLevel, SolverDiagnostics, StaticDiagnostics, stage_counts
 
 __all__ = [
-    "CHI2_1DOF_99",
+    "DEFAULT_GATE_SIGMAS",
     "Candidates",
+    "IntensityDiagnostics",
+    "IntensityLevel",
     "Method",
     "ScanAssociation",
+    "SolverDiagnostics",
     "StaticAssociation",
     "StaticAssociator",
+    "StaticDiagnostics",
     "associate_scans",
     "associate_static",
     "default_false_alarm_density",

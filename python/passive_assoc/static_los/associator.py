@@ -11,42 +11,49 @@ Lagrangian relaxation, or exact branch-and-bound.
 from __future__ import annotations
 
 import functools
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._core import Candidates
-from .._params import Boolean, Constraint, Interval, Options, validate
+from .._params import Boolean, Configurable, Interval, Options
 from .._settings import EnumerationSettings, IntensitySettings, SdSettings
 from ..assignment.sd import ASSIGN_SD_MAX_NODES, _solver_sizes, solve_validated
 from ..data import MeasurementTable, SensorNetwork
-from ..data.attributes import ATTRIBUTE_CONSTRAINTS, AttributeStd
-from .candidates import CHI2_1DOF_99, ENUMERATION_CONSTRAINTS, enumerate_validated, stage_counts
+from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta
+from ..outcome import COMPLETED, Outcome
+from .candidates import DEFAULT_GATE_SIGMAS, enumerate_validated
+from .diagnostics import SolverDiagnostics, StaticDiagnostics, intensity_diagnostics, stage_counts
 from .prior import PricedCandidates, check_region, priced
 
-__all__ = ["Method", "StaticAssociation", "StaticAssociator", "associate_static"]
+__all__ = ["Method", "StaticAssociation", "StaticAssociator", "associate_static", "enumerate_candidates"]
 
 Method = Literal["intensity", "lagrangian", "exact"]
-#: The per-level diagnostics of the intensity search, as ``report["levels"]`` lists them.
-_LEVEL_FIELDS = ("intensity", "candidates", "starts", "chains", "confirmed")
+
+POSITIVE = Interval(float, 0.0, None, closed="neither")
 
 
 @dataclass(frozen=True)
-class StaticAssociation:
+class StaticAssociation(Outcome):
     """Output of :meth:`StaticAssociator.associate` and :func:`associate_static`.
 
-    Every input row is in exactly one accepted tuple or in :attr:`clutter`; :attr:`labels`
+    Every input row is in exactly one accepted target or in :attr:`clutter`; :attr:`labels`
     holds that partition as one array (target index, or -1 for clutter).
 
     Attributes
     ----------
-    tuples : ndarray of int, shape (T, S)
-        Table rows of each accepted target's reports, −1 where a sensor missed it.
+    termination, success, message
+        As every result (:class:`~passive_assoc.outcome.Outcome`): the S-D solver's
+        termination (``"optimal"``, ``"gap_reached"``, ``"max_iterations"``, ``"stalled"``,
+        ``"node_limit"``, ``"time_limit"``; see :class:`~passive_assoc.SdAssignment`) for the
+        Lagrangian and exact methods, ``"completed"`` for the intensity method.
+    rows : ndarray of int, shape (T, S)
+        Table rows of each accepted target's reports, one column per sensor, −1 where a
+        sensor missed it.
     positions : ndarray, shape (T, ndim)
         ML position of each target.
     covariances : ndarray, shape (T, ndim, ndim)
@@ -54,32 +61,26 @@ class StaticAssociation:
         Cost (negative log-likelihood ratio, eq. 2) of each accepted tuple.
     labels : ndarray of int, shape (N,)
         Target index of every input row, or −1 for clutter (a false alarm).
-    report : dict
-        Enumeration counts and the solver's report (gap, bound, iterations, termination, or
-        the intensity search's airspace radius, ghosts dropped, chains).
+    diagnostics : StaticDiagnostics
+        The enumeration's counts and the method's own figures (the solver's gap and bound,
+        or the intensity search's levels).
     """
 
-    tuples: NDArray[np.int64]
+    rows: NDArray[np.int64]
     positions: NDArray[np.float64]
     covariances: NDArray[np.float64]
     costs: NDArray[np.float64]
     labels: NDArray[np.int64]
-    report: dict[str, Any] = field(repr=False)
+    diagnostics: StaticDiagnostics = field(repr=False)
 
     @property
     def clutter(self) -> NDArray[np.int64]:
         """Rows assigned to no target (false alarms), as :attr:`InitiationResult.clutter`."""
         return np.flatnonzero(self.labels < 0)
 
-    @property
-    def false_alarms(self) -> NDArray[np.int64]:
-        """Deprecated name of :attr:`clutter`."""
-        warnings.warn("StaticAssociation.false_alarms is now .clutter", DeprecationWarning, stacklevel=2)
-        return self.clutter
-
 
 @dataclass(frozen=True)
-class StaticAssociator:
+class StaticAssociator(Configurable):
     """Static association of one scan of passive reports across sensors (METHODS §2).
 
     Configure once, then call :meth:`associate` on each scan. One scan of bearings (2-D) or
@@ -96,9 +97,10 @@ class StaticAssociator:
     false_alarm_density : float or array_like, optional
         False alarms per radian (2-D) or per rad² (3-D), per sensor; default
         :func:`default_false_alarm_density`.
-    chi2_gate : float
-        Largest normalised squared residual (a χ² value, 1 dof) of any angle of a candidate
-        (eq. 3); default the 99 % point, 6.63.
+    gate_sigmas : float
+        Gate on each angle of a candidate (eq. 3): its normalised residual, in standard
+        deviations, must be at most this; default 2.576, the two-sided 99 % point (a χ² of
+        6.63 on one degree of freedom).
     min_intensity : int
         Fewest lines of sight a candidate needs (≥ 2).
     vote_fraction : float
@@ -119,7 +121,7 @@ class StaticAssociator:
         level, and the vote grows quadratically in the number of candidates (minutes at a few
         hundred targets, issue 17). ``reproduce intensity`` runs the paper's rule up to M = 18
         and 64 beyond (docs/experiments.md).
-    max_iter, gap_tol, time_limit, sensor_order, polish, exact_backend
+    max_iter, gap_tol, max_nodes, time_limit, warm_start, sensor_order, polish, exact_backend
         Solver settings, as in :func:`passive_assoc.assign_sd`.
     max_candidates : int
         Refuse with a ValueError rather than enumerate more candidates than this.
@@ -146,52 +148,35 @@ class StaticAssociator:
 
     """
 
-    method: Method = "intensity"
+    method: Annotated[Method, Options("intensity", "lagrangian", "exact")] = "intensity"
     pd: ArrayLike = 0.95
     false_alarm_density: ArrayLike | None = None
-    chi2_gate: float = CHI2_1DOF_99
-    min_intensity: int = 2
-    vote_fraction: float = 0.5
-    valid_airspace: bool = False
-    max_chains: int | None = 64
-    max_iter: int = 200
-    gap_tol: float = 1e-3
-    time_limit: float | None = 10.0
-    sensor_order: Literal["auto", "given"] = "auto"
-    polish: bool = True
-    exact_backend: Literal["auto", "branch_bound", "highs"] = "auto"
-    max_candidates: int = 1_000_000
-    n_threads: int | None = None
+    gate_sigmas: Annotated[float, Interval(float, 0.0, 1e6, closed="right")] = DEFAULT_GATE_SIGMAS
+    min_intensity: Annotated[int, Interval(int, 2, None)] = 2
+    vote_fraction: Annotated[float, Interval(float, 0.0, 1.0, closed="left")] = 0.5
+    valid_airspace: Annotated[bool, Boolean()] = False
+    max_chains: Annotated[int | None, Interval(int, 1, None), None] = 64
+    max_iter: Annotated[int, Interval(int, 1, None)] = 200
+    gap_tol: Annotated[float, Interval(float, 0.0, None)] = 1e-3
+    max_nodes: Annotated[int, Interval(int, 1, None)] = ASSIGN_SD_MAX_NODES
+    time_limit: Annotated[float | None, POSITIVE, None] = 10.0
+    warm_start: Annotated[Literal["auto", "always", "never"], Options("auto", "always", "never")] = "auto"
+    sensor_order: Annotated[Literal["auto", "given"], Options("auto", "given")] = "auto"
+    polish: Annotated[bool, Boolean()] = True
+    exact_backend: Annotated[Literal["auto", "branch_bound", "highs"], Options("auto", "branch_bound", "highs")] = (
+        "auto"
+    )
+    max_candidates: Annotated[int, Interval(int, 1, None)] = 1_000_000
+    n_threads: Annotated[int | None, Interval(int, 1, None), None] = None
     attributes: Sequence[str] | None = ()
     attribute_std: AttributeStd | None = None
-    eta: float = 0.6
-    combination: Literal["simple", "two_outcome"] = "simple"
+    eta: Eta = DEFAULT_ETA
+    combination: Combination = "simple"
     region: Sequence[float] | None = None
-    target_density: float | None = None
-
-    #: Declared constraints of the scalar parameters (``pd`` and ``false_alarm_density`` are
-    #: per-sensor arrays, checked against the network at :meth:`associate`). Checked once,
-    #: here: :meth:`associate` hands them to the enumeration and the solvers as they are.
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {
-        "method": [Options("intensity", "lagrangian", "exact")],
-        **ENUMERATION_CONSTRAINTS,
-        "vote_fraction": [Interval(float, 0.0, 1.0, closed="left")],
-        "valid_airspace": [Boolean()],
-        "max_chains": [Interval(int, 1, None), None],
-        "max_iter": [Interval(int, 1, None)],
-        "gap_tol": [Interval(float, 0.0, None)],
-        "time_limit": [Interval(float, 0.0, None, closed="neither"), None],
-        "sensor_order": [Options("auto", "given")],
-        "polish": [Boolean()],
-        "exact_backend": [Options("auto", "branch_bound", "highs")],
-        **ATTRIBUTE_CONSTRAINTS,
-        "target_density": [Interval(float, 0.0, None, closed="neither"), None],
-    }
+    target_density: Annotated[float | None, POSITIVE, None] = None
 
     def __post_init__(self) -> None:
-        checked = validate({name: getattr(self, name) for name in self._constraints}, self._constraints)
-        for name, value in checked.items():
-            object.__setattr__(self, name, value)  # normalised: NumPy scalars become int/float
+        super().__post_init__()
         if self.region is not None:
             if self.target_density is None:
                 raise ValueError("target_density: needed with region (expected targets per m² or m³ in it)")
@@ -206,8 +191,26 @@ class StaticAssociator:
             sensors,
             pd=self.pd,
             false_alarm_density=self.false_alarm_density,
-            settings=EnumerationSettings(self.chi2_gate, self.min_intensity, self.max_candidates, self.n_threads),
+            settings=self._enumeration_settings(),
             attributes=(self.attributes, self.attribute_std, self.eta, self.combination),
+        )
+
+    def _enumeration_settings(self) -> EnumerationSettings:
+        return EnumerationSettings(self.gate_sigmas**2, self.min_intensity, self.max_candidates, self.n_threads)
+
+    def _intensity_settings(self, n_threads: int | None) -> IntensitySettings:
+        return IntensitySettings(self.vote_fraction, self.valid_airspace, self.max_chains, n_threads)
+
+    def _sd_settings(self) -> SdSettings:
+        return SdSettings(
+            method="exact" if self.method == "exact" else "lagrangian",
+            max_iter=self.max_iter,
+            gap_tol=self.gap_tol,
+            max_nodes=self.max_nodes,
+            time_limit=self.time_limit,
+            warm_start=self.warm_start,
+            sensor_order=self.sensor_order,
+            polish=self.polish,
         )
 
     def associate(self, measurements: MeasurementTable, sensors: SensorNetwork) -> StaticAssociation:
@@ -223,51 +226,32 @@ class StaticAssociator:
         Returns
         -------
         StaticAssociation
-            Every input row is in exactly one accepted tuple or in the clutter set.
+            Every input row is in exactly one accepted target or in the clutter set.
         """
         enumerated = self.candidates(measurements, sensors)
-        report: dict[str, Any] = {
-            "method": self.method,
-            "candidates": len(enumerated.costs),
-            "stage_counts": stage_counts(enumerated),
-        }
         cands: Candidates | PricedCandidates = enumerated
+        priced_count = None
         if self.target_density is not None:
             cands = priced(enumerated, check_region(self.region, sensors.ndim), self.target_density)
-            report["priced_candidates"] = len(cands.costs)
+            priced_count = len(cands.costs)
+        counts = (self.method, len(enumerated.costs), stage_counts(enumerated), priced_count)
         if self.method == "intensity":
-            settings = IntensitySettings(self.vote_fraction, self.valid_airspace, self.max_chains, self.n_threads)
-            out = _core.intensity_search(cands.tuples, cands.positions, cands.costs, cands.sizes, settings)
+            out = _core.intensity_search(
+                cands.tuples, cands.positions, cands.costs, cands.sizes, self._intensity_settings(self.n_threads)
+            )
+            diagnostics = StaticDiagnostics(*counts, intensity=intensity_diagnostics(out))
+            outcome = {"termination": COMPLETED, "success": True, "message": "the intensity search ran to its end"}
             chosen = out.chosen
-            levels = [{name: getattr(level, name) for name in _LEVEL_FIELDS} for level in out.levels]
-            report.update(
-                airspace_radius=out.airspace_radius, ghosts_dropped=out.ghosts_dropped, chains=out.chains, levels=levels
-            )
         else:
-            sd_settings = SdSettings(
-                method=self.method,
-                max_iter=self.max_iter,
-                gap_tol=self.gap_tol,
-                max_nodes=ASSIGN_SD_MAX_NODES,
-                time_limit=self.time_limit,
-                warm_start="auto",
-                sensor_order=self.sensor_order,
-                polish=self.polish,
-            )
             sizes = _solver_sizes(cands.tuples, cands.sizes)
-            solved = solve_validated(cands.tuples, cands.costs, sizes, sd_settings, self.exact_backend)
-            chosen = solved.chosen
-            report.update(
-                primal_cost=solved.primal_cost,
-                dual_bound=solved.dual_bound,
-                gap=solved.gap,
-                iterations=solved.iterations,
-                termination=solved.termination,
-                optimal=solved.optimal,
-                success=solved.success,
-                message=solved.message,
+            solved = solve_validated(cands.tuples, cands.costs, sizes, self._sd_settings(), self.exact_backend)
+            solver = SolverDiagnostics(
+                solved.primal_cost, solved.dual_bound, solved.gap, solved.iterations, solved.optimal
             )
-        return _result(cands, np.asarray(chosen, dtype=np.int64), len(measurements), report)
+            diagnostics = StaticDiagnostics(*counts, solver=solver)
+            outcome = {"termination": solved.termination, "success": solved.success, "message": solved.message}
+            chosen = solved.chosen
+        return _result(cands, np.asarray(chosen, dtype=np.int64), len(measurements), diagnostics, outcome)
 
 
 def associate_static(
@@ -283,10 +267,24 @@ def associate_static(
     >>> from passive_assoc.simulation import static_scan
     >>> scan = static_scan(1, n_targets=5)
     >>> result = pa.associate_static(scan.measurements, scan.sensors, "lagrangian")
-    >>> len(result.clutter) + int((result.tuples >= 0).sum()) == len(scan.measurements)
+    >>> len(result.clutter) + int((result.rows >= 0).sum()) == len(scan.measurements)
     True
     """
     return _associator(method, settings).associate(measurements, sensors)
+
+
+def enumerate_candidates(measurements: MeasurementTable, sensors: SensorNetwork, **settings: Any) -> Candidates:
+    """All gated candidate tuples of one scan with their ML positions and costs (eq. 2–4):
+    ``StaticAssociator(**settings).candidates(measurements, sensors)``. The settings that
+    matter are the enumeration's (``pd``, ``false_alarm_density``, ``gate_sigmas``,
+    ``min_intensity``, ``max_candidates``, ``n_threads`` and the attribute gate's).
+
+    Returns a frozen :class:`Candidates` with the arrays ``tuples`` (K, S; 0 = missed, else the
+    1-based report index within the sensor, the S-D solvers' input), ``rows`` (K, S; table row
+    or −1), ``positions``, ``covariances``, ``costs``, ``intensity``, ``chi2``, ``sizes`` and
+    ``stages`` (see :func:`~passive_assoc.static_los.stage_counts`).
+    """
+    return _associator("intensity", settings).candidates(measurements, sensors)
 
 
 def _associator(method: Any, settings: dict[str, Any]) -> StaticAssociator:
@@ -308,7 +306,11 @@ def _cached_associator(key: tuple[Any, ...]) -> StaticAssociator:
 
 
 def _result(
-    cands: Candidates | PricedCandidates, chosen: NDArray[np.int64], n_rows: int, report: dict[str, Any]
+    cands: Candidates | PricedCandidates,
+    chosen: NDArray[np.int64],
+    n_rows: int,
+    diagnostics: StaticDiagnostics,
+    outcome: dict[str, Any],
 ) -> StaticAssociation:
     rows = cands.rows[chosen]
     used = rows >= 0
@@ -318,5 +320,5 @@ def _result(
     labels = np.full(n_rows, -1, dtype=np.int64)
     labels[flat] = np.nonzero(used)[0]  # row-major: each used entry's target index
     return StaticAssociation(
-        rows, cands.positions[chosen], cands.covariances[chosen], cands.costs[chosen], labels, report
+        rows, cands.positions[chosen], cands.covariances[chosen], cands.costs[chosen], labels, diagnostics, **outcome
     )

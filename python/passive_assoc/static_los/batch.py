@@ -9,7 +9,7 @@ functions, so the same answer per scan) and runs the scans in parallel, with the
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -17,9 +17,8 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._inputs import check_pair
 from .._progress import ProgressArg, reporting
-from .._settings import EnumerationSettings, IntensitySettings, SdSettings
-from ..assignment.sd import ASSIGN_SD_MAX_NODES
 from ..data import MeasurementTable, SensorNetwork
+from ..outcome import COMPLETED, Outcome
 from .associator import Method, _associator
 from .candidates import _per_sensor
 
@@ -27,12 +26,15 @@ __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
 
 
 @dataclass(frozen=True, eq=False)
-class ScanAssociation:
+class ScanAssociation(Outcome):
     """Output of :func:`associate_scans`. Every input row is in exactly one target or is a
     false alarm (label −1).
 
     Attributes
     ----------
+    termination, success, message
+        As every result (:class:`~passive_assoc.outcome.Outcome`); ``"completed"`` when every
+        scan was associated.
     scan : ndarray of int, shape (N,)
         Each row's scan index (scans ordered by their key).
     keys : ndarray, shape (n_scans,)
@@ -108,7 +110,6 @@ def associate_scans(
             _per_sensor("false_alarm_density", associator.false_alarm_density, n, 0.0, np.inf), (len(keys), 1)
         )
     a = associator
-    sd_method: Literal["lagrangian", "exact"] = "exact" if a.method == "exact" else "lagrangian"  # unused by intensity
     with reporting(progress) as report:
         labels_in_order, per_scan, positions = _core.associate_scans(
             table,
@@ -117,12 +118,10 @@ def associate_scans(
             offsets,
             _per_sensor("pd", a.pd, n, 0.0, 1.0),
             None if density is None else np.ascontiguousarray(density),
-            EnumerationSettings(a.chi2_gate, a.min_intensity, a.max_candidates, a.n_threads),
+            a._enumeration_settings(),
             a.method,
-            SdSettings(
-                sd_method, a.max_iter, a.gap_tol, ASSIGN_SD_MAX_NODES, a.time_limit, "auto", a.sensor_order, a.polish
-            ),
-            IntensitySettings(a.vote_fraction, a.valid_airspace, a.max_chains, None),
+            a._sd_settings(),
+            a._intensity_settings(None),
             report,
         )
     first_target = np.concatenate([[0], np.cumsum(per_scan)]).astype(np.int64)
@@ -130,11 +129,14 @@ def associate_scans(
     found = labels_in_order >= 0
     labels[order[found]] = labels_in_order[found] + first_target[scan_index[order[found]]]
     return ScanAssociation(
-        scan_index.astype(np.int64),
-        keys,
-        labels,
-        positions,
-        np.repeat(np.arange(len(keys), dtype=np.int64), per_scan),
+        termination=COMPLETED,
+        success=True,
+        message=f"{len(keys)} scan(s) associated",
+        scan=scan_index.astype(np.int64),
+        keys=keys,
+        labels=labels,
+        positions=positions,
+        target_scan=np.repeat(np.arange(len(keys), dtype=np.int64), per_scan),
     )
 
 

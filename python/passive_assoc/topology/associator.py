@@ -12,41 +12,27 @@ over the last ``window`` scans decides one-to-one pairs above ``threshold``·M·
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import ClassVar, Literal
+from dataclasses import dataclass, replace
+from typing import Annotated, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .. import _core
-from .._params import Boolean, Constraint, Interval, Options, validate
+from .._params import COUNT, POSITIVE, Boolean, Configurable, Interval, Options, Threads
+from .._progress import ProgressArg
 from .._settings import TopologySettings
-from ..assignment.tracks import BiasEstimate, TrackAssociation, TrackAssociator
 from ..data import TrackTable
+from ..track_association import BiasEstimate, StreamingTrackAssociator, TrackAssociation
 
 __all__ = ["TopologyAssociator", "topology_vectors"]
 
-UNIT = Interval(float, 0.0, 1.0)
+#: A number in [0, 1].
+Unit = Annotated[float, Interval(float, 0.0, 1.0)]
 
 
-@dataclass(frozen=True, eq=False)
-class _Config:
-    rings: int
-    sectors: int
-    radius: float
-    delta: float
-    delta_prime: float
-    threshold: float
-    window: int
-    gate: float | None
-    heading_reference: bool
-    diffusion: Literal["additive", "at_least"]
-    decision: Literal["assignment", "per_system_track"]
-    correct_bias: bool
-    n_threads: int | None
-
-
-class TopologyAssociator(TrackAssociator):
+@dataclass(eq=False)
+class TopologyAssociator(StreamingTrackAssociator, Configurable):
     """Reference-topology track-to-track associator (METHODS §4).
 
     Parameters
@@ -86,62 +72,24 @@ class TopologyAssociator(TrackAssociator):
         Threads; results are identical for any value.
     """
 
-    _constraints: ClassVar[dict[str, list[Constraint]]] = {
-        "rings": [Interval(int, 1, None)],
-        "sectors": [Interval(int, 1, None)],
-        "radius": [Interval(float, 0.0, None, closed="neither")],
-        "delta": [UNIT],
-        "delta_prime": [UNIT],
-        "threshold": [UNIT],
-        "window": [Interval(int, 1, None)],
-        "gate": [Interval(float, 0.0, None, closed="neither"), None],
-        "heading_reference": [Boolean()],
-        "diffusion": [Options("additive", "at_least")],
-        "decision": [Options("assignment", "per_system_track")],
-        "correct_bias": [Boolean()],
-        "n_threads": [Interval(int, 1, None), None],
-    }
-
-    def __init__(
-        self,
-        rings: int = 4,
-        sectors: int = 12,
-        radius: float = 120e3,
-        delta: float = 0.5,
-        delta_prime: float = 0.7,
-        threshold: float = 0.7,
-        window: int = 6,
-        gate: float | None = None,
-        heading_reference: bool = False,
-        diffusion: Literal["additive", "at_least"] = "additive",
-        decision: Literal["assignment", "per_system_track"] = "assignment",
-        correct_bias: bool = False,
-        n_threads: int | None = None,
-    ) -> None:
-        super().__init__()
-        values = dict(
-            rings=rings,
-            sectors=sectors,
-            radius=radius,
-            delta=delta,
-            delta_prime=delta_prime,
-            threshold=threshold,
-            window=window,
-            gate=gate,
-            heading_reference=heading_reference,
-            diffusion=diffusion,
-            decision=decision,
-            correct_bias=correct_bias,
-            n_threads=n_threads,
-        )
-        self.config = _Config(**validate(values, self._constraints))
-
-    def __repr__(self) -> str:
-        fields = ", ".join(f"{k}={v!r}" for k, v in vars(self.config).items())
-        return f"TopologyAssociator({fields})"
+    rings: Annotated[int, COUNT] = 4
+    sectors: Annotated[int, COUNT] = 12
+    radius: Annotated[float, POSITIVE] = 120e3
+    delta: Unit = 0.5
+    delta_prime: Unit = 0.7
+    threshold: Unit = 0.7
+    window: Annotated[int, COUNT] = 6
+    gate: Annotated[float | None, POSITIVE, None] = None
+    heading_reference: Annotated[bool, Boolean()] = False
+    diffusion: Annotated[Literal["additive", "at_least"], Options("additive", "at_least")] = "additive"
+    decision: Annotated[Literal["assignment", "per_system_track"], Options("assignment", "per_system_track")] = (
+        "assignment"
+    )
+    correct_bias: Annotated[bool, Boolean()] = False
+    n_threads: Threads = None
 
     def _settings(self) -> TopologySettings:
-        c = self.config
+        c = self
         return TopologySettings(
             scoring="topology",
             rings=c.rings,
@@ -158,16 +106,17 @@ class TopologyAssociator(TrackAssociator):
             n_threads=c.n_threads,
         )
 
-    def associate(self, local: TrackTable, system: TrackTable) -> TrackAssociation:
+    def associate(self, *, local: TrackTable, system: TrackTable, progress: ProgressArg = None) -> TrackAssociation:
         """Associate every scan of ``local`` with the system tracks of the same time (see
-        :class:`~passive_assoc.assignment.TrackAssociator`); with ``correct_bias``, twice."""
-        first = super().associate(local, system)
-        if not self.config.correct_bias:
+        :class:`~passive_assoc.track_association.StreamingTrackAssociator`); with
+        ``correct_bias``, twice."""
+        first = super().associate(local=local, system=system, progress=progress)
+        if not self.correct_bias:
             return first
         corrected = unbias(local, first.bias)
-        second = super().associate(corrected, system)
+        second = super().associate(local=corrected, system=system, progress=progress)
         # The bias reported is the first pass's: the second sees corrected pictures.
-        return TrackAssociation(second.pairs, second.unpaired_local, second.unpaired_system, first.bias)
+        return replace(second, bias=first.bias)
 
 
 def unbias(local: TrackTable, bias: dict[int, BiasEstimate]) -> TrackTable:
@@ -200,7 +149,7 @@ def topology_vectors(tracks: TrackTable, associator: TopologyAssociator | None =
     if not isinstance(tracks, TrackTable):
         raise TypeError(f"tracks: expected a TrackTable, got {type(tracks).__name__}")
     associator = associator or TopologyAssociator()
-    if associator.config.heading_reference and tracks.velocity is None:
+    if associator.heading_reference and tracks.velocity is None:
         raise ValueError("tracks: the heading-referenced grid needs velocities, and the table has none")
     settings = associator._settings()
     ids = np.ascontiguousarray(tracks.track, dtype=np.int64)
