@@ -90,6 +90,7 @@ LAYERS = [
     ["assignment", "track_association"],
     ["fti", "static_los", "formation", "topology", "radar_esm"],
     ["roles"],
+    ["track_methods"],
     ["simulation"],
     ["evaluation"],
     ["interop"],

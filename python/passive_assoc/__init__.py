@@ -22,7 +22,15 @@ from .assignment import SdAssignment, assign_sd, linear_assignment
 from .data import MeasurementTable, SensorNetwork, TrackTable
 from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
 from .formation import FormationLocator, FormationResult, locate_formation
-from .fti import ClosenessOptima, FuzzyTrackInitiator, InitiatedTrack, InitiationResult, closeness, maximize_closeness
+from .fti import (
+    ClosenessOptima,
+    FuzzyTrackInitiator,
+    InitiatedTrack,
+    InitiationResult,
+    closeness,
+    initiate_tracks,
+    maximize_closeness,
+)
 from .radar_esm import Chi2TrackAssociator, NearestNeighbourTrackAssociator, WaveletFuzzyAssociator
 from .simulation import (
     PAPER_FTI_TARGETS,
@@ -42,6 +50,7 @@ from .static_los import (
 )
 from .topology import TopologyAssociator
 from .track_association import NearestNeighbourAssociator, TrackAssociation
+from .track_methods import associate_tracks
 
 #: The fuzzy initiator's track under its pre-subpackage name (``passive_assoc.fti.InitiatedTrack``).
 Track = InitiatedTrack
@@ -65,6 +74,8 @@ __all__ = [
     "closeness",
     "maximize_closeness",
     "FuzzyTrackInitiator",
+    "initiate_tracks",
+    "associate_tracks",
     "InitiationResult",
     "InitiatedTrack",
     "Track",

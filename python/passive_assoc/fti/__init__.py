@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .closeness import ClosenessOptima, closeness, maximize_closeness
-from .initiator import FuzzyTrackInitiator, InitiatedTrack, InitiationDiagnostics, InitiationResult
+from .initiator import FuzzyTrackInitiator, InitiatedTrack, InitiationDiagnostics, InitiationResult, initiate_tracks
 
 __all__ = [
     "ClosenessOptima",
@@ -12,5 +12,6 @@ __all__ = [
     "InitiationDiagnostics",
     "InitiationResult",
     "closeness",
+    "initiate_tracks",
     "maximize_closeness",
 ]

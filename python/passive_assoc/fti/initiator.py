@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -350,3 +350,23 @@ class FuzzyTrackInitiator(Configurable):
         return InitiationResult(
             tracks, labels, epoch, diagnostics, termination=termination, success=True, message=message
         )
+
+
+def initiate_tracks(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    *,
+    t0: float | None = None,
+    progress: ProgressArg = None,
+    **settings: Any,
+) -> InitiationResult:
+    """Initiate tracks in one call: ``FuzzyTrackInitiator(**settings).initiate(measurements,
+    sensors, t0=t0, progress=progress)``. The settings are :class:`FuzzyTrackInitiator`'s.
+
+    >>> import passive_assoc as pa
+    >>> scenario = pa.paper_fti_scenario(seed=1)
+    >>> result = pa.initiate_tracks(scenario.measurements, scenario.sensors, progress=False)
+    >>> result.termination, len(result.tracks)
+    ('completed', 4)
+    """
+    return FuzzyTrackInitiator(**settings).initiate(measurements, sensors, t0=t0, progress=progress)
