@@ -10,7 +10,7 @@ import numpy as np
 import passive_assoc as pa
 import pytest
 from passive_assoc.outcome import Outcome
-from passive_assoc.radar_esm import Chi2TrackAssociator, NearestNeighbourTrackAssociator
+from passive_assoc.radar_esm import Chi2TrackAssociator
 from passive_assoc.roles import Initiator, Locator, ScanAssociator, TrackAssociator
 from passive_assoc.simulation import paper_formation_scene, static_scan
 
@@ -19,7 +19,6 @@ TRACK_ASSOCIATORS = [
     pa.NearestNeighbourAssociator,
     pa.WaveletFuzzyAssociator,
     Chi2TrackAssociator,
-    NearestNeighbourTrackAssociator,
 ]
 
 

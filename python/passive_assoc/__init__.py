@@ -31,7 +31,7 @@ from .fti import (
     initiate_tracks,
     maximize_closeness,
 )
-from .radar_esm import Chi2TrackAssociator, NearestNeighbourTrackAssociator, WaveletFuzzyAssociator
+from .radar_esm import Chi2TrackAssociator, WaveletFuzzyAssociator
 from .simulation import (
     PAPER_FTI_TARGETS,
     ConstantVelocityTarget,
@@ -63,7 +63,6 @@ __all__ = [
     "NearestNeighbourAssociator",
     "TopologyAssociator",
     "WaveletFuzzyAssociator",
-    "NearestNeighbourTrackAssociator",
     "Chi2TrackAssociator",
     "TrackAssociation",
     "StaticAssociation",

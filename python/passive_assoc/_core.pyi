@@ -267,7 +267,13 @@ class Bias:
     @property
     def pairs(self) -> int: ...
 
-ScanSide = tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64] | None]
+ScanSide = tuple[
+    NDArray[np.int64],
+    NDArray[np.float64],
+    NDArray[np.float64] | None,
+    NDArray[np.float64] | None,
+    NDArray[np.float64] | None,
+]
 
 class AssociatorState:
     def __init__(self, settings: TopologySettings) -> None: ...

@@ -108,6 +108,7 @@ class TopologySettings:
     threshold: float
     window: int
     gate: float | None
+    chi2_gate: float | None
     decision: Literal["assignment", "per_system_track"]
     n_threads: int | None
 

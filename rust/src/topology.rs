@@ -3,10 +3,12 @@
 //! history between scans; each update extracts the two scans, releases the GIL and runs the
 //! core.
 
-use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{
+    PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
-use super::convert::{count, owned, parse, slice1, slice2, threads, to_numpy, F64Array};
+use super::convert::{count, owned, parse, row_major, slice1, slice2, threads, to_numpy, F64Array};
 use super::errors::{value_error, BindResult};
 use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::topology::{
@@ -28,6 +30,7 @@ pub struct TopologySettings {
     threshold: f64,
     window: i64,
     gate: Option<f64>,
+    chi2_gate: Option<f64>,
     decision: String,
     n_threads: Option<i64>,
 }
@@ -59,16 +62,21 @@ impl TopologySettings {
             .with_threshold(self.threshold)?
             .with_window(count("window", self.window, 1)?)?
             .with_gate(self.gate)?
+            .with_chi2_gate(self.chi2_gate)?
             .with_decision(parse("decision", &self.decision)?);
         Ok(Associator::new(scoring, decision))
     }
 }
 
-/// One side of a scan: track ids `(n,)`, planar positions `(n, 2)`, optional velocities.
+/// One side of a scan: track ids `(n,)`, planar positions `(n, 2)`, and optionally planar
+/// velocities `(n, 2)`, heights `(n,)` and position covariances `(n, d, d)` (d = 3 with
+/// heights, else 2).
 type Side<'py> = (
     PyReadonlyArray1<'py, i64>,
     PyReadonlyArray2<'py, f64>,
     Option<PyReadonlyArray2<'py, f64>>,
+    Option<PyReadonlyArray1<'py, f64>>,
+    Option<PyReadonlyArray3<'py, f64>>,
 );
 
 fn scan_tracks<'a>(name: &'static str, side: &'a Side<'_>) -> BindResult<ScanTracks<'a>> {
@@ -76,12 +84,29 @@ fn scan_tracks<'a>(name: &'static str, side: &'a Side<'_>) -> BindResult<ScanTra
         Some(v) => Some(slice2(name, v, 2)?),
         None => None,
     };
-    Ok(ScanTracks::new(
+    let mut tracks = ScanTracks::new(
         name,
         slice1(name, &side.0)?,
         slice2(name, &side.1, 2)?,
         velocities,
-    )?)
+    )?;
+    if let Some(h) = &side.3 {
+        tracks = tracks.with_heights(name, slice1(name, h)?)?;
+    }
+    if let Some(c) = &side.4 {
+        let d = tracks.dim();
+        if c.shape()[1..] != [d, d] {
+            return Err(value_error(
+                name,
+                format!(
+                    "covariances: expected shape (n, {d}, {d}), got {:?}",
+                    c.shape()
+                ),
+            ));
+        }
+        tracks = tracks.with_covariances(name, row_major(name, c)?)?;
+    }
+    Ok(tracks)
 }
 
 /// The pairs of one scan as rows into that scan's local and system arrays.
@@ -130,7 +155,8 @@ impl AssociatorState {
         })
     }
 
-    /// Associates one scan (`local` and `system` are `(ids, positions, velocities)`).
+    /// Associates one scan (`local` and `system` are `(ids, positions, velocities, heights,
+    /// covariances)`).
     fn update(
         &mut self,
         py: Python<'_>,

@@ -16,12 +16,10 @@ from passive_assoc.radar_esm.fuzzy import _heading, membership
 from passive_assoc.radar_esm.scan_gate import gate_diagonal
 from passive_assoc.simulation import paper_wavelet_scenario
 
-METHODS: dict[
-    str, Callable[[], pa.WaveletFuzzyAssociator | pa.NearestNeighbourTrackAssociator | pa.Chi2TrackAssociator]
-] = {
+METHODS: dict[str, Callable[[], pa.WaveletFuzzyAssociator | pa.NearestNeighbourAssociator | pa.Chi2TrackAssociator]] = {
     "wavelet": pa.WaveletFuzzyAssociator,
     "wavelet_cross_time": lambda: pa.WaveletFuzzyAssociator(process_noise=PROCESS_NOISE),
-    "nearest": pa.NearestNeighbourTrackAssociator,
+    "nearest": pa.NearestNeighbourAssociator,
     "chi2": pa.Chi2TrackAssociator,
 }
 
@@ -202,7 +200,7 @@ def test_bad_tracks() -> None:
         np.concatenate([radar.position, esm.position]),
     )
     with pytest.raises(ValueError, match=r"system: one sensor's tracks expected, got sources \[0, 1\]"):
-        pa.NearestNeighbourTrackAssociator().associate(local=esm, system=both)
+        pa.NearestNeighbourAssociator().associate(local=esm, system=both)
     with pytest.raises(TypeError, match="local: expected a TrackTable"):
         wavelet.associate(local=esm.position, system=radar)  # type: ignore[arg-type]
     # NaN states never reach an associator: the track table refuses them, naming the column.

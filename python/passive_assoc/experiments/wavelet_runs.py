@@ -20,14 +20,10 @@ from tqdm import tqdm
 
 from ..data import TrackTable
 from ..distributed import current_client
-from ..radar_esm import (
-    Chi2TrackAssociator,
-    NearestNeighbourTrackAssociator,
-    RadarEsmAssociation,
-    WaveletFuzzyAssociator,
-    filter_reports,
-)
+from ..radar_esm import Chi2TrackAssociator, RadarEsmAssociation, WaveletFuzzyAssociator, filter_reports
+from ..radar_esm.baselines import position_gate_pairs
 from ..simulation.radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, paper_wavelet_scenario
+from ..track_association import NearestNeighbourAssociator, TrackAssociation
 from .common import map_runs
 
 #: The paper's correct-association probabilities (its §5), as ranges over scans.
@@ -62,7 +58,7 @@ PROCESS_NOISE = maneuver_power()
 
 
 class Associator(Protocol):
-    def associate(self, *, local: TrackTable, system: TrackTable) -> RadarEsmAssociation: ...
+    def associate(self, *, local: TrackTable, system: TrackTable) -> TrackAssociation: ...
 
 
 @dataclass(frozen=True)
@@ -73,6 +69,10 @@ class Settings:
     window: int | None = None
     gate_probability: float = 0.99
     ablations: bool = True
+
+
+#: The nearest-neighbour baseline's position χ² gate.
+NEAREST_GATE_PROBABILITY = 0.99
 
 
 def methods(settings: Settings) -> dict[str, Associator]:
@@ -92,7 +92,7 @@ def methods(settings: Settings) -> dict[str, Associator]:
 
     compared: dict[str, Associator] = {
         "wavelet": wavelet(whitened=True, process_noise=settings.process_noise),
-        "nearest": NearestNeighbourTrackAssociator(),
+        "nearest": NearestNeighbourAssociator(gate_probability=NEAREST_GATE_PROBABILITY, n_threads=1),
         "chi2": Chi2TrackAssociator(),
     }
     if settings.ablations:
@@ -139,10 +139,16 @@ def true_pair_fraction(
 
 
 def score(
-    result: RadarEsmAssociation, radar: TrackTable, esm: TrackTable, times: NDArray[np.float64]
+    result: TrackAssociation, radar: TrackTable, esm: TrackTable, times: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """(correct fraction per scan, true pairs kept by the gate per scan) of one result."""
-    p, c = result.pairs, result.candidates
+    """(correct fraction per scan, true pairs kept by the gate per scan) of one result. The
+    gate's pairs are the result's candidates (the radar/ESM methods list them); for the
+    nearest-neighbour associator, the pairs its position χ² gate passes."""
+    p = result.pairs
+    if isinstance(result, RadarEsmAssociation):
+        c = result.candidates
+    else:
+        c = position_gate_pairs(local=esm, system=radar, gate_probability=NEAREST_GATE_PROBABILITY)
     return (
         true_pair_fraction(p.time, p.local_track, p.system_track, radar, esm, times),
         true_pair_fraction(c.time, c.local_track, c.system_track, radar, esm, times),
@@ -158,7 +164,7 @@ def run_once(seed: np.random.SeedSequence, n_clutter: int, settings: Settings) -
         result = method.associate(local=esm, system=radar)
         correct[name], keeps[name] = score(result, radar, esm, scenario.scan_times)
         if name == "wavelet":
-            assert isinstance(method, WaveletFuzzyAssociator)
+            assert isinstance(method, WaveletFuzzyAssociator) and isinstance(result, RadarEsmAssociation)
             c = result.candidates
             chosen = c.score > method.epsilon
             above = true_pair_fraction(

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from .associator import WaveletFuzzyAssociator
-from .baselines import Chi2TrackAssociator, NearestNeighbourTrackAssociator
+from .baselines import Chi2TrackAssociator, position_gate_pairs
 from .coarse import CoarseGate, approximation_operator, coarse_gate, coefficients
 from .scan_gate import WINDOW_CAP
 from .scans import RadarEsmAssociation
@@ -18,7 +18,7 @@ __all__ = [
     "WINDOW_CAP",
     "WaveletFuzzyAssociator",
     "Chi2TrackAssociator",
-    "NearestNeighbourTrackAssociator",
+    "position_gate_pairs",
     "RadarEsmAssociation",
     "filter_reports",
 ]

@@ -2,12 +2,10 @@
 interface as :class:`~passive_assoc.radar_esm.WaveletFuzzyAssociator`: ``associate(local=esm,
 system=radar)`` on 1-D, 2-D or 3-D track tables.
 
-* :class:`NearestNeighbourTrackAssociator` — per scan, the gated optimal assignment on the
-  Euclidean distance between the current positions. The gate is the position χ² test
-  ``Δpᵀ(P_i + P_j)⁻¹Δp ≤ χ²(ndim, gate_probability)`` when the tables carry covariances (no
-  gate without them, or with ``gate_probability=None``).
-  (:class:`~passive_assoc.NearestNeighbourAssociator` of §4 is the same idea for 2-D
-  pictures, with a window-averaged distance and a gate in metres.)
+* nearest neighbour — :class:`~passive_assoc.NearestNeighbourAssociator`, the one
+  nearest-neighbour associator of the library: per scan, the gated optimal assignment on the
+  distance between the current positions, with the position χ² gate when the tables carry
+  covariances (:func:`position_gate_pairs` lists the pairs that gate passes).
 * :class:`Chi2TrackAssociator` — the traditional weighted statistic test: per scan
   ``d = x_i − x_j`` over the state blocks both tables have, ``dᵀ(P_i + P_j)⁻¹d`` gated at
   ``χ²(dim d, gate_probability)``, then pairs one-to-one by increasing statistic (repeated
@@ -25,10 +23,11 @@ from scipy.stats import chi2
 
 from .._params import Configurable, Interval
 from ..data import TrackTable
-from .decision import gated_assignment, repeated_maximum
+from ..track_association import TrackPairs
+from .decision import repeated_maximum
 from .scans import AlignedTracks, RadarEsmAssociation, align, all_unpaired, association, position_distance
 
-__all__ = ["Chi2TrackAssociator", "NearestNeighbourTrackAssociator", "chi2_statistic"]
+__all__ = ["Chi2TrackAssociator", "chi2_statistic", "position_gate_pairs"]
 
 #: A probability in (0, 1).
 Probability = Annotated[float, Interval(float, 0.0, 1.0, closed="neither")]
@@ -84,31 +83,18 @@ def _blocks(radar: TrackTable, esm: TrackTable) -> int:
     return min(len(t.blocks) for t in (radar, esm) if len(t)) if len(radar) and len(esm) else 1
 
 
-@dataclass(frozen=True)
-class NearestNeighbourTrackAssociator(Configurable):
-    """Per-scan gated optimal assignment on position distance (the paper's nearest
-    neighbour), any dimension.
-
-    Parameters
-    ----------
-    gate_probability : float, optional
-        Probability of the position χ² gate; None: no gate (every pair may be made).
-    """
-
-    gate_probability: Annotated[float | None, Interval(float, 0.0, 1.0, closed="neither"), None] = 0.99
-
-    def associate(self, *, local: TrackTable, system: TrackTable) -> RadarEsmAssociation:
-        """Associate every scan (see the module documentation)."""
-        times, r, e = align(system, local)
-        if (trivial := all_unpaired(times, r, e)) is not None:
-            return trivial
-        distance = position_distance(r, e)
-        allowed = np.isfinite(distance)
-        if self.gate_probability is not None and r.covariance is not None and e.covariance is not None:
-            statistic = chi2_statistic(r, e, blocks=1)
-            allowed &= statistic <= chi2.ppf(self.gate_probability, r.ndim)
-        pairs = gated_assignment(np.where(allowed, distance, 0.0), allowed)
-        return association(times, r, e, pairs, -distance, candidates=allowed)
+def position_gate_pairs(*, local: TrackTable, system: TrackTable, gate_probability: float) -> TrackPairs:
+    """Every (local, system) pair of every scan whose positions pass the χ² gate
+    ``Δpᵀ(P_i + P_j)⁻¹Δp ≤ χ²(ndim, gate_probability)`` (every present pair when a table has no
+    covariances): the pairs :class:`~passive_assoc.NearestNeighbourAssociator` may make at a
+    scan. The score of a pair is minus its distance."""
+    times, r, e = align(system, local)
+    distance = position_distance(r, e)
+    allowed = np.isfinite(distance)
+    if r.covariance is not None and e.covariance is not None:
+        allowed &= chi2_statistic(r, e, blocks=1) <= chi2.ppf(gate_probability, r.ndim)
+    empty = np.empty(0, np.intp)
+    return association(times, r, e, (empty, empty, empty), -distance, candidates=allowed).candidates
 
 
 @dataclass(frozen=True)

@@ -15,9 +15,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import _core
-from ..assignment import linear_assignment
 
-__all__ = ["repeated_maximum", "gated_assignment"]
+__all__ = ["repeated_maximum"]
 
 Pairs = tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]
 
@@ -43,30 +42,3 @@ def repeated_maximum(
         n_threads,
     )
     return scans.astype(np.intp), rows.astype(np.intp), cols.astype(np.intp)
-
-
-def gated_assignment(cost: NDArray[np.float64], allowed: NDArray[np.bool_]) -> Pairs:
-    """Per scan, the assignment of most allowed pairs and, among those, least total ``cost``
-    (K, n_r, n_e); disallowed pairs are never made."""
-    scans, rows, cols = [], [], []
-    for k in range(cost.shape[0]):
-        r_live = np.flatnonzero(allowed[k].any(axis=1))
-        c_live = np.flatnonzero(allowed[k].any(axis=0))
-        if len(r_live) == 0:
-            continue
-        if len(r_live) == cost.shape[1] and len(c_live) == cost.shape[2]:
-            sub_allowed, sub = allowed[k], cost[k]
-        else:
-            sub_allowed, sub = allowed[k][np.ix_(r_live, c_live)], cost[k][np.ix_(r_live, c_live)]
-        # Forbidden entries cost more than any whole assignment of allowed ones, so the solver
-        # first maximises how many allowed pairs it makes.
-        big = 1.0 + float(np.abs(sub[sub_allowed]).sum()) * 2.0
-        r, c, _ = linear_assignment(np.where(sub_allowed, sub, big))
-        keep = sub_allowed[r, c]
-        scans.append(np.full(int(keep.sum()), k, np.intp))
-        rows.append(r_live[r[keep]])
-        cols.append(c_live[c[keep]])
-    if not scans:
-        empty = np.empty(0, np.intp)
-        return empty, empty, empty
-    return np.concatenate(scans), np.concatenate(rows).astype(np.intp), np.concatenate(cols).astype(np.intp)

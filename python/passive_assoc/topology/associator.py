@@ -88,7 +88,7 @@ class TopologyAssociator(StreamingTrackAssociator, Configurable):
     correct_bias: Annotated[bool, Boolean()] = False
     n_threads: Threads = None
 
-    def _settings(self) -> TopologySettings:
+    def _settings(self, local: TrackTable | None = None, system: TrackTable | None = None) -> TopologySettings:
         c = self
         return TopologySettings(
             scoring="topology",
@@ -102,6 +102,7 @@ class TopologyAssociator(StreamingTrackAssociator, Configurable):
             threshold=c.threshold * c.rings * c.sectors,
             window=c.window,
             gate=c.gate,
+            chi2_gate=None,
             decision=c.decision,
             n_threads=c.n_threads,
         )
@@ -155,4 +156,4 @@ def topology_vectors(tracks: TrackTable, associator: TopologyAssociator | None =
     ids = np.ascontiguousarray(tracks.track, dtype=np.int64)
     positions = np.ascontiguousarray(tracks.position[:, :2], dtype=np.float64)
     velocity = None if tracks.velocity is None else np.ascontiguousarray(tracks.velocity[:, :2], dtype=np.float64)
-    return _core.topology_vectors((ids, positions, velocity), settings)
+    return _core.topology_vectors((ids, positions, velocity, None, None), settings)

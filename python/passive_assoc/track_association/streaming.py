@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,9 +28,17 @@ class StreamingTrackAssociator(ABC):
 
     _states: dict[int, _core.AssociatorState] = field(default_factory=dict, init=False, repr=False)
 
+    #: The fewest position axes a table may have.
+    _min_ndim: ClassVar[int] = 2
+
     @abstractmethod
-    def _settings(self) -> Any:
-        """The core's settings object for one source's state."""
+    def _settings(self, local: TrackTable, system: TrackTable) -> Any:
+        """The core's settings object for one source's state, made at the source's first
+        scan (``local``, ``system``)."""
+
+    def _side(self, tracks: TrackTable, order: NDArray[np.int64]) -> _core.ScanSide:
+        """The core's view of one scan, rows in ``order``: ids, planar positions, velocities."""
+        return _planar_side(tracks, order)
 
     def reset(self) -> None:
         """Forget every source's history."""
@@ -45,7 +53,7 @@ class StreamingTrackAssociator(ABC):
         ``progress``: a bar over the scans on stderr (None: on a terminal once the call has
         run 2 s; True: always; False: never), or a callable of your own receiving
         ``("scans", fraction)``; raising in it stops the call."""
-        _check_tables(local, system)
+        _check_tables(local, system, self._min_ndim)
         self.reset()
         sources = local.sources
         times = np.union1d(local.scan_times(), system.scan_times())
@@ -60,6 +68,7 @@ class StreamingTrackAssociator(ABC):
     def update(self, *, local: TrackTable, system: TrackTable) -> TrackAssociation:
         """Associate one scan: ``local`` and ``system`` hold the tracks of one time. Every
         source seen so far that has no track in ``local`` leaves the system tracks unpaired."""
+        _check_tables(local, system, self._min_ndim)
         return self._scan(local, system, np.union1d(local.sources, np.fromiter(self._states, np.int64)))
 
     def _scan(self, local: TrackTable, system: TrackTable, sources: NDArray[np.int64]) -> TrackAssociation:
@@ -86,11 +95,11 @@ class StreamingTrackAssociator(ABC):
 
     def _update_source(self, source: int, local: TrackTable, system: TrackTable) -> TrackAssociation:
         if source not in self._states:
-            self._states[source] = _core.AssociatorState(self._settings())
+            self._states[source] = _core.AssociatorState(self._settings(local, system))
         # The core sees the rows in an order of their own (by position), so that track ids,
         # which carry no meaning, cannot decide between equal scores (formation slots tie).
-        local_order, system_order = _by_position(local, "local"), _by_position(system, "system")
-        out = self._states[source].update(_side(local, local_order), _side(system, system_order))
+        local_order, system_order = _by_position(local), _by_position(system)
+        out = self._states[source].update(self._side(local, local_order), self._side(system, system_order))
         rows, cols = local_order[out.pairs[:, 0]], system_order[out.pairs[:, 1]]
         time = float(local.time[0]) if len(local) else float("nan")
         local_left = np.setdiff1d(np.arange(len(local)), rows)
@@ -116,27 +125,30 @@ def _system_unpaired(source: int, system: TrackTable) -> TrackAssociation:
     )
 
 
-def _by_position(tracks: TrackTable, name: str) -> NDArray[np.int64]:
+def _by_position(tracks: TrackTable) -> NDArray[np.int64]:
     """Row order by x, then y (then id, for coincident tracks)."""
-    if tracks.ndim < 2:
-        raise ValueError(f"{name}: track association needs 2-D or 3-D positions, got ndim={tracks.ndim}")
-    return np.lexsort((tracks.track, tracks.position[:, 1], tracks.position[:, 0])).astype(np.int64)
+    keys = [tracks.track, *(tracks.position[:, axis] for axis in reversed(range(min(tracks.ndim, 2))))]
+    return np.lexsort(keys).astype(np.int64)
 
 
-def _side(tracks: TrackTable, order: NDArray[np.int64]) -> _core.ScanSide:
-    """The core's view of one scan, rows in ``order``: ids, planar positions, velocities."""
-    positions = np.ascontiguousarray(tracks.position[order, :2], dtype=np.float64)
-    velocity = None if tracks.velocity is None else np.ascontiguousarray(tracks.velocity[order, :2], dtype=np.float64)
-    return np.ascontiguousarray(tracks.track[order], dtype=np.int64), positions, velocity
+def _planar_side(tracks: TrackTable, order: NDArray[np.int64]) -> _core.ScanSide:
+    """Ids, planar positions and velocities of the rows in ``order`` (1-D tables on the x axis)."""
+    positions = np.zeros((len(order), 2))
+    positions[:, : min(tracks.ndim, 2)] = tracks.position[order, :2]
+    velocity = None
+    if tracks.velocity is not None and tracks.ndim >= 2:
+        velocity = np.ascontiguousarray(tracks.velocity[order, :2], dtype=np.float64)
+    return np.ascontiguousarray(tracks.track[order], dtype=np.int64), positions, velocity, None, None
 
 
-def _check_tables(local: Any, system: Any) -> None:
-    """Both sides are track tables of the same dimension, 2-D or 3-D (the pictures are
-    compared in the plane)."""
+def _check_tables(local: Any, system: Any, min_ndim: int) -> None:
+    """Both sides are track tables of the same dimension, at least ``min_ndim``."""
     for name, table in (("local", local), ("system", system)):
         if not isinstance(table, TrackTable):
             raise TypeError(f"{name}: expected a TrackTable, got {type(table).__name__}")
-        if table.ndim < 2:
-            raise ValueError(f"{name}: track association needs 2-D or 3-D positions, got ndim={table.ndim}")
+        if table.ndim < min_ndim:
+            raise ValueError(f"{name}: this track association needs 2-D or 3-D positions, got ndim={table.ndim}")
+    if len(system.sources) > 1:
+        raise ValueError(f"system: one sensor's tracks expected, got sources {system.sources.tolist()}")
     if len(local) and len(system) and local.ndim != system.ndim:
         raise ValueError(f"system: has {system.ndim}-D positions, local has {local.ndim}-D")

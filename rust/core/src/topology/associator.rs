@@ -3,7 +3,7 @@
 //! pairs, and pool the pairs' positions for the bias estimate.
 
 use super::bias::{BiasAccumulator, BiasEstimate};
-use super::candidates::{candidate_pairs, pair_distances, Candidates};
+use super::candidates::{candidate_pairs, chi2_gated, pair_distances, Candidates};
 use super::closeness::pair_closeness;
 use super::decision::decide;
 use super::history::ScoreHistory;
@@ -74,15 +74,25 @@ impl Associator {
                     "give a position gate (only pairs within it are scored) for pictures this large",
             });
         }
-        let pairs = candidate_pairs(local, system, self.decision.gate());
+        let mut pairs = candidate_pairs(local, system, self.decision.gate());
+        if let Some(threshold) = self.decision.chi2_gate() {
+            pairs = chi2_gated(local, system, &pairs, threshold)?;
+        }
         let mut scores = self.scores(local, system, &pairs)?;
         self.history
             .average_in_place(local.ids(), system.ids(), &pairs, &mut scores);
+        let threshold = match (self.scoring, self.decision.gate()) {
+            // Distances without a gate in metres: every allowed pair is worth more than any
+            // sum of distances, so the decision makes the most pairs, then the least total
+            // distance (the classic gated assignment).
+            (Scoring::Distance, None) => -(1.0 + 2.0 * scores.iter().map(|s| s.abs()).sum::<f64>()),
+            _ => self.decision.threshold(),
+        };
         let decided = decide(
             &pairs,
             &scores,
             (local.len(), system.len()),
-            self.decision.threshold(),
+            threshold,
             self.decision.decision(),
         )?;
         for &(i, j) in &decided {

@@ -6,6 +6,7 @@ use rstar::primitives::GeomWithData;
 use rstar::RTree;
 
 use super::scan::ScanTracks;
+use crate::error::{CoreError, CoreResult};
 
 type Located = GeomWithData<[f64; 2], u32>;
 
@@ -48,7 +49,8 @@ impl Candidates {
     }
 }
 
-/// The candidate pairs: all of them, or those within `gate` metres.
+/// The candidate pairs: all of them, or those within `gate` metres (in 3-D where the scans
+/// carry heights).
 pub fn candidate_pairs(
     local: &ScanTracks<'_>,
     system: &ScanTracks<'_>,
@@ -75,9 +77,97 @@ pub fn candidate_pairs(
                 .map(|p| p.data),
         );
         near.sort_unstable();
+        if local.dim() == 3 {
+            // The tree is planar: keep the pairs within the gate in 3-D too.
+            let p = local.point(i as usize);
+            near.retain(|&j| squared_distance(p, system.point(j as usize)) <= gate * gate);
+        }
         pairs.extend(near.iter().map(|&j| (i, j)));
     }
     Candidates::Listed(pairs)
+}
+
+/// The candidates whose current positions pass the χ² gate `dᵀ(P_i + P_j)⁻¹d ≤ threshold`,
+/// d the position difference and P the tracks' position covariances (a pair whose summed
+/// covariance is not positive definite never passes). Both scans must carry covariances of
+/// the same dimension.
+pub fn chi2_gated(
+    local: &ScanTracks<'_>,
+    system: &ScanTracks<'_>,
+    pairs: &Candidates,
+    threshold: f64,
+) -> CoreResult<Candidates> {
+    if local.dim() != system.dim() {
+        return Err(CoreError::ill_posed(
+            "system",
+            format!(
+                "{}-D positions against the local side's {}-D",
+                system.dim(),
+                local.dim()
+            ),
+        ));
+    }
+    let mut kept = Vec::new();
+    for k in 0..pairs.len() {
+        let (i, j) = pairs.pair(k);
+        let (Some(a), Some(b)) = (local.covariance(i), system.covariance(j)) else {
+            return Err(CoreError::ill_posed(
+                "covariance",
+                "the χ² gate needs both sides' position covariances",
+            ));
+        };
+        let (p, q) = (local.point(i), system.point(j));
+        let d = local.dim();
+        let diff = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+        let mut sum = [0.0; 9];
+        for (s, (x, y)) in sum.iter_mut().zip(a.iter().zip(b)) {
+            *s = x + y;
+        }
+        if mahalanobis(&sum[..d * d], &diff[..d]).is_some_and(|m| m <= threshold) {
+            kept.push((i as u32, j as u32));
+        }
+    }
+    Ok(Candidates::Listed(kept))
+}
+
+/// `dᵀ S⁻¹ d` for a 2×2 or 3×3 symmetric `S` by Cholesky; None when `S` is not positive
+/// definite.
+fn mahalanobis(s: &[f64], d: &[f64]) -> Option<f64> {
+    let n = d.len();
+    let mut l = [0.0; 9];
+    for r in 0..n {
+        for c in 0..=r {
+            let mut v = s[r * n + c];
+            for k in 0..c {
+                v -= l[r * n + k] * l[c * n + k];
+            }
+            if r == c {
+                if v.is_nan() || v <= 0.0 {
+                    return None;
+                }
+                l[r * n + c] = v.sqrt();
+            } else {
+                l[r * n + c] = v / l[c * n + c];
+            }
+        }
+    }
+    // Forward substitution L z = d; the form is |z|².
+    let mut z = [0.0; 3];
+    let mut total = 0.0;
+    for r in 0..n {
+        let mut v = d[r];
+        for k in 0..r {
+            v -= l[r * n + k] * z[k];
+        }
+        z[r] = v / l[r * n + r];
+        total += z[r] * z[r];
+    }
+    total.is_finite().then_some(total)
+}
+
+fn squared_distance(p: [f64; 3], q: [f64; 3]) -> f64 {
+    let (dx, dy, dz) = (p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+    dx * dx + dy * dy + dz * dz
 }
 
 /// The distance of each candidate pair.
@@ -89,8 +179,12 @@ pub fn pair_distances(
     (0..pairs.len())
         .map(|k| {
             let (i, j) = pairs.pair(k);
-            let (p, q) = (local.position(i), system.position(j));
-            (p[0] - q[0]).hypot(p[1] - q[1])
+            if local.dim() == 2 {
+                let (p, q) = (local.position(i), system.position(j));
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            } else {
+                squared_distance(local.point(i), system.point(j)).sqrt()
+            }
         })
         .collect()
 }

@@ -31,7 +31,7 @@ mod tests;
 
 pub use associator::{Associator, ScanPairs, Scoring, MAX_PAIRS};
 pub use bias::{BiasAccumulator, BiasEstimate, TRIM_SIGMAS};
-pub use candidates::{candidate_pairs, Candidates};
+pub use candidates::{candidate_pairs, chi2_gated, Candidates};
 pub use closeness::{closeness, pair_closeness};
 pub use decision::decide;
 pub use history::ScoreHistory;

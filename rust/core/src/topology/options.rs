@@ -203,6 +203,7 @@ pub struct DecisionOptions {
     threshold: f64,
     window: usize,
     gate: Option<f64>,
+    chi2_gate: Option<f64>,
     decision: Decision,
 }
 
@@ -214,6 +215,7 @@ impl Default for DecisionOptions {
             threshold: 0.0,
             window: 6,
             gate: None,
+            chi2_gate: None,
             decision: Decision::Assignment,
         }
     }
@@ -252,6 +254,21 @@ impl DecisionOptions {
         Ok(self)
     }
 
+    /// Pairs whose current positions give `dᵀ(P_i + P_j)⁻¹d` above this (> 0) are never
+    /// made (the scans must carry position covariances); `None` = no χ² gate.
+    pub fn with_chi2_gate(mut self, chi2_gate: Option<f64>) -> CoreResult<Self> {
+        if let Some(g) = chi2_gate {
+            if !(g.is_finite() && g > 0.0) {
+                return Err(CoreError::out_of_range(
+                    "chi2_gate",
+                    format!("{g} must be finite and > 0 (or None)"),
+                ));
+            }
+        }
+        self.chi2_gate = chi2_gate;
+        Ok(self)
+    }
+
     pub fn with_decision(mut self, decision: Decision) -> Self {
         self.decision = decision;
         self
@@ -267,6 +284,10 @@ impl DecisionOptions {
 
     pub fn gate(&self) -> Option<f64> {
         self.gate
+    }
+
+    pub fn chi2_gate(&self) -> Option<f64> {
+        self.chi2_gate
     }
 
     pub fn decision(&self) -> Decision {

@@ -329,3 +329,51 @@ fn bad_input_is_an_error() {
     let empty = ScanTracks::new("system", &[], &[], None).unwrap();
     assert!(topology(6).update(&t, &empty).unwrap().pairs.is_empty());
 }
+
+#[test]
+fn chi2_gate_keeps_pairs_within_their_covariances() {
+    // Two system tracks; the local one is 300 m from the first (σ 100 m on each side: the
+    // summed variance is 2·100², so the statistic is 300²/20 000 = 4.5) and 10 km from the
+    // second (5 000).
+    let (ids, system_pos) = (vec![0_i64, 1], vec![0.0, 0.0, 10e3, 0.0]);
+    let local_pos = vec![300.0, 0.0];
+    let cov = |n: usize| -> Vec<f64> { (0..n).flat_map(|_| [1e4, 0.0, 0.0, 1e4]).collect() };
+    let (sys_cov, loc_cov) = (cov(2), cov(1));
+    let system = ScanTracks::new("system", &ids, &system_pos, None)
+        .unwrap()
+        .with_covariances("system", &sys_cov)
+        .unwrap();
+    let local = ScanTracks::new("local", &ids[..1], &local_pos, None)
+        .unwrap()
+        .with_covariances("local", &loc_cov)
+        .unwrap();
+    let all = candidate_pairs(&local, &system, None);
+    let kept = chi2_gated(&local, &system, &all, 9.21).unwrap();
+    assert_eq!(kept, Candidates::Listed(vec![(0, 0)]));
+    assert_eq!(chi2_gated(&local, &system, &all, 4.4).unwrap().len(), 0);
+    // Without covariances on one side the gate cannot be applied: an error, not a guess.
+    let bare = ScanTracks::new("local", &ids[..1], &local_pos, None).unwrap();
+    assert!(chi2_gated(&bare, &system, &all, 9.21).is_err());
+}
+
+#[test]
+fn heights_make_distances_three_dimensional() {
+    let ids = vec![0_i64, 1];
+    let pos = vec![0.0, 0.0, 0.0, 0.0];
+    let heights = vec![1e3, 6e3];
+    let system = ScanTracks::new("system", &ids, &pos, None)
+        .unwrap()
+        .with_heights("system", &heights)
+        .unwrap();
+    let local_pos = vec![0.0, 0.0];
+    let local_height = vec![5.9e3];
+    let local = ScanTracks::new("local", &ids[..1], &local_pos, None)
+        .unwrap()
+        .with_heights("local", &local_height)
+        .unwrap();
+    // Within a 1 km gate only the track 100 m below is a candidate (a planar tree finds both).
+    assert_eq!(
+        candidate_pairs(&local, &system, Some(1e3)),
+        Candidates::Listed(vec![(0, 1)])
+    );
+}
