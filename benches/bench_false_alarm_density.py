@@ -57,7 +57,7 @@ def main() -> None:
         )
         for name, density in variants:
             r = pa.associate_static(table, sensors, "lagrangian", false_alarm_density=density)
-            full = int(np.sum((r.tuples >= 0).sum(axis=1) == 3))
+            full = int(np.sum((r.rows >= 0).sum(axis=1) == 3))
             right[name] += len(r.positions) == 3 and full == 3 and r.clutter.tolist() == [9]
     for name in ("default", "fraction", "floored", "1.0", "3.0"):
         print(f"{name:>8}: three full targets and the false alarm as clutter in {right[name]}/{args.trials}")
