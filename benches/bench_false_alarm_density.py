@@ -20,7 +20,8 @@ import passive_assoc as pa
 def per_span(table: pa.MeasurementTable, n_sensors: int, false_alarms: np.ndarray) -> np.ndarray:
     """``false_alarms`` per sensor over the bearing span of its reports (as the default)."""
     spans = np.array([np.ptp(table.azimuth[table.sensor == j]) for j in range(n_sensors)])
-    return false_alarms / np.maximum(spans, 1e-3)
+    density: np.ndarray = false_alarms / np.maximum(spans, 1e-3)
+    return density
 
 
 def fraction(table: pa.MeasurementTable, n_sensors: int, floor: float, p_false: float = 0.05) -> np.ndarray:

@@ -24,6 +24,7 @@ import json
 import subprocess
 import sys
 import time
+from typing import Any
 
 CASE = r"""
 import json, resource, sys, time
@@ -87,7 +88,7 @@ def run_case(
     search_stage: str = "default",
     pairs: str = "all",
     order: str = "default",
-) -> dict | str | None:
+) -> dict[str, Any] | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
     start = time.perf_counter()
@@ -109,7 +110,8 @@ def run_case(
         return None
     except subprocess.CalledProcessError as err:
         return f"after {time.perf_counter() - start:.2f} s (process included): {err.stderr.strip().splitlines()[-1]}"
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    figures: dict[str, Any] = json.loads(out.stdout.strip().splitlines()[-1])
+    return figures
 
 
 def seconds(value: float) -> str:

@@ -28,7 +28,7 @@ import numpy as np
 import passive_assoc as pa
 import scipy.sparse as sp
 from passive_assoc.simulation import static_scan
-from passive_assoc.static_los import enumerate_candidates
+from passive_assoc.static_los import Candidates, enumerate_candidates
 from scipy.optimize import linprog
 
 CONFIGS: dict[str, dict[str, Any]] = {
@@ -38,7 +38,7 @@ CONFIGS: dict[str, dict[str, Any]] = {
 }
 
 
-def lp_bound(cands: dict[str, Any]) -> tuple[float, float]:
+def lp_bound(cands: Candidates) -> tuple[float, float]:
     """The LP relaxation's optimum (every report at most once, 0 <= x <= 1) and its time, s."""
     tuples, costs, sizes = cands.tuples, cands.costs, cands.sizes
     offsets = np.concatenate([[0], np.cumsum(sizes)])
@@ -57,7 +57,7 @@ def lp_bound(cands: dict[str, Any]) -> tuple[float, float]:
     return float(res.fun), time.perf_counter() - start
 
 
-def best_of(cands: dict[str, Any], config: dict[str, Any], repeats: int) -> tuple[float, pa.SdAssignment]:
+def best_of(cands: Candidates, config: dict[str, Any], repeats: int) -> tuple[float, pa.SdAssignment]:
     times, result = [], None
     for _ in range(repeats):
         start = time.perf_counter()

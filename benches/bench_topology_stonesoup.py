@@ -187,7 +187,10 @@ def main() -> None:
         "topology": lambda: pa.TopologyAssociator(window=WINDOW, n_threads=1),
         "nearest": lambda: pa.NearestNeighbourAssociator(gate=GATE, window=WINDOW, n_threads=1),
     }
-    whole = {"ss counting": lambda: counting(False), "ss counting 1:1": lambda: counting(True)}
+    whole: dict[str, Callable[[], TrackToTrackCounting]] = {
+        "ss counting": lambda: counting(False),
+        "ss counting 1:1": lambda: counting(True),
+    }
     per_scan = "ss 1:1 mean6"
     names = [*ours, *whole, per_scan]
     seconds: dict[str, list[float]] = {name: [] for name in names}

@@ -13,16 +13,17 @@ from __future__ import annotations
 
 import argparse
 import time
+from typing import Literal
 
 import numpy as np
 import passive_assoc as pa
 from passive_assoc.simulation import static_scan
-from passive_assoc.static_los import enumerate_candidates
+from passive_assoc.static_los import Candidates, enumerate_candidates
 
 CASES = [(3, 18), (3, 50), (3, 100), (4, 50), (4, 100)]
 
 
-def best_seconds(cands: dict, warm_start: str, repeats: int) -> float:
+def best_seconds(cands: Candidates, warm_start: Literal["always", "never"], repeats: int) -> float:
     times = []
     for _ in range(repeats):
         start = time.perf_counter()

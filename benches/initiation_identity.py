@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import pickle
 import time
+from typing import Any
 
 import numpy as np
 import passive_assoc as pa
@@ -51,10 +52,10 @@ def scenes() -> list[Scenario]:
     return out + [scale_scene(*case) for case in SPATIAL]
 
 
-def initiations(order: str | None = None) -> list[tuple]:
+def initiations(order: str | None = None) -> list[tuple[Any, ...]]:
     """Each scene's initiation; ``order`` is the detection order, passed only when given (so
     builds from before the option run too)."""
-    options = {} if order is None else {"detection_order": order}
+    options: dict[str, Any] = {} if order is None else {"detection_order": order}
     out = []
     for scene in scenes():
         r = pa.FuzzyTrackInitiator(**options).initiate(scene.measurements, scene.sensors, t0=0.0)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import pickle
+from typing import Any
 
 import numpy as np
 import passive_assoc as pa
@@ -21,7 +22,7 @@ from passive_assoc.simulation import static_scan
 CASES = [(20, 3, 150), (10, 3, 60), (10, 4, 30), (50, 3, 10)]  # targets, sensors, scans
 
 
-def solves() -> list[tuple]:
+def solves() -> list[tuple[Any, ...]]:
     out = []
     for n_targets, n_sensors, n_scans in CASES:
         for seed in range(n_scans):
