@@ -5,8 +5,8 @@ false alarms (the static-association paper's scene), the Lagrangian method by de
     python3 benches/bench_associate_scans.py [--scans 2000] [--method lagrangian] [--loop-scans 200]
 
 Prints scans per second of each (the loop over its first ``--loop-scans`` scans) and checks
-that both give the same targets on those scans. Issue 15's target: ≥ 1000 scans/s on 2 cores
-with the Lagrangian method.
+that both give the same targets on those scans. The target is ≥ 1000 scans/s on 2 cores with
+the Lagrangian method.
 """
 
 from __future__ import annotations

@@ -1,9 +1,10 @@
-"""Issue 16's hand-written case: the paper's three sensors, three well-separated targets
-(2 mrad noise) and one false alarm on one sensor, 300 trials. Counts the Lagrangian's
-outcomes with the library's default false-alarm density (the larger of p_false · n and the
-sensor's report excess over the median sensor, per span), with the fraction alone
-(p_false · n / span, the default before issue 16), with the fraction floored at one false alarm
-per sensor sector (max(p_false · n, 1) / span), and with fixed densities.
+"""How often the Lagrangian method gets a hand-written scan right under each false-alarm density:
+the paper's three sensors, three well-separated targets (2 mrad noise) and one false alarm on
+one sensor, 300 trials. Counts the trials that end with the three targets, each seen by all
+three sensors, and the false alarm as clutter, with the library's default false-alarm density
+(the larger of p_false · n and the sensor's report excess over the median sensor, per span),
+with the fraction alone (p_false · n / span), with the fraction floored at one false alarm per
+sensor sector (max(p_false · n, 1) / span), and with fixed densities.
 
     python3 benches/bench_false_alarm_density.py [--trials 300]
 """

@@ -1,5 +1,5 @@
-"""Fuzzy track initiation at scale (issue 16 §2): time, peak memory and where the time goes,
-against the number of targets and of sensors.
+"""Fuzzy track initiation at scale: time, peak memory and where the time goes, against the
+number of targets and of sensors.
 
 The scene is the paper's, grown: 3-D sensors 20 km apart on the x axis (2 of them: the paper's
 pair), targets at random in x ∈ [0, 20] km, y ∈ [1, 16] km, z = 1 km with the paper's speeds
@@ -52,7 +52,7 @@ scenario = simulate(sensors, targets, times, clutter_per_scan=2 * n_targets, azi
                     elevation_window=(0, np.pi / 2), t0=0.0, seed=seed)
 start = time.perf_counter()
 options = {"max_candidates": max_candidates} if max_candidates else {}
-if gate_pd is not None:  # only when given, so older builds run the same case
+if gate_pd is not None:  # only when given, so builds without the option run the same case
     options["gate_pd"] = gate_pd
 if search_stage != "default":  # likewise
     options["search_stage"] = None if search_stage == "none" else int(search_stage)

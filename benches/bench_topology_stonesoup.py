@@ -1,5 +1,5 @@
 """Topology and nearest neighbour against Stone Soup's track-to-track associators on the same
-tracks (issue #13): the topology paper scenario (EXPERIMENTS ``topology``: 8 radars, 20 targets,
+tracks: the topology paper scenario (EXPERIMENTS ``topology``: 8 radars, 20 targets,
 90 scans of 10 s, full coverage, azimuth bias U(±B)); each of the 7 local radars is associated
 with the system radar (radar 0) by
 

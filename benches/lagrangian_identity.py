@@ -1,9 +1,9 @@
 """Whether two builds' Lagrangian S-D solves agree: dumps every solve's iterations, primal
 cost, dual bound, gap, chosen tuples and termination on the static-association paper's scans
 (150 at S = 3, M = 20; 60 at M = 10; 30 at S = 4, M = 10; 10 at M = 50), with and without the
-polish and under every warm-start setting, then compares with another build's dump. Issue 18
-asks for "the same primal costs and gaps"; run it on the old build with ``--out``, on the new
-one with ``--against``.
+polish and under every warm-start setting, then compares with another build's dump. A change
+that claims to leave the solver's answers the same (the same primal costs and gaps) is checked
+this way: run it on the old build with ``--out``, on the new one with ``--against``.
 
     PYTHONPATH=<old package> python3 benches/lagrangian_identity.py --out old.pkl
     python3 benches/lagrangian_identity.py --against old.pkl
