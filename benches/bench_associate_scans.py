@@ -5,14 +5,15 @@ false alarms (the static-association paper's scene), the Lagrangian method by de
     python3 benches/bench_associate_scans.py [--scans 2000] [--method lagrangian] [--loop-scans 200]
 
 Prints scans per second of each (the loop over its first ``--loop-scans`` scans) and checks
-that both give the same targets on those scans. Issue 15's target: ≥ 1000 scans/s on 2 cores
-with the Lagrangian method.
+that both give the same targets on those scans. The target is ≥ 1000 scans/s on 2 cores with
+the Lagrangian method.
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+from typing import Any
 
 import numpy as np
 import passive_assoc as pa
@@ -30,7 +31,7 @@ def main() -> None:
     columns = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     columns["time"] = np.repeat(np.arange(args.scans, dtype=float), [len(p["time"]) for p in parts])
     table, sensors = pa.MeasurementTable.from_columns(columns), static_scan(0, n_targets=args.targets).sensors
-    settings = {"exact_backend": "branch_bound"} if args.method == "exact" else {}
+    settings: dict[str, Any] = {"exact_backend": "branch_bound"} if args.method == "exact" else {}
     start = time.perf_counter()
     batch = pa.associate_scans(table, sensors, method=args.method, **settings)
     batch_s = time.perf_counter() - start

@@ -47,7 +47,8 @@ def make_inputs(n: int, seed: int = 3) -> tuple[NDArray[np.float64], ...]:
 
 def numpy_covariances(operator: NDArray[np.float64], variances: NDArray[np.float64]) -> NDArray[np.float64]:
     """C = W diag(v) Wᵀ of every track (n, c, c), x axis only."""
-    return np.einsum("at,nt,bt->nab", operator, variances[:, 0], operator)
+    covariances: NDArray[np.float64] = np.einsum("at,nt,bt->nab", operator, variances[:, 0], operator)
+    return covariances
 
 
 def numpy_per_pair(operator: NDArray[np.float64], inputs: tuple[NDArray[np.float64], ...]) -> NDArray[np.float64]:
@@ -68,7 +69,8 @@ def numpy_batched(operator: NDArray[np.float64], inputs: tuple[NDArray[np.float6
     c_r, c_e = numpy_covariances(operator, radar_var), numpy_covariances(operator, esm_var)
     d = a_r[:, None, :] - a_e[None, :, :]
     x = np.linalg.solve(c_r[:, None] + c_e[None, :], d[..., None])[..., 0]
-    return np.einsum("ijc,ijc->ij", d, x)
+    statistic: NDArray[np.float64] = np.einsum("ijc,ijc->ij", d, x)
+    return statistic
 
 
 def best(func: Callable[[], Any], repeat: int) -> tuple[float, Any]:

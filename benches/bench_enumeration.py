@@ -18,7 +18,9 @@ from __future__ import annotations
 
 import argparse
 import time
+from collections.abc import Callable
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 from passive_assoc import _core
@@ -85,10 +87,20 @@ def brute_force(sensor: np.ndarray, bearing: np.ndarray, sigma: float, gate: flo
     # (Diverging fits go NaN and fail the gate; no warnings for them.)
     with np.errstate(all="ignore"):
         _extend(keep, used, second, theta, x, y, sigma, gate)
-    return tuples[keep]
+    gated: np.ndarray = tuples[keep]
+    return gated
 
 
-def _extend(keep, used, second, theta, x, y, sigma, gate) -> None:
+def _extend(
+    keep: np.ndarray,
+    used: np.ndarray,
+    second: np.ndarray,
+    theta: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    sigma: float,
+    gate: float,
+) -> None:
     s_count = len(SENSORS)
     px, py = SENSORS[:, 0], SENSORS[:, 1]
     for s in range(s_count):
@@ -117,21 +129,23 @@ def _extend(keep, used, second, theta, x, y, sigma, gate) -> None:
         x[idx], y[idx] = xs, ys
 
 
-def rust(sensor, bearing, sigma, density, n_threads):
+def rust(
+    sensor: np.ndarray, bearing: np.ndarray, sigma: float, density: np.ndarray, n_threads: int | None
+) -> _core.Candidates:
     s_count = len(SENSORS)
     # The binding reads the table and the network by attribute; these stand in for the
     # validated MeasurementTable / SensorNetwork at no cost.
-    table = SimpleNamespace(
+    table: Any = SimpleNamespace(
         sensor=sensor, time=np.zeros_like(bearing), azimuth=bearing, elevation=np.zeros_like(bearing)
     )
-    network = SimpleNamespace(
+    network: Any = SimpleNamespace(
         positions=SENSORS, sigma_azimuth=np.full(s_count, sigma), sigma_elevation=np.full(s_count, sigma), ndim=2
     )
     settings = EnumerationSettings(chi2_gate=GATE, min_intensity=2, max_candidates=1_000_000, n_threads=n_threads)
     return _core.enumerate_static(table, network, np.full(s_count, 0.95), density, settings)
 
 
-def median_seconds(run, repeats: int) -> float:
+def median_seconds(run: Callable[[], object], repeats: int) -> float:
     times = []
     for _ in range(repeats):
         start = time.perf_counter()

@@ -16,7 +16,7 @@ import numpy as np
 import passive_assoc as pa
 from scipy.optimize import least_squares
 
-SENSORS = pa.SensorNetwork.spatial([[0, 0, 0], [20e3, 0, 0]], 5e-3, 5e-3)
+SENSORS = pa.SensorNetwork.spatial([[0.0, 0.0, 0.0], [20e3, 0.0, 0.0]], 5e-3, 5e-3)
 SCHEDULE = [(0, 0.0), (1, 5.0), (0, 105.0), (1, 110.0)]
 
 
@@ -67,7 +67,8 @@ def scipy_fit(table: pa.MeasurementTable, rows: np.ndarray, x0: np.ndarray, meth
         je = np.hstack([ge, t[:, None] * ge])
         return -np.vstack([ja, je]) / sig
 
-    return least_squares(residual, x0, jac=jacobian, method=method, xtol=1e-10).x
+    estimate: np.ndarray = least_squares(residual, x0, jac=jacobian, method=method, xtol=1e-10).x
+    return estimate
 
 
 def main() -> None:

@@ -1,7 +1,7 @@
-"""The 2-D bearing-only initiation of issue 16: ``bearing_only_2d_scenario(3, n_targets=N,
-n_sensors=3, clutter_ratio=2)`` with the default `FuzzyTrackInitiator`, with and without the
-support gate. Prints the time, the tracks, how many rows of each track are one target's, and
-the stage counts.
+"""Fuzzy track initiation of a dense 2-D bearing-only scene: ``bearing_only_2d_scenario(3,
+n_targets=N, n_sensors=3, clutter_ratio=2)`` with the default `FuzzyTrackInitiator`, with and
+without the support gate. Prints the time, the tracks, how many rows of each track are one
+target's, and the stage counts.
 
     python3 benches/bench_initiation_2d.py [--targets 5 8] [--no-gate-too] [--candidate-scans K]
         [--repeat N] [--threads T] [--passes] [--busy-core]
@@ -18,19 +18,18 @@ import subprocess
 import sys
 import time
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 import passive_assoc as pa
 from passive_assoc.evaluation import track_targets
 
 
-def priced(
-    gate_pd: float | None, search_stage: str | None = None, order: str | None = None
-) -> dict[str, float | int | str | None]:
+def priced(gate_pd: float | None, search_stage: str | None = None, order: str | None = None) -> dict[str, Any]:
     """``gate_pd``, ``search_stage`` and the detection ``order`` only when given, so the bench
-    also runs on builds from before the options (the same-run comparisons in
-    docs/performance.md run it on an older package). ``search_stage`` is an integer or "none"."""
-    given: dict[str, float | int | str | None] = {} if gate_pd is None else {"gate_pd": gate_pd}
+    also runs on a build without these options (docs/performance.md's same-run comparisons run
+    it on two builds of the package). ``search_stage`` is an integer or "none"."""
+    given: dict[str, Any] = {} if gate_pd is None else {"gate_pd": gate_pd}
     if search_stage is not None:
         given["search_stage"] = None if search_stage == "none" else int(search_stage)
     if order is not None:
@@ -151,7 +150,7 @@ def timed(args: argparse.Namespace) -> None:
             times, rss_before = [], peak_rss_mb()
             for _ in range(args.repeat):
                 start, clock = time.perf_counter(), PassClock()
-                passes = {"progress": clock} if args.passes else {}  # older builds lack the argument
+                passes: dict[str, Any] = {"progress": clock} if args.passes else {}  # runs on builds without it too
                 result = initiator.initiate(scenario.measurements, scenario.sensors, **passes)
                 times.append(time.perf_counter() - start)
             truth = scenario.measurements.truth

@@ -1,5 +1,5 @@
-"""Fuzzy track initiation at scale (issue 16 §2): time, peak memory and where the time goes,
-against the number of targets and of sensors.
+"""Fuzzy track initiation at scale: time, peak memory and where the time goes, against the
+number of targets and of sensors.
 
 The scene is the paper's, grown: 3-D sensors 20 km apart on the x axis (2 of them: the paper's
 pair), targets at random in x ∈ [0, 20] km, y ∈ [1, 16] km, z = 1 km with the paper's speeds
@@ -24,6 +24,7 @@ import json
 import subprocess
 import sys
 import time
+from typing import Any
 
 CASE = r"""
 import json, resource, sys, time
@@ -51,7 +52,7 @@ scenario = simulate(sensors, targets, times, clutter_per_scan=2 * n_targets, azi
                     elevation_window=(0, np.pi / 2), t0=0.0, seed=seed)
 start = time.perf_counter()
 options = {"max_candidates": max_candidates} if max_candidates else {}
-if gate_pd is not None:  # only when given, so older builds run the same case
+if gate_pd is not None:  # only when given, so builds without the option run the same case
     options["gate_pd"] = gate_pd
 if search_stage != "default":  # likewise
     options["search_stage"] = None if search_stage == "none" else int(search_stage)
@@ -87,7 +88,7 @@ def run_case(
     search_stage: str = "default",
     pairs: str = "all",
     order: str = "default",
-) -> dict | str | None:
+) -> dict[str, Any] | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
     start = time.perf_counter()
@@ -109,7 +110,8 @@ def run_case(
         return None
     except subprocess.CalledProcessError as err:
         return f"after {time.perf_counter() - start:.2f} s (process included): {err.stderr.strip().splitlines()[-1]}"
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    figures: dict[str, Any] = json.loads(out.stdout.strip().splitlines()[-1])
+    return figures
 
 
 def seconds(value: float) -> str:

@@ -34,10 +34,10 @@ def main() -> None:
                 above = (result.primal_cost - optimum) / abs(optimum) * 100
                 rows[polish].append((above, abs(result.primal_cost - optimum) < 1e-9, seconds))
         for polish, found in rows.items():
-            above = [a for a, _, _ in found]
+            excess = [a for a, _, _ in found]
             print(
-                f"{family} polish={polish}: {statistics.mean(above):.2f} % above the optimum on average "
-                f"(max {max(above):.2f} %), exact on {sum(e for _, e, _ in found)}/{len(found)}, "
+                f"{family} polish={polish}: {statistics.mean(excess):.2f} % above the optimum on average "
+                f"(max {max(excess):.2f} %), exact on {sum(e for _, e, _ in found)}/{len(found)}, "
                 f"median {statistics.median(t for _, _, t in found) * 1e3:.1f} ms"
             )
 

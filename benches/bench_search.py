@@ -15,12 +15,15 @@ from __future__ import annotations
 import argparse
 import itertools
 import time
+from collections.abc import Callable
 
 import numpy as np
 import passive_assoc as pa
 from scipy.optimize import minimize
 
 CHI2_GATE = 13.815510557964274
+
+ValueAndGrad = Callable[[np.ndarray], tuple[float, np.ndarray]]
 
 
 def candidate_starts(scenario: pa.Scenario) -> tuple[np.ndarray, np.ndarray]:
@@ -32,7 +35,7 @@ def candidate_starts(scenario: pa.Scenario) -> tuple[np.ndarray, np.ndarray]:
     return fit.estimates[keep], fit.covariances[keep]
 
 
-def numpy_closeness(scenario: pa.Scenario, spread: float):
+def numpy_closeness(scenario: pa.Scenario, spread: float) -> ValueAndGrad:
     m, s = scenario.measurements, scenario.sensors.positions[scenario.measurements.sensor]
     t, az, el, n = m.time[:, None], m.azimuth, m.elevation, len(m)
 
@@ -55,7 +58,7 @@ def numpy_closeness(scenario: pa.Scenario, spread: float):
     return value_and_grad
 
 
-def scipy_search(value_and_grad, start: np.ndarray, cov: np.ndarray) -> np.ndarray:
+def scipy_search(value_and_grad: ValueAndGrad, start: np.ndarray, cov: np.ndarray) -> np.ndarray:
     lower = np.linalg.cholesky(cov)
 
     def fun(y: np.ndarray) -> tuple[float, np.ndarray]:
@@ -63,7 +66,8 @@ def scipy_search(value_and_grad, start: np.ndarray, cov: np.ndarray) -> np.ndarr
         return -v, -(lower.T @ g)
 
     res = minimize(fun, np.zeros(6), jac=True)
-    return start + lower @ res.x
+    optimum: np.ndarray = start + lower @ res.x
+    return optimum
 
 
 def main() -> None:

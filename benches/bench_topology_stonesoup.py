@@ -1,5 +1,5 @@
 """Topology and nearest neighbour against Stone Soup's track-to-track associators on the same
-tracks (issue #13): the topology paper scenario (EXPERIMENTS ``topology``: 8 radars, 20 targets,
+tracks: the topology paper scenario (EXPERIMENTS ``topology``: 8 radars, 20 targets,
 90 scans of 10 s, full coverage, azimuth bias U(±B)); each of the 7 local radars is associated
 with the system radar (radar 0) by
 
@@ -187,7 +187,10 @@ def main() -> None:
         "topology": lambda: pa.TopologyAssociator(window=WINDOW, n_threads=1),
         "nearest": lambda: pa.NearestNeighbourAssociator(gate=GATE, window=WINDOW, n_threads=1),
     }
-    whole = {"ss counting": lambda: counting(False), "ss counting 1:1": lambda: counting(True)}
+    whole: dict[str, Callable[[], TrackToTrackCounting]] = {
+        "ss counting": lambda: counting(False),
+        "ss counting 1:1": lambda: counting(True),
+    }
     per_scan = "ss 1:1 mean6"
     names = [*ours, *whole, per_scan]
     seconds: dict[str, list[float]] = {name: [] for name in names}

@@ -1,6 +1,6 @@
-"""The initiation's track test at several tails (issue 16): the paper's lines (100 runs each:
-Pd 1, 0.9, 0.8 and clutter 8x) and 2-D scenes of 3 sensors (5 targets over 8 scans, 3 targets
-over 5 scans; 20 seeds each), as targets found and other tracks.
+"""The initiation's track test at several tails: the paper's lines (100 runs each: Pd 1, 0.9,
+0.8 and clutter 8x) and 2-D scenes of 3 sensors (5 targets over 8 scans, 3 targets over 5
+scans; 20 seeds each), as targets found and other tracks.
 
     python3 benches/bench_track_test.py [--tails 1e-6 1e-4 1e-3]
 """

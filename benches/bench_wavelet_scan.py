@@ -1,7 +1,7 @@
 """Full wavelet-fuzzy association of 500 radar × 500 ESM tracks (the paper scenario's 10
 targets plus 490 false tracks per sensor, 30 scans of 1 s), with the whole-window covariance
 and with Σ per scan; prints the time of one ``associate`` call over all scans and its mean
-per scan (issue 14's "full association of one scan of 500 × 500 tracks").
+per scan (the cost of fully associating one scan of 500 × 500 tracks).
 
     python3 benches/bench_wavelet_scan.py [--tracks 500] [--repeat 3]
 """

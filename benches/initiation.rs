@@ -7,9 +7,9 @@
 //! * `descent/one`: one steepest-ascent search from the candidate nearest target 1.
 //! * `pipeline/paper_2x_clutter_1_thread`: the whole initiation on one thread.
 //! * `pipeline_dense/planar_8_targets_1_thread`: the whole initiation on one thread of a dense
-//!   2-D scene like issue 16's (3 sensors 15 km apart, 8 targets 20–40 km out, 16 clutter
-//!   bearings per sensor and scan over [0, π], 8 scans; 576 rows), where the support and
-//!   tracking gates are most of the time.
+//!   2-D scene like `benches/bench_initiation_2d.py`'s (3 sensors 15 km apart, 8 targets
+//!   20–40 km out, 16 clutter bearings per sensor and scan over [0, π], 8 scans; 576 rows),
+//!   where the support and tracking gates are most of the time.
 
 use std::f64::consts::PI;
 use std::hint::black_box;

@@ -1,6 +1,6 @@
 """Whether two builds' fuzzy track initiations agree: dumps the labels, the track states and
-the stage counts of 51 initiations (the 2-D scenes of issue 16 with 3, 5 and 8 targets at
-Pd 1 and 0.9, the paper's scene at Pd 0.9 over 20 seeds, and 3-D scale scenes of 2-5 sensors,
+the stage counts of 51 initiations (the dense 2-D scenes of ``bearing_only_2d_scenario`` with
+3, 5 and 8 targets at Pd 1 and 0.9, the paper's scene at Pd 0.9 over 20 seeds, and 3-D scale scenes of 2-5 sensors,
 all with the defaults), then compares with another build's dump. A change that claims to
 leave every answer the same is checked this way: run it on the old build with ``--out``, on
 the new one with ``--against``.
@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import pickle
 import time
+from typing import Any
 
 import numpy as np
 import passive_assoc as pa
@@ -51,10 +52,10 @@ def scenes() -> list[Scenario]:
     return out + [scale_scene(*case) for case in SPATIAL]
 
 
-def initiations(order: str | None = None) -> list[tuple]:
-    """Each scene's initiation; ``order`` is the detection order, passed only when given (so
-    builds from before the option run too)."""
-    options = {} if order is None else {"detection_order": order}
+def initiations(order: str | None = None) -> list[tuple[Any, ...]]:
+    """Each scene's initiation; ``order`` is the detection order, passed only when given (so a
+    build without the option runs too)."""
+    options: dict[str, Any] = {} if order is None else {"detection_order": order}
     out = []
     for scene in scenes():
         r = pa.FuzzyTrackInitiator(**options).initiate(scene.measurements, scene.sensors, t0=0.0)

@@ -1,9 +1,9 @@
 """Whether two builds' Lagrangian S-D solves agree: dumps every solve's iterations, primal
 cost, dual bound, gap, chosen tuples and termination on the static-association paper's scans
 (150 at S = 3, M = 20; 60 at M = 10; 30 at S = 4, M = 10; 10 at M = 50), with and without the
-polish and under every warm-start setting, then compares with another build's dump. Issue 18
-asks for "the same primal costs and gaps"; run it on the old build with ``--out``, on the new
-one with ``--against``.
+polish and under every warm-start setting, then compares with another build's dump. A change
+that claims to leave the solver's answers the same (the same primal costs and gaps) is checked
+this way: run it on the old build with ``--out``, on the new one with ``--against``.
 
     PYTHONPATH=<old package> python3 benches/lagrangian_identity.py --out old.pkl
     python3 benches/lagrangian_identity.py --against old.pkl
@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import pickle
+from typing import Any
 
 import numpy as np
 import passive_assoc as pa
@@ -21,7 +22,7 @@ from passive_assoc.simulation import static_scan
 CASES = [(20, 3, 150), (10, 3, 60), (10, 4, 30), (50, 3, 10)]  # targets, sensors, scans
 
 
-def solves() -> list[tuple]:
+def solves() -> list[tuple[Any, ...]]:
     out = []
     for n_targets, n_sensors, n_scans in CASES:
         for seed in range(n_scans):

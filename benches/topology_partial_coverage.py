@@ -31,6 +31,7 @@ def main() -> None:
             system = tracks.of(SYSTEM_RADAR)
             local = tracks.select(np.flatnonzero(tracks.source != SYSTEM_RADAR))
             result = TopologyAssociator(n_threads=1).associate(local=local, system=system)
+            assert system.truth is not None and local.truth is not None  # simulated tracks carry it
             seen = {(float(t), int(g)) for t, g in zip(system.time, system.truth, strict=True)}
             truth = {
                 (float(t), int(s), int(k)): int(g)
