@@ -43,11 +43,22 @@ DESCRIPTION = (
     "intensity search, or S-D assignment by Lagrangian relaxation or exactly)."
 )
 
+#: When to choose each --method, with the reason measured by benches/static_method_choice.py
+#: (the shipped example's 3 scans, and 120 simulated scans of 5-20 targets, 3-5 sensors,
+#: Pd 0.8-0.95: 1277 targets seen by two sensors or more).
+METHODS_HELP = """methods (--method), measured by benches/static_method_choice.py (targets found exactly):
+  lagrangian  default, right most often for its time: 27 % of targets, 11 of the example's 15; 1-6 ms/scan
+  exact       the proven optimum, for small scans: 28 % of targets, but 0.1-2.3 s/scan at 10-20 targets
+  intensity   the paper's search, to reproduce paper 001: as fast, but 13.5 % of targets, 4 of 15
+"""
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = DESCRIPTION
     parser.epilog = (
         EXAMPLE_FORMATS
+        + "\n"
+        + METHODS_HELP
         + "\nexample:\n  passive-assoc associate examples/associate_measurements.csv "
         + ("--sensors examples/sensors.csv --method lagrangian --out out/")
     )

@@ -20,7 +20,7 @@ from .._progress import ProgressArg, reporting
 from .._settings import EnumerationSettings, IntensitySettings, SdSettings
 from ..assignment.sd import ASSIGN_SD_MAX_NODES
 from ..data import MeasurementTable, SensorNetwork
-from .associator import Method, _associator
+from .associator import DEFAULT_METHOD, Method, _associator
 from .candidates import _per_sensor
 
 __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
@@ -56,7 +56,7 @@ def associate_scans(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     scan: str | ArrayLike = "time",
-    method: Method = "intensity",
+    method: Method = DEFAULT_METHOD,
     *,
     progress: ProgressArg = None,
     **settings: Any,
