@@ -3,12 +3,13 @@ scan of the user's measurement file.
 
 Rows are grouped into scans by ``--scan-column`` (default ``time``: rows with the same time
 form a scan; or any attribute column of the file, e.g. a scan number). Each scan is
-associated on its own. Writes, in ``--out``:
+associated on its own. Writes, in ``--out`` (``<prefix>``: MEAS's file name without its
+extension, or ``--prefix``):
 
-* ``associate_measurements.csv`` — every input row once: row, sensor, time, angles, ``scan``
+* ``<prefix>.associate.csv`` — every input row once: row, sensor, time, angles, ``scan``
   (its index) and ``target`` (the located target's index over the whole file, or −1 for a
   false alarm);
-* ``associate_targets.json`` — per target: its scan, position, covariance, cost and rows.
+* ``<prefix>.associate.json`` — per target: its scan, position, covariance, cost and rows.
 """
 
 from __future__ import annotations
@@ -29,6 +30,8 @@ from .common import (
     add_parameter_options,
     given_parameters,
     output_path,
+    outputs_epilog,
+    plan_outputs,
     read_inputs,
     row_columns,
     write_atomically,
@@ -59,11 +62,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         EXAMPLE_FORMATS
         + "\n"
         + METHODS_HELP
-        + "\nexample:\n  passive-assoc associate examples/associate_measurements.csv "
-        + ("--sensors examples/sensors.csv --method lagrangian --out out/")
+        + "\n"
+        + outputs_epilog(
+            "associate",
+            "MEAS",
+            "every input row once, with its scan and target (-1: false alarm)",
+            "per target: scan, position, covariance, cost, rows",
+        )
+        + "\nexamples:\n  passive-assoc associate examples/associate_measurements.csv "
+        + "--sensors examples/associate_sensors.csv --out out/\n"
+        + "  passive-assoc associate examples/associate_measurements.csv "
+        + "--sensors examples/associate_sensors.csv --method exact --prefix exact --out out/"
     )
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    add_file_arguments(parser)
+    add_file_arguments(parser, "associate")
     parser.add_argument(
         "--scan-column",
         metavar="NAME",
@@ -91,6 +103,7 @@ column_name.bad_values = ["", "  "]  # type: ignore[attr-defined]
 
 
 def main(args: argparse.Namespace) -> int:
+    files = plan_outputs(args, {"MEAS": args.measurements, "SENS": args.sensors})
     table, sensors = read_inputs(args)
     keys, scan = scan_keys(table, args.scan_column, name="--scan-column")
     order, offsets = scan_rows(scan, len(keys))
@@ -117,8 +130,9 @@ def main(args: argparse.Namespace) -> int:
     false_alarms = int(np.sum(target < 0))
     write_outputs(
         args,
-        ("associate_measurements.csv", row_columns(table, target, label_name="target", scan=scan)),
-        ("associate_targets.json", {"method": associator.method, "scans": len(groups), "targets": targets}),
+        files,
+        row_columns(table, target, label_name="target", scan=scan),
+        {"method": associator.method, "scans": len(groups), "targets": targets},
         f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms",
     )
     if args.plot:

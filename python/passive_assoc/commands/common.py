@@ -1,7 +1,9 @@
-"""What the file commands (``passive-assoc initiate`` / ``associate``) share: reading the
-user's two files, the method's parameters as options (from the class's declared
-constraints, so every parameter has an option with the library's default), and writing
-outputs so that nothing is half-written.
+"""What the file commands (``passive-assoc initiate``, ``associate``, ``locate``,
+``associate-tracks``) share: reading the user's files, the method's parameters as options
+(from the class's declared constraints, so every parameter has an option with the library's
+default), and the outputs: named after the input file (``<prefix>.<command>.csv`` and
+``.json`` in ``--out``), refused before any work when one would overwrite an input, and
+written so that nothing is half-written.
 """
 
 from __future__ import annotations
@@ -10,7 +12,7 @@ import argparse
 import json
 import os
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -22,11 +24,15 @@ from ..experiments.common import _jsonable
 
 __all__ = [
     "add_file_arguments",
+    "add_output_arguments",
+    "check_outputs",
+    "outputs_epilog",
+    "plan_outputs",
     "add_parameter_options",
     "output_path",
     "given_parameters",
+    "prefix_name",
     "prepare",
-    "print_json",
     "read_inputs",
     "row_columns",
     "write_atomically",
@@ -45,12 +51,18 @@ angles are counter-clockwise from +x (east), elevation up; radians unless --degr
 """
 
 
-def add_file_arguments(parser: argparse.ArgumentParser) -> None:
+def add_file_arguments(parser: argparse.ArgumentParser, command: str) -> None:
     parser.add_argument(
         "measurements", metavar="MEAS", type=input_file, help="measurements CSV file (or .parquet, with pyarrow)"
     )
     parser.add_argument("--sensors", metavar="SENS", type=input_file, required=True, help="sensors CSV file")
     parser.add_argument("--degrees", action="store_true", help="azimuth and elevation in MEAS are in degrees")
+    add_output_arguments(parser, command, "MEAS")
+
+
+def add_output_arguments(parser: argparse.ArgumentParser, command: str, source: str) -> None:
+    """``--out``, ``--prefix`` and ``--json`` of a file command whose outputs are named after
+    its ``source`` argument (see :func:`plan_outputs`)."""
     parser.add_argument(
         "--out",
         metavar="DIR",
@@ -58,7 +70,75 @@ def add_file_arguments(parser: argparse.ArgumentParser) -> None:
         default=".",
         help="folder for the output files (created if missing; default: .)",
     )
-    parser.add_argument("--json", action="store_true", help="also print the per-target summary as JSON")
+    parser.add_argument(
+        "--prefix",
+        metavar="NAME",
+        type=prefix_name,
+        help=f"name the outputs NAME.{command}.csv and NAME.{command}.json "
+        f"(default: {source}'s file name without its extension)",
+    )
+    parser.add_argument(
+        "--json",
+        action="store_true",
+        help="also print the JSON summary",
+    )
+    parser.set_defaults(command_name=command, output_source=source)
+
+
+def outputs_epilog(command: str, source: str, rows: str, summary: str) -> str:
+    """The help's account of the two outputs: ``rows`` says what the CSV holds, ``summary``
+    what the JSON file holds."""
+    return (
+        "outputs, in --out (default .):\n"
+        f"  <prefix>.{command}.csv   {rows}\n"
+        f"  <prefix>.{command}.json  {summary}\n"
+        f"  <prefix> is {source}'s file name without its extension, or --prefix. A run that would\n"
+        "  overwrite one of its own input files is refused before any work; an earlier output of\n"
+        "  the same name is replaced (whole, or not at all if the run fails).\n"
+    )
+
+
+def prefix_name(text: str) -> str:
+    """argparse type: the outputs' name prefix, a plain file name (no folder: that is ``--out``)."""
+    name = text.strip()
+    if not name or name in (".", "..") or "/" in name or os.sep in name:
+        raise argparse.ArgumentTypeError(f"expected a file name without a folder (--out sets the folder), got {text!r}")
+    return name
+
+
+prefix_name.bad_values = ["", "a/b", ".."]  # type: ignore[attr-defined]
+
+
+def plan_outputs(args: argparse.Namespace, inputs: Mapping[str, str]) -> tuple[Path, Path]:
+    """The command's two output files, ``<out>/<prefix>.<command>.csv`` and ``.json``, the
+    prefix being ``--prefix`` or the stem of the source input (``args.output_source``'s file).
+    Raises ValueError, before any work, when an output (these two or ``--plot``) would
+    overwrite a file of ``inputs`` (argument name → path) or two outputs are one file."""
+    source = inputs[args.output_source]
+    prefix = args.prefix or Path(source).stem
+    files = args.out / f"{prefix}.{args.command_name}.csv", args.out / f"{prefix}.{args.command_name}.json"
+    outputs = [("--out/--prefix", files[0]), ("--out/--prefix", files[1])]
+    if getattr(args, "plot", None) is not None:
+        outputs.append(("--plot", args.plot))
+    check_outputs(inputs, outputs)
+    return files
+
+
+def check_outputs(inputs: Mapping[str, str], outputs: Sequence[tuple[str, Path]]) -> None:
+    """ValueError if an output is one of the input files (the same file, through any link) or
+    two outputs are one file; ``outputs`` are (the option that chose it, path) pairs."""
+    seen: dict[str, str] = {}
+    for option, path in outputs:
+        for name, given in inputs.items():
+            if path.exists() and os.path.samefile(path, given):
+                raise ValueError(
+                    f"{option}: the output {str(path)!r} would overwrite the input file {name} ({given!r}); "
+                    f"choose another {option}"
+                )
+        key = os.path.realpath(path)
+        if key in seen:
+            raise ValueError(f"{option}: the output {str(path)!r} is also the output of {seen[key]}")
+        seen[key] = option
 
 
 def input_file(text: str) -> str:
@@ -136,23 +216,19 @@ def row_columns(table: MeasurementTable, labels: Any, label_name: str = "track",
 
 def write_outputs(
     args: argparse.Namespace,
-    rows: tuple[str, Mapping[str, Any]],
-    summary: tuple[str, Mapping[str, Any]],
+    files: tuple[Path, Path],
+    columns: Mapping[str, Any],
+    record: Mapping[str, Any],
     headline: str,
 ) -> None:
-    """Every command's ending: ``--out`` created, the per-row CSV and the JSON summary
-    written atomically, ``headline`` and the two paths printed, and the summary printed
-    too with ``--json``."""
-    folder = prepare(args.out)
-    (csv_name, columns), (json_name, record) = rows, summary
-    write_atomically(folder / csv_name, lambda path: write_csv(path, columns))
-    write_json(folder / json_name, record)
-    print(f"{headline}; wrote {folder / csv_name} and {folder / json_name}")
-    print_json(args, record)
-
-
-def print_json(args: argparse.Namespace, record: Mapping[str, Any]) -> None:
-    """With ``--json``, the summary on standard output too."""
+    """Every command's ending: ``--out`` created, the per-row CSV and the JSON summary written
+    atomically to ``files`` (from :func:`plan_outputs`), ``headline`` and the two paths
+    printed, and the summary printed too with ``--json``."""
+    prepare(args.out)
+    csv_path, json_path = files
+    write_atomically(csv_path, lambda path: write_csv(path, columns))
+    write_json(json_path, record)
+    print(f"{headline}; wrote {csv_path} and {json_path}")
     if args.json:
         json.dump(_jsonable(record), sys.stdout, indent=2)
         print()
