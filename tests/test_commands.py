@@ -5,7 +5,9 @@ error naming the file, and a failed run writes nothing."""
 from __future__ import annotations
 
 import json
+import os
 import shutil
+import stat
 from pathlib import Path
 
 import numpy as np
@@ -217,3 +219,25 @@ def test_an_output_that_would_overwrite_an_input_is_refused_before_any_work(
     assert stop.value.code == 2
     assert message.format(out=tmp_path) in capsys.readouterr().err
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+@pytest.mark.skipif(os.name != "posix", reason="file modes and the umask are POSIX")
+@pytest.mark.parametrize("umask", [0o022, 0o027, 0o077, 0o002])
+def test_outputs_get_the_mode_the_umask_gives_a_new_file(tmp_path: Path, umask: int) -> None:
+    """Written through a temporary file and a rename, the outputs still get 0666 less the
+    umask, as open() gives a new file (they were 0600 whatever the umask)."""
+    meas, sensors = EXAMPLES / "associate_measurements.csv", str(EXAMPLES / "associate_sensors.csv")
+    previous = os.umask(umask)
+    try:
+        assert cli_main(["associate", str(meas), "--sensors", sensors, "--out", str(tmp_path / "out")]) == 0
+        (tmp_path / "plain").write_text("")  # what a plain open() gives, for comparison
+    finally:
+        os.umask(previous)
+    outputs = sorted((tmp_path / "out").iterdir())
+    assert [p.name for p in outputs] == [
+        "associate_measurements.associate.csv",
+        "associate_measurements.associate.json",
+    ]
+    plain = stat.S_IMODE((tmp_path / "plain").stat().st_mode)
+    assert plain == 0o666 & ~umask
+    assert [stat.S_IMODE(p.stat().st_mode) for p in outputs] == [plain, plain]
