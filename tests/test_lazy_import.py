@@ -48,3 +48,16 @@ def test_subpackages_are_attributes_and_unknown_names_are_not() -> None:
     assert {"simulation", "StaticAssociator", "Track"} <= set(dir(pa))
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
         _ = pa.nope  # type: ignore[attr-defined]
+
+
+def test_the_top_level_help_imports_no_command() -> None:
+    """``passive-assoc --help`` builds the commands' options only for the command that runs,
+    so the list of commands needs none of their modules (it took 2 s with them)."""
+    code = (
+        "import sys\nfrom passive_assoc.cli import main\ntry:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
+        "print(sorted(m for m in sys.modules if m.startswith(('passive_assoc.commands', "
+        "'passive_assoc.experiments', 'scipy', 'numpy'))), file=sys.stderr)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
+    assert "associate-tracks" in done.stdout and "reproduce" in done.stdout
+    assert done.stderr.strip() == "[]", done.stderr

@@ -3,45 +3,56 @@
 ``passive-assoc demo`` simulates the paper-000 scenario and prints, per target, the ML
 estimate with perfect association beside the truth and the CRLB; ``initiate`` and
 ``associate`` run a method on the user's own files; ``reproduce`` runs a paper's experiment.
-``passive-assoc --help`` lists every command.
+``passive-assoc --help`` lists every command. A command's modules are imported only when it
+runs (or its help is asked for), so that the top-level help answers at once.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 from collections.abc import Callable, Sequence
-
-import numpy as np
+from types import ModuleType
 
 from . import __version__
-from .commands import associate, associate_tracks, initiate, locate
-from .evaluation import perfect_association_fit, target_crlbs
-from .experiments import formation, fti, intensity, topology, wavelet
-from .experiments.common import scheduler_address, seed_int
-from .simulation import paper_fti_scenario
 
 #: (name, module with add_arguments/main, one-line summary) of every `reproduce` experiment.
+#: Modules are imported only for the command being run (or for the whole parser), so that
+#: ``passive-assoc --help`` answers at once.
 _EXPERIMENTS = [
-    ("fti", fti, "paper 000: fuzzy track initiation, Tables 2-3 (RMS vs perfect association vs CRLB)"),
-    ("intensity", intensity, "paper 001: static LOS association, Tables 1-2 (time and accuracy of every method)"),
-    ("topology", topology, "paper 002: track-to-track association under azimuth bias (P, R, F1 vs nearest neighbour)"),
-    ("wavelet", wavelet, "paper 003: radar/ESM association of maneuvering targets (P(correct) per scan, 3 methods)"),
-    ("formation", formation, "paper 004: formation targets with emitter attributes, Tables 2-3 and the §2 methods"),
+    ("fti", "fti", "paper 000: fuzzy track initiation, Tables 2-3 (RMS vs perfect association vs CRLB)"),
+    ("intensity", "intensity", "paper 001: static LOS association, Tables 1-2 (time and accuracy of every method)"),
+    (
+        "topology",
+        "topology",
+        "paper 002: track-to-track association under azimuth bias (P, R, F1 vs nearest neighbour)",
+    ),
+    ("wavelet", "wavelet", "paper 003: radar/ESM association of maneuvering targets (P(correct) per scan, 3 methods)"),
+    ("formation", "formation", "paper 004: formation targets with emitter attributes, Tables 2-3 and the §2 methods"),
 ]
 
 #: (name, module with add_arguments/main, one-line summary) of the commands on the user's files.
 _FILE_COMMANDS = [
-    ("initiate", initiate, "initiate tracks from your sensors' measurement file (fuzzy track initiation)"),
-    ("associate", associate, "associate your measurement file scan by scan (static LOS association)"),
-    ("locate", locate, "locate formation targets in your snapshot of bearings (baseline method, attributes)"),
-    ("associate-tracks", associate_tracks, "associate your track files (reference topology, or radar/ESM wavelets)"),
+    ("initiate", "initiate", "initiate tracks from your sensors' measurement file (fuzzy track initiation)"),
+    ("associate", "associate", "associate your measurement file scan by scan (static LOS association)"),
+    ("locate", "locate", "locate formation targets in your snapshot of bearings (baseline method, attributes)"),
+    (
+        "associate-tracks",
+        "associate_tracks",
+        "associate your track files (reference topology, or radar/ESM wavelets)",
+    ),
 ]
 
 _COMPONENTS = ("x0 m", "y0 m", "z0 m", "vx m/s", "vy m/s", "vz m/s")
 
 
 def _demo(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from .evaluation import perfect_association_fit, target_crlbs
+    from .simulation import paper_fti_scenario
+
     scenario = paper_fti_scenario(seed=args.seed)
     fit = perfect_association_fit(scenario)
     bounds = np.sqrt(np.diagonal(target_crlbs(scenario), axis1=1, axis2=2))
@@ -72,7 +83,14 @@ def _demo(args: argparse.Namespace) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The whole command line; with ``only`` (a command, and for ``reproduce`` an experiment,
+    as :func:`_requested` reads them off argv) the other commands are listed but carry no
+    options, so that their modules are not imported."""
+
+    def wanted(*path: str) -> bool:
+        return only is None or tuple(only[: len(path)]) == path
+
     parser = argparse.ArgumentParser(
         prog="passive-assoc",
         description="Data association and track initiation for passive (angle-only) sensor networks.",
@@ -85,25 +103,46 @@ def build_parser() -> argparse.ArgumentParser:
         description="Simulate the fuzzy-track-initiation paper's scenario (METHODS §1) and print, per "
         "target, the Gauss-Newton ML estimate of X0 from its true measurements, the truth and the CRLB.",
     )
-    demo.add_argument("--seed", type=seed_int, default=0, help="simulation seed (default 0)")
-    demo.set_defaults(run=_demo)
-    for name, module, summary in _FILE_COMMANDS:
+    if wanted("demo"):
+        from .experiments.common import seed_int
+
+        demo.add_argument("--seed", type=seed_int, default=0, help="simulation seed (default 0)")
+        demo.set_defaults(run=_demo)
+    for name, module_name, summary in _FILE_COMMANDS:
         sub = commands.add_parser(name, help=summary)
-        module.add_arguments(sub)
-        sub.set_defaults(run=module.main)
-    _add_reproduce(commands)
+        if wanted(name):
+            module = _module("commands", module_name)
+            module.add_arguments(sub)
+            sub.set_defaults(run=module.main)
+    _add_reproduce(commands, wanted)
     return parser
 
 
-def _add_reproduce(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+def _module(package: str, name: str) -> ModuleType:
+    return importlib.import_module(f".{package}.{name}", __package__)
+
+
+def _requested(argv: Sequence[str]) -> list[str]:
+    """The command (and ``reproduce``'s experiment) that argv names: its words before the
+    first option of the command itself (the top level and ``reproduce`` take only flags)."""
+    words = [a for a in argv if not a.startswith("-")]
+    return words[:2] if words[:1] == ["reproduce"] else words[:1]
+
+
+def _add_reproduce(commands: argparse._SubParsersAction[argparse.ArgumentParser], wanted: Callable[..., bool]) -> None:
     reproduce = commands.add_parser(
         "reproduce",
         help="run a paper's experiment and print our figures beside the paper's",
         description="Reproduce a paper's experiment (docs/spec/EXPERIMENTS.md) with fixed seeds.",
     )
     experiments = reproduce.add_subparsers(dest="experiment", metavar="EXPERIMENT", required=True)
-    for name, module, summary in _EXPERIMENTS:
+    for name, module_name, summary in _EXPERIMENTS:
         sub = experiments.add_parser(name, help=summary, description=summary)
+        if not wanted("reproduce", name):
+            continue
+        from .experiments.common import scheduler_address
+
+        module = _module("experiments", module_name)
         module.add_arguments(sub)
         sub.add_argument(
             "--scheduler",
@@ -130,7 +169,8 @@ def _on_scheduler(run: Callable[[argparse.Namespace], int]) -> Callable[[argpars
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(_requested(argv))
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()
