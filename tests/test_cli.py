@@ -4,13 +4,17 @@ tests/experiments/test_formation_experiment.py; here only its help)."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from passive_assoc.cli import main as cli_main
 
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 #: The static-association methods `reproduce intensity` reports on.
 METHODS = ("intensity", "lagrangian", "exact")
 
@@ -156,3 +160,81 @@ def test_bad_options_are_usage_errors(argv: list[str], message: str, capsys: pyt
         cli_main(argv)
     assert exit_info.value.code == 2
     assert message in capsys.readouterr().err
+
+
+_ASSOCIATE = [
+    "associate",
+    str(EXAMPLES / "associate_measurements.csv"),
+    "--sensors",
+    str(EXAMPLES / "associate_sensors.csv"),
+]
+_INITIATE = [
+    "initiate",
+    str(EXAMPLES / "initiate_measurements.csv"),
+    "--sensors",
+    str(EXAMPLES / "initiate_sensors.csv"),
+]
+
+
+@pytest.mark.parametrize(
+    ("argv", "module", "extra", "what"),
+    [
+        (["reproduce", "fti", "--runs", "2", "--plot", "{tmp}/fti.png"], "matplotlib", "plot", "--plot"),
+        ([*_ASSOCIATE, "--out", "{tmp}/out", "--plot", "{tmp}/a.png"], "matplotlib", "plot", "--plot"),
+        ([*_INITIATE, "--out", "{tmp}/out", "--plot", "{tmp}/i.png"], "matplotlib", "plot", "--plot"),
+        (["reproduce", "topology", "--runs", "1", "--scheduler", "local"], "dask", "dask", "--scheduler"),
+        (["reproduce", "wavelet", "--runs", "1", "--scheduler", "local"], "distributed", "dask", "--scheduler"),
+        (
+            [
+                "associate",
+                "{tmp}/m.parquet",
+                "--sensors",
+                str(EXAMPLES / "associate_sensors.csv"),
+                "--out",
+                "{tmp}/out",
+            ],
+            "pyarrow",
+            "parquet",
+            "a .parquet MEAS file",
+        ),
+    ],
+)
+def test_a_missing_extra_is_one_line_before_any_work(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    argv: list[str],
+    module: str,
+    extra: str,
+    what: str,
+) -> None:
+    """The extra is named with the checkout's install command, exit status 2, and nothing ran
+    (nothing printed on standard output, nothing written): `--plot` used to fail after the
+    whole run, with a 25-line traceback and status 1."""
+    (tmp_path / "m.parquet").write_bytes(b"")  # only its name matters: the check comes first
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == module else real(name, *a))
+    before = sorted(tmp_path.iterdir())
+    with pytest.raises(SystemExit) as stop:
+        cli_main([a.format(tmp=tmp_path) for a in argv])
+    out, err = capsys.readouterr()
+    assert stop.value.code == 2 and out == ""
+    assert err == (
+        f"passive-assoc: error: {what} needs {module} (the '{extra}' extra), which is not installed: "
+        f"pip install '.[{extra}]' in the passive-assoc checkout\n"
+    )
+    assert sorted(tmp_path.iterdir()) == before
+
+
+def test_a_missing_module_is_caught_as_an_import_would_see_it(tmp_path: Path) -> None:
+    """The same through the import system: matplotlib made unimportable in a fresh interpreter."""
+    code = (
+        "import sys\nsys.modules['matplotlib'] = None\nfrom passive_assoc.cli import main\n"
+        f"sys.exit(main(['reproduce', 'fti', '--runs', '2', '--plot', {str(tmp_path / 'x.png')!r}]))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr.splitlines() == [
+        "passive-assoc: error: --plot needs matplotlib (the 'plot' extra), which is not installed: "
+        "pip install '.[plot]' in the passive-assoc checkout"
+    ]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import sys
 from collections.abc import Callable, Sequence
 from types import ModuleType
@@ -41,6 +42,19 @@ _FILE_COMMANDS = [
         "associate-tracks",
         "associate_tracks",
         "associate your track files (reference topology, or radar/ESM wavelets)",
+    ),
+]
+
+#: Optional extras a run needs: (what needs it, whether these arguments need it, the modules,
+#: the extra that installs them). Checked once the arguments are parsed, before any work.
+_EXTRAS: list[tuple[str, Callable[[argparse.Namespace], bool], tuple[str, ...], str]] = [
+    ("--plot", lambda a: getattr(a, "plot", None) is not None, ("matplotlib",), "plot"),
+    ("--scheduler", lambda a: getattr(a, "scheduler", None) is not None, ("dask", "distributed"), "dask"),
+    (
+        "a .parquet MEAS file",
+        lambda a: str(getattr(a, "measurements", "")).endswith(".parquet"),
+        ("pyarrow",),
+        "parquet",
     ),
 ]
 
@@ -149,7 +163,7 @@ def _add_reproduce(commands: argparse._SubParsersAction[argparse.ArgumentParser]
             metavar="ADDRESS",
             type=scheduler_address,
             help="run the Monte-Carlo runs on a Dask cluster: its scheduler address, or 'local' for a "
-            "local cluster of processes (pip install 'passive-assoc[dask]'); same results as without",
+            "local cluster of processes (pip install '.[dask]'); same results as without",
         )
         sub.set_defaults(run=_on_scheduler(module.main))
 
@@ -175,10 +189,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    missing = missing_extra(args)
+    if missing:
+        parser.exit(2, f"passive-assoc: error: {missing}\n")
     try:
         return int(args.run(args))
     except ValueError as err:  # a setting the library refused: a usage error, not a traceback
         parser.exit(2, f"passive-assoc: error: {err}\n")
+
+
+def missing_extra(args: argparse.Namespace) -> str | None:
+    """A one-line error if the arguments need an optional extra that is not installed."""
+    for what, needs, modules, extra in _EXTRAS:
+        if needs(args):
+            absent = [m for m in modules if importlib.util.find_spec(m) is None]
+            if absent:
+                return (
+                    f"{what} needs {' and '.join(absent)} (the '{extra}' extra), which is not installed: "
+                    f"pip install '.[{extra}]' in the passive-assoc checkout"
+                )
+    return None
 
 
 if __name__ == "__main__":
