@@ -18,19 +18,40 @@ from types import ModuleType
 
 from . import __version__
 
-#: (name, module with add_arguments/main, one-line summary) of every `reproduce` experiment.
-#: Modules are imported only for the command being run (or for the whole parser), so that
-#: ``passive-assoc --help`` answers at once.
+#: (name, module with add_arguments/main, one-line summary, example) of every `reproduce`
+#: experiment. Modules are imported only for the command being run (or for the whole parser),
+#: so that ``passive-assoc --help`` answers at once.
 _EXPERIMENTS = [
-    ("fti", "fti", "paper 000: fuzzy track initiation, Tables 2-3 (RMS vs perfect association vs CRLB)"),
-    ("intensity", "intensity", "paper 001: static LOS association, Tables 1-2 (time and accuracy of every method)"),
+    (
+        "fti",
+        "fti",
+        "paper 000: fuzzy track initiation, Tables 2-3 (RMS vs perfect association vs CRLB)",
+        "passive-assoc reproduce fti --runs 100 --plot fti.png --json fti.json",
+    ),
+    (
+        "intensity",
+        "intensity",
+        "paper 001: static LOS association, Tables 1-2 (time and accuracy of every method)",
+        "passive-assoc reproduce intensity --runs 50 --no-timing",
+    ),
     (
         "topology",
         "topology",
         "paper 002: track-to-track association under azimuth bias (P, R, F1 vs nearest neighbour)",
+        "passive-assoc reproduce topology --runs 20 --bias 0 3 --json topology.json",
     ),
-    ("wavelet", "wavelet", "paper 003: radar/ESM association of maneuvering targets (P(correct) per scan, 3 methods)"),
-    ("formation", "formation", "paper 004: formation targets with emitter attributes, Tables 2-3 and the §2 methods"),
+    (
+        "wavelet",
+        "wavelet",
+        "paper 003: radar/ESM association of maneuvering targets (P(correct) per scan, 3 methods)",
+        "passive-assoc reproduce wavelet --runs 200 --clutter 0 2",
+    ),
+    (
+        "formation",
+        "formation",
+        "paper 004: formation targets with emitter attributes, Tables 2-3 and the §2 methods",
+        "passive-assoc reproduce formation --runs 200 --noise paper --plot formation.png",
+    ),
 ]
 
 #: (name, module with add_arguments/main, one-line summary) of the commands on the user's files.
@@ -57,6 +78,25 @@ _EXTRAS: list[tuple[str, Callable[[argparse.Namespace], bool], tuple[str, ...], 
         "parquet",
     ),
 ]
+
+EPILOG = """examples:
+  passive-assoc demo
+  passive-assoc associate examples/associate_measurements.csv --sensors examples/associate_sensors.csv --out out/
+  passive-assoc reproduce fti --runs 20
+
+'passive-assoc COMMAND --help' describes a command, its input files, its outputs and examples.
+"""
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """Wraps a one-paragraph description to the terminal; keeps text that has its own line
+    breaks (the epilogs' file formats, outputs and examples) as written."""
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        if "\n" in text.strip():
+            return "".join(indent + line for line in text.splitlines(keepends=True))
+        return super()._fill_text(text, width, indent)
+
 
 _COMPONENTS = ("x0 m", "y0 m", "z0 m", "vx m/s", "vy m/s", "vz m/s")
 
@@ -108,6 +148,8 @@ def build_parser(only: Sequence[str] | None = None) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="passive-assoc",
         description="Data association and track initiation for passive (angle-only) sensor networks.",
+        epilog=EPILOG,
+        formatter_class=HelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"passive-assoc {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
@@ -116,6 +158,8 @@ def build_parser(only: Sequence[str] | None = None) -> argparse.ArgumentParser:
         help="fit the paper-000 scenario's targets with perfect association and compare with the CRLB",
         description="Simulate the fuzzy-track-initiation paper's scenario (METHODS §1) and print, per "
         "target, the Gauss-Newton ML estimate of X0 from its true measurements, the truth and the CRLB.",
+        epilog="example:\n  passive-assoc demo --seed 3",
+        formatter_class=HelpFormatter,
     )
     if wanted("demo"):
         from .experiments.common import seed_int
@@ -127,6 +171,7 @@ def build_parser(only: Sequence[str] | None = None) -> argparse.ArgumentParser:
         if wanted(name):
             module = _module("commands", module_name)
             module.add_arguments(sub)
+            sub.formatter_class = HelpFormatter  # its description wrapped, its epilog as written
             sub.set_defaults(run=module.main)
     _add_reproduce(commands, wanted)
     return parser
@@ -148,10 +193,14 @@ def _add_reproduce(commands: argparse._SubParsersAction[argparse.ArgumentParser]
         "reproduce",
         help="run a paper's experiment and print our figures beside the paper's",
         description="Reproduce a paper's experiment (docs/spec/EXPERIMENTS.md) with fixed seeds.",
+        epilog="examples:\n" + "".join(f"  {example}\n" for *_, example in _EXPERIMENTS),
+        formatter_class=HelpFormatter,
     )
     experiments = reproduce.add_subparsers(dest="experiment", metavar="EXPERIMENT", required=True)
-    for name, module_name, summary in _EXPERIMENTS:
-        sub = experiments.add_parser(name, help=summary, description=summary)
+    for name, module_name, summary, example in _EXPERIMENTS:
+        sub = experiments.add_parser(
+            name, help=summary, description=summary, epilog=f"example:\n  {example}", formatter_class=HelpFormatter
+        )
         if not wanted("reproduce", name):
             continue
         from .experiments.common import scheduler_address
