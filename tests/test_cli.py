@@ -4,6 +4,7 @@ tests/experiments/test_formation_experiment.py; here only its help)."""
 
 from __future__ import annotations
 
+import errno
 import importlib.util
 import json
 import subprocess
@@ -238,3 +239,67 @@ def test_a_missing_module_is_caught_as_an_import_would_see_it(tmp_path: Path) ->
         "passive-assoc: error: --plot needs matplotlib (the 'plot' extra), which is not installed: "
         "pip install '.[plot]' in the passive-assoc checkout"
     ]
+
+
+def _run(*argv: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "passive_assoc.cli", *argv], capture_output=True, text=True, timeout=300, cwd=cwd
+    )
+
+
+def test_a_library_warning_is_one_line() -> None:
+    """The sensors and measurements swapped: the reader's warning, then the error, one line each
+    (the warning used to print its source file and line and the code line under it)."""
+    sensors, meas = str(EXAMPLES / "associate_sensors.csv"), str(EXAMPLES / "associate_measurements.csv")
+    done = _run("associate", sensors, "--sensors", meas, "--out", "never")
+    assert done.returncode == 2
+    assert done.stderr.splitlines() == [
+        f"passive-assoc: warning: {meas!r}: ignoring column(s) ['time', 'azimuth', 'elevation', 'truth'] "
+        "(not part of a sensor file)",
+        f"passive-assoc: error: {meas!r}: missing column 'x' (got ['sensor'])",
+    ]
+
+
+def test_ctrl_c_is_status_130_and_one_line(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """(That Ctrl-C reaches a long compiled call as KeyboardInterrupt is tests/test_interrupt.py's.)"""
+    from passive_assoc.commands import associate
+
+    def interrupted(args: object) -> int:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(associate, "main", interrupted)
+    assert cli_main([*_ASSOCIATE, "--out", str(tmp_path)]) == 130
+    assert capsys.readouterr().err == "passive-assoc: interrupted\n"
+
+
+def test_a_closed_standard_output_stops_quietly(tmp_path: Path) -> None:
+    """`... --json | head -1`: the reader goes away; no traceback, status 141 as after SIGPIPE."""
+    local, system = str(EXAMPLES / "topology_local.csv"), str(EXAMPLES / "topology_system.csv")
+    command = [sys.executable, "-m", "passive_assoc.cli", "associate-tracks", local, "--system", system]
+    process = subprocess.Popen(
+        [*command, "--out", str(tmp_path), "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    assert process.stdout is not None and process.stderr is not None
+    process.stdout.close()
+    status, err = process.wait(timeout=300), process.stderr.read()
+    process.stderr.close()
+    assert (status, err) == (141, "")
+    assert (tmp_path / "topology_local.associate-tracks.json").exists(), "the outputs were written first"
+
+
+def test_a_file_that_cannot_be_written_is_one_line_and_status_1(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    from passive_assoc.commands import common
+
+    def full(path: object, columns: object) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(common, "write_csv", full)
+    with pytest.raises(SystemExit) as stop:
+        cli_main([*_ASSOCIATE, "--out", str(tmp_path)])
+    assert stop.value.code == 1
+    assert capsys.readouterr().err == "passive-assoc: error: [Errno 28] No space left on device\n"
+    assert list(tmp_path.iterdir()) == [], "no temporary file is left behind"

@@ -12,9 +12,12 @@ from __future__ import annotations
 import argparse
 import importlib
 import importlib.util
+import os
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from types import ModuleType
+from typing import Any
 
 from . import __version__
 
@@ -85,6 +88,11 @@ EPILOG = """examples:
   passive-assoc reproduce fti --runs 20
 
 'passive-assoc COMMAND --help' describes a command, its input files, its outputs and examples.
+
+exit status: 0 done; 1 an error while running (e.g. a file that cannot be read or written);
+2 a usage error (a bad option, input file or setting, a missing optional extra, an output
+that would overwrite an input), reported before any output is written; 130 interrupted
+(Ctrl-C); 141 standard output closed early (e.g. piped into head).
 """
 
 
@@ -241,10 +249,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     missing = missing_extra(args)
     if missing:
         parser.exit(2, f"passive-assoc: error: {missing}\n")
+    original_format = warnings.formatwarning
+    warnings.formatwarning = _one_line_warning
     try:
-        return int(args.run(args))
+        status = int(args.run(args))
+        sys.stdout.flush()  # here, so that a closed pipe is reported below, not at exit
+        return status
     except ValueError as err:  # a setting the library refused: a usage error, not a traceback
         parser.exit(2, f"passive-assoc: error: {err}\n")
+    except KeyboardInterrupt:
+        print("passive-assoc: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # the reader of standard output went away (| head): stop quietly
+        _silence_stdout()
+        return 141  # as a program killed by SIGPIPE
+    except OSError as err:  # a file that cannot be read or written: the system's reason, no traceback
+        parser.exit(1, f"passive-assoc: error: {err}\n")
+    finally:
+        warnings.formatwarning = original_format
 
 
 def missing_extra(args: argparse.Namespace) -> str | None:
@@ -258,6 +280,21 @@ def missing_extra(args: argparse.Namespace) -> str | None:
                     f"pip install '.[{extra}]' in the passive-assoc checkout"
                 )
     return None
+
+
+def _one_line_warning(message: Warning | str, category: type[Warning], *_: Any, **__: Any) -> str:
+    """A library warning as the command line shows it: one line, no source location."""
+    return f"passive-assoc: warning: {message}\n"
+
+
+def _silence_stdout() -> None:
+    """Point standard output at /dev/null, so that the interpreter's final flush does not
+    raise BrokenPipeError again."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # no real file descriptor (e.g. captured in tests)
+        pass
 
 
 if __name__ == "__main__":
