@@ -28,12 +28,13 @@ def test_initiate_writes_every_row_once(tmp_path: Path, capsys: pytest.CaptureFi
     out = tmp_path / "out"
     meas, sensors = EXAMPLES / "initiate_measurements.csv", EXAMPLES / "initiate_sensors.csv"
     assert cli_main(["initiate", str(meas), "--sensors", str(sensors), "--out", str(out), "--json"]) == 0
-    printed = capsys.readouterr().out
+    printed = capsys.readouterr()
     rows = read_rows(out / "initiate_measurements.initiate.csv")
     n = len(read_rows(meas)["sensor"])
     assert rows["row"].tolist() == list(range(n))
     summary = json.loads((out / "initiate_measurements.initiate.json").read_text())
-    assert len(summary["tracks"]) == 4 and "4 track(s)" in printed and '"tracks"' in printed
+    assert json.loads(printed.out) == summary, "with --json, standard output is the summary alone"
+    assert len(summary["tracks"]) == 4 and "4 track(s)" in printed.err
     for track in summary["tracks"]:
         assert sorted(track["rows"]) == np.flatnonzero(rows["track"] == track["track"]).tolist()
         assert len(track["state"]) == 6 and np.shape(track["covariance"]) == (6, 6)

@@ -80,7 +80,7 @@ def add_output_arguments(parser: argparse.ArgumentParser, command: str, source: 
     parser.add_argument(
         "--json",
         action="store_true",
-        help="also print the JSON summary",
+        help="print the JSON summary on standard output (the one-line report then goes to standard error)",
     )
     parser.set_defaults(command_name=command, output_source=source)
 
@@ -223,12 +223,13 @@ def write_outputs(
 ) -> None:
     """Every command's ending: ``--out`` created, the per-row CSV and the JSON summary written
     atomically to ``files`` (from :func:`plan_outputs`), ``headline`` and the two paths
-    printed, and the summary printed too with ``--json``."""
+    printed; with ``--json`` the summary is printed on standard output and the headline on
+    standard error, so that standard output can be piped into a JSON reader."""
     prepare(args.out)
     csv_path, json_path = files
     write_atomically(csv_path, lambda path: write_csv(path, columns))
     write_json(json_path, record)
-    print(f"{headline}; wrote {csv_path} and {json_path}")
+    print(f"{headline}; wrote {csv_path} and {json_path}", file=sys.stderr if args.json else sys.stdout)
     if args.json:
         json.dump(_jsonable(record), sys.stdout, indent=2)
         print()
