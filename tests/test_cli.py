@@ -27,6 +27,11 @@ def test_reproduce_fti_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     assert "Table 2" in printed and "Table 3" in printed and "CRLB" in printed
     record = json.loads(out_json.read_text())
     assert record["runs"] == 3 and len(record["found_per_run"]) == 3
+    last = printed.splitlines()[-1]  # the run ends with its verdict against the paper, also in the JSON
+    assert last == record["verdict"]["line"] and record["verdict"]["reproduces"] in (True, False)
+    assert last.startswith(
+        ("verdict: consistent with paper 000 at 3 runs", "verdict: does NOT reproduce paper 000 at 3")
+    )
     assert np.array(record["rms_perfect"]).shape == (4, 6)
     assert out_png.stat().st_size > 10_000
 

@@ -28,7 +28,7 @@ _EXPERIMENTS = [
     (
         "fti",
         "fti",
-        "paper 000: fuzzy track initiation, Tables 2-3 (RMS vs perfect association vs CRLB)",
+        "paper 000: fuzzy track initiation, Tables 2-3 (RMS vs perfect association vs CRLB), and a verdict",
         "passive-assoc reproduce fti --runs 100 --plot fti.png --json fti.json",
     ),
     (
