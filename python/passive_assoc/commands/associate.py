@@ -22,6 +22,8 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
+from ..assignment import assign_sd
+from ..formation import FormationLocator
 from ..static_los import StaticAssociator
 from ..static_los.batch import scan_keys, scan_rows
 from .common import (
@@ -31,6 +33,7 @@ from .common import (
     given_parameters,
     output_path,
     outputs_epilog,
+    parameter_docs,
     plan_outputs,
     read_inputs,
     row_columns,
@@ -88,7 +91,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     defaults = {f.name: f.default for f in dataclasses.fields(StaticAssociator)}
     # "method" is a parameter of the associator like any other: --method.
-    names = add_parameter_options(parser, StaticAssociator._constraints, defaults)
+    docs = parameter_docs(StaticAssociator)
+    # Its entries that point elsewhere ("Solver settings, as in assign_sd"): the sentence there.
+    docs.update({k: v for k, v in parameter_docs(assign_sd).items() if " as in " in docs.get(k, "")})
+    docs.update({k: v for k, v in parameter_docs(FormationLocator).items() if " as in " in docs.get(k, "")})
+    names = add_parameter_options(parser, StaticAssociator._constraints, defaults, docs=docs)
     parser.set_defaults(parameter_names=names)
 
 

@@ -30,6 +30,7 @@ from .common import (
     given_parameters,
     input_file,
     outputs_epilog,
+    parameter_docs,
     plan_outputs,
     write_outputs,
 )
@@ -68,7 +69,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     names: list[str] = []
     for method, cls in _METHODS.items():
         defaults = {p.name: p.default for p in inspect.signature(cls.__init__).parameters.values()}
-        group = add_parameter_options(parser, cls._constraints, defaults, title=f"--method {method} parameters")
+        title = f"--method {method} parameters"
+        group = add_parameter_options(parser, cls._constraints, defaults, title=title, docs=parameter_docs(cls))
         names += [n for n in group if n not in names]
     parser.set_defaults(parameter_names=names)
 

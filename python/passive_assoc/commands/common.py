@@ -9,8 +9,10 @@ written so that nothing is half-written.
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import os
+import re
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -27,6 +29,7 @@ __all__ = [
     "add_output_arguments",
     "check_outputs",
     "outputs_epilog",
+    "parameter_docs",
     "plan_outputs",
     "add_parameter_options",
     "output_path",
@@ -249,10 +252,12 @@ def add_parameter_options(
     constraints: Mapping[str, list[Constraint]],
     defaults: Mapping[str, Any],
     title: str = "method parameters",
+    docs: Mapping[str, str] | None = None,
 ) -> list[str]:
-    """One ``--name`` option per scalar parameter the class declares (its default shown,
-    unset = the library's default); returns the parameter names it covers (an option another
-    method already added is shared)."""
+    """One ``--name`` option per scalar parameter the class declares (what it is, from
+    ``docs``, see :func:`parameter_docs`; the values it takes; its default, unset = the
+    library's default); returns the parameter names it covers (an option another method
+    already added is shared)."""
     group = parser.add_argument_group(f"{title} (default: the library's)")
     added = []
     for name, allowed in constraints.items():
@@ -264,6 +269,9 @@ def add_parameter_options(
             added.append(name)
             continue
         default = defaults.get(name)
+        default = "none" if default is None else str(default).lower() if isinstance(default, bool) else default
+        about = (docs or {}).get(name, "").replace("%", "%%")  # argparse %-formats help texts
+        about = f"{about} " if about else ""
         first = kinds[0]
         intervals = [c for c in kinds if isinstance(c, Interval)]
         if isinstance(first, Options) and intervals:  # a word or a number, e.g. reference
@@ -271,24 +279,54 @@ def add_parameter_options(
                 flag,
                 type=_word_or_number(first, intervals[0]),
                 metavar="VALUE",
-                help=f"{first.describe()} or {intervals[0].describe()} (default {default})",
+                help=f"{about}[{first.describe()} or {intervals[0].describe()}; default {default}]",
             )
         elif isinstance(first, Boolean):
-            group.add_argument(flag, type=_boolean, metavar="{true,false}", help=f"(default {default})")
+            group.add_argument(flag, type=_boolean, metavar="{true,false}", help=f"{about}[default {default}]")
         elif isinstance(first, Options):
-            group.add_argument(flag, choices=first.choices, help=f"(default {default})")
+            group.add_argument(flag, choices=first.choices, help=f"{about}[default {default}]")
         elif isinstance(first, Interval):
             text = "none" if None in allowed else None
             group.add_argument(
                 flag,
                 type=_number(first, text),
                 metavar="INT" if first.kind is int else "X",
-                help=f"{first.describe()}{' or none' if text else ''} (default {default})",
+                help=f"{about}[{first.describe()}{' or none' if text else ''}; default {default}]",
             )
         else:
             continue
         added.append(name)
     return added
+
+
+def parameter_docs(documented: object) -> dict[str, str]:
+    """The first sentence of each parameter's entry in the "Parameters" section of the
+    (NumPy-style) docstring of ``documented``, a class or function, markup removed: what
+    ``--help`` says an option is. Names that share an entry (``rings, sectors : int``) share
+    its sentence."""
+    lines = (inspect.getdoc(documented) or "").splitlines()
+    try:
+        start = lines.index("Parameters") + 2
+    except ValueError:
+        return {}
+    entries: dict[tuple[str, ...], list[str]] = {}
+    names: tuple[str, ...] = ()
+    for k in range(start, len(lines)):
+        line = lines[k]
+        if k + 1 < len(lines) and set(lines[k + 1]) == {"-"}:  # the next section's title
+            break
+        if line and not line.startswith(" "):
+            names = tuple(n.strip() for n in line.split(" : ")[0].split(","))
+            entries[names] = []
+        elif names and line.strip():
+            entries[names].append(line.strip())
+    docs = {}
+    for group, text in entries.items():
+        prose = re.sub(r":\w+:`~?([^`]*)`", r"\1", " ".join(text)).replace("``", "")
+        # A sentence ends at a full stop and a space, or at the end: not "eq. 23", "e.g. the".
+        sentence = re.split(r"(?<!\beq)(?<!\be\.g)(?<!\bi\.e)(?<!\bcf)\.(?:\s|$)", prose, maxsplit=1)[0]
+        docs.update(dict.fromkeys(group, f"{sentence}." if sentence else ""))
+    return docs
 
 
 def given_parameters(args: argparse.Namespace, names: list[str]) -> dict[str, Any]:

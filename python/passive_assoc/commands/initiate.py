@@ -23,6 +23,7 @@ from .common import (
     given_parameters,
     output_path,
     outputs_epilog,
+    parameter_docs,
     plan_outputs,
     read_inputs,
     row_columns,
@@ -58,7 +59,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--plot", metavar="FILE", type=output_path, help="save a figure of the sensors, lines of sight and tracks"
     )
-    names = add_parameter_options(parser, FuzzyTrackInitiator._constraints, _defaults())
+    names = add_parameter_options(
+        parser, FuzzyTrackInitiator._constraints, _defaults(), docs=parameter_docs(FuzzyTrackInitiator)
+    )
     parser.set_defaults(parameter_names=names)
 
 

@@ -26,6 +26,7 @@ from .common import (
     add_parameter_options,
     given_parameters,
     outputs_epilog,
+    parameter_docs,
     plan_outputs,
     read_inputs,
     row_columns,
@@ -66,7 +67,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="attribute columns to gate on (default: the library's)",
     )
     defaults = {f.name: f.default for f in dataclasses.fields(FormationLocator)}
-    names = add_parameter_options(parser, FormationLocator._constraints, defaults)
+    names = add_parameter_options(
+        parser, FormationLocator._constraints, defaults, docs=parameter_docs(FormationLocator)
+    )
     parser.set_defaults(parameter_names=names)
 
 
