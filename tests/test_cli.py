@@ -309,3 +309,23 @@ def test_a_file_that_cannot_be_written_is_one_line_and_status_1(
     assert stop.value.code == 1
     assert capsys.readouterr().err == "passive-assoc: error: [Errno 28] No space left on device\n"
     assert list(tmp_path.iterdir()) == [], "no temporary file is left behind"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        [*_ASSOCIATE, "--out", "{tmp}/out", "--plot", "{tmp}/figure"],
+        ["reproduce", "fti", "--runs", "2", "--plot", "{tmp}/fti.txt"],
+    ],
+)
+def test_a_plot_without_a_figure_format_is_refused_before_any_work(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    """It used to fail after the run with "Format 'bc3b8f16' is not supported" (matplotlib read
+    the temporary file's random part as the format) or "Format 'txt'", the outputs written."""
+    with pytest.raises(SystemExit) as stop:
+        cli_main([a.format(tmp=tmp_path) for a in argv])
+    out, err = capsys.readouterr()
+    assert stop.value.code == 2 and out == "" and list(tmp_path.iterdir()) == []
+    assert err.startswith("passive-assoc: error: --plot: ") and "needs a figure format as its extension: " in err
+    assert ".pdf" in err and ".png" in err and len(err.splitlines()) == 1

@@ -16,6 +16,7 @@ import os
 import sys
 import warnings
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from types import ModuleType
 from typing import Any
 
@@ -246,7 +247,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
-    missing = missing_extra(args)
+    missing = missing_extra(args) or figure_format_error(args)
     if missing:
         parser.exit(2, f"passive-assoc: error: {missing}\n")
     original_format = warnings.formatwarning
@@ -280,6 +281,20 @@ def missing_extra(args: argparse.Namespace) -> str | None:
                     f"pip install '.[{extra}]' in the passive-assoc checkout"
                 )
     return None
+
+
+def figure_format_error(args: argparse.Namespace) -> str | None:
+    """A one-line error if ``--plot`` names a file whose suffix is no format matplotlib
+    writes (or none: matplotlib would then add ".png" to the temporary file's name)."""
+    plot = getattr(args, "plot", None)
+    if plot is None:
+        return None
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = sorted(FigureCanvasBase.get_supported_filetypes())
+    if Path(plot).suffix.lower().lstrip(".") in formats:
+        return None
+    return f"--plot: {str(plot)!r} needs a figure format as its extension: .{', .'.join(formats)}"
 
 
 def _one_line_warning(message: Warning | str, category: type[Warning], *_: Any, **__: Any) -> str:
