@@ -194,6 +194,7 @@ def test_outputs_are_named_after_the_input_so_runs_do_not_collide(tmp_path: Path
             ["--prefix", "s"],
             "--out/--prefix: the output '{out}/s.associate.json' would overwrite the input file SENS",
         ),
+        (["--plot", "{out}/s.png"], "--plot: the output '{out}/s.png' would overwrite the input file SENS"),
         # (--plot onto MEAS itself, a .csv, is refused earlier: no figure format; tests/test_cli.py)
     ],
 )
@@ -206,6 +207,7 @@ def test_an_output_that_would_overwrite_an_input_is_refused_before_any_work(
     shutil.copy(EXAMPLES / "associate_measurements.csv", meas)
     shutil.copy(EXAMPLES / "associate_sensors.csv", sensors)
     (tmp_path / "s.associate.json").symlink_to(sensors)
+    (tmp_path / "s.png").symlink_to(sensors)
     before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
     argv = ["associate", str(meas), "--sensors", str(sensors), "--out", str(tmp_path)]
     with pytest.raises(SystemExit) as stop:

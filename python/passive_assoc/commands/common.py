@@ -185,9 +185,8 @@ def output_path(text: str) -> Path:
     file is written)."""
     if not text.strip() or text.endswith(("/", os.sep)):
         raise argparse.ArgumentTypeError(f"expected a file name, got {text!r}")
-    path = Path(text).expanduser().resolve()
-    output_folder(str(path.parent))
-    return path
+    given = Path(text).expanduser()
+    return output_folder(str(given.parent)) / given.name  # the name as given, not a link's target
 
 
 output_path.bad_values = ["", "/dev/null/figure.png", "somewhere/"]  # type: ignore[attr-defined]
