@@ -8,6 +8,7 @@ import json
 import os
 import shutil
 import stat
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -237,3 +238,21 @@ def test_outputs_get_the_mode_the_umask_gives_a_new_file(tmp_path: Path, umask: 
     plain = stat.S_IMODE((tmp_path / "plain").stat().st_mode)
     assert plain == 0o666 & ~umask
     assert [stat.S_IMODE(p.stat().st_mode) for p in outputs] == [plain, plain]
+
+
+def test_degrees_read_as_radians_are_pointed_at_once_as_the_option(tmp_path: Path) -> None:
+    """Bearings in degrees without --degrees find nothing; the warning says which option fixes
+    it, once (the library's own, naming its Python argument, came twice)."""
+    sensors, meas = tmp_path / "s.csv", tmp_path / "m.csv"
+    sensors.write_text("sensor,x,y,sigma_azimuth_deg\n0,-20000,0,0.3\n1,20000,0,0.3\n2,0,-25000,0.3\n")
+    meas.write_text("sensor,time,azimuth\n0,0,45\n1,0,135\n2,0,90\n")
+    argv = ["associate", str(meas), "--sensors", str(sensors), "--out", str(tmp_path / "out")]
+    with pytest.warns(UserWarning) as caught:
+        assert cli_main(argv) == 0
+    assert [str(w.message) for w in caught] == [
+        "MEAS: azimuth values up to 135 are beyond ±2π radians: if they are degrees, add --degrees"
+    ]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert cli_main([*argv, "--degrees"]) == 0
+    assert json.loads((tmp_path / "out" / "m.associate.json").read_text())["targets"][0]["rows"] == [0, 1, 2]

@@ -253,7 +253,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     original_format = warnings.formatwarning
     warnings.formatwarning = _one_line_warning
     try:
-        status = int(args.run(args))
+        with warnings.catch_warnings():  # warning filters a command sets end with it
+            status = int(args.run(args))
         sys.stdout.flush()  # here, so that a closed pipe is reported below, not at exit
         return status
     except ValueError as err:  # a setting the library refused: a usage error, not a traceback

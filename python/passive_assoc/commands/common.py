@@ -11,9 +11,11 @@ from __future__ import annotations
 import argparse
 import inspect
 import json
+import math
 import os
 import re
 import sys
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -157,11 +159,29 @@ input_file.bad_values = ["", "/nonexistent-directory/in.csv"]  # type: ignore[at
 def read_inputs(args: argparse.Namespace) -> tuple[MeasurementTable, SensorNetwork]:
     sensors = SensorNetwork.from_csv(args.sensors)
     unit: AngleUnit = "deg" if args.degrees else "rad"
+    if not args.degrees:
+        # The library's degrees hint names its Python argument, at each check of the run: said
+        # below, once, as --degrees (the command line's main() undoes the filter at the end).
+        warnings.filterwarnings("ignore", message=r"(azimuth|elevation)\[\d+\] = .* rad is beyond ")
     if str(args.measurements).endswith(".parquet"):  # Parquet through the 'parquet' extra
         table = MeasurementTable.from_parquet(args.measurements, angle_unit=unit)
     else:
         table = MeasurementTable.from_csv(args.measurements, angle_unit=unit)
     table.validate_against(sensors)
+    if not args.degrees:
+        for name, values, limit, text in (
+            ("azimuth", table.azimuth, 2 * math.pi, "±2π"),
+            ("elevation", table.elevation, math.pi / 2, "±π/2"),
+        ):
+            largest = max((abs(float(v)) for v in values if math.isfinite(v)), default=0.0)
+            if largest > limit * (1 + 1e-12):
+                warnings.warn(
+                    f"MEAS: {name} values up to {largest:g} are beyond {text} radians: if they are degrees, "
+                    "add --degrees",
+                    UserWarning,
+                    stacklevel=2,
+                )
+                break
     return table, sensors
 
 
