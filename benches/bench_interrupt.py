@@ -34,7 +34,7 @@ def cases() -> dict[str, Callable[[], Any]]:
             t, c, n, method="exact", exact_backend="branch_bound", max_nodes=10**15, time_limit=None
         ),
         "intensity vote, M=300, max_chains=None": lambda: pa.associate_static(
-            scan.measurements, scan.sensors, max_chains=None
+            scan.measurements, scan.sensors, "intensity", max_chains=None
         ),
         "static enumeration, 2 x 6000 reports": lambda: pa.enumerate_candidates(
             dense, two, pd=0.9, max_candidates=10**9

@@ -4,13 +4,18 @@ tests/experiments/test_formation_experiment.py; here only its help)."""
 
 from __future__ import annotations
 
+import errno
+import importlib.util
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from passive_assoc.cli import main as cli_main
 
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 #: The static-association methods `reproduce intensity` reports on.
 METHODS = ("intensity", "lagrangian", "exact")
 
@@ -22,6 +27,11 @@ def test_reproduce_fti_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     assert "Table 2" in printed and "Table 3" in printed and "CRLB" in printed
     record = json.loads(out_json.read_text())
     assert record["runs"] == 3 and len(record["found_per_run"]) == 3
+    last = printed.splitlines()[-1]  # the run ends with its verdict against the paper, also in the JSON
+    assert last == record["verdict"]["line"] and record["verdict"]["reproduces"] in (True, False)
+    assert last.startswith(
+        ("verdict: consistent with paper 000 at 3 runs", "verdict: does NOT reproduce paper 000 at 3")
+    )
     assert np.array(record["rms_perfect"]).shape == (4, 6)
     assert out_png.stat().st_size > 10_000
 
@@ -156,3 +166,166 @@ def test_bad_options_are_usage_errors(argv: list[str], message: str, capsys: pyt
         cli_main(argv)
     assert exit_info.value.code == 2
     assert message in capsys.readouterr().err
+
+
+_ASSOCIATE = [
+    "associate",
+    str(EXAMPLES / "associate_measurements.csv"),
+    "--sensors",
+    str(EXAMPLES / "associate_sensors.csv"),
+]
+_INITIATE = [
+    "initiate",
+    str(EXAMPLES / "initiate_measurements.csv"),
+    "--sensors",
+    str(EXAMPLES / "initiate_sensors.csv"),
+]
+
+
+@pytest.mark.parametrize(
+    ("argv", "module", "extra", "what"),
+    [
+        (["reproduce", "fti", "--runs", "2", "--plot", "{tmp}/fti.png"], "matplotlib", "plot", "--plot"),
+        ([*_ASSOCIATE, "--out", "{tmp}/out", "--plot", "{tmp}/a.png"], "matplotlib", "plot", "--plot"),
+        ([*_INITIATE, "--out", "{tmp}/out", "--plot", "{tmp}/i.png"], "matplotlib", "plot", "--plot"),
+        (["reproduce", "topology", "--runs", "1", "--scheduler", "local"], "dask", "dask", "--scheduler"),
+        (["reproduce", "wavelet", "--runs", "1", "--scheduler", "local"], "distributed", "dask", "--scheduler"),
+        (
+            [
+                "associate",
+                "{tmp}/m.parquet",
+                "--sensors",
+                str(EXAMPLES / "associate_sensors.csv"),
+                "--out",
+                "{tmp}/out",
+            ],
+            "pyarrow",
+            "parquet",
+            "a .parquet MEAS file",
+        ),
+    ],
+)
+def test_a_missing_extra_is_one_line_before_any_work(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    argv: list[str],
+    module: str,
+    extra: str,
+    what: str,
+) -> None:
+    """The extra is named with the checkout's install command, exit status 2, and nothing ran
+    (nothing printed on standard output, nothing written): `--plot` used to fail after the
+    whole run, with a 25-line traceback and status 1."""
+    (tmp_path / "m.parquet").write_bytes(b"")  # only its name matters: the check comes first
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == module else real(name, *a))
+    before = sorted(tmp_path.iterdir())
+    with pytest.raises(SystemExit) as stop:
+        cli_main([a.format(tmp=tmp_path) for a in argv])
+    out, err = capsys.readouterr()
+    assert stop.value.code == 2 and out == ""
+    assert err == (
+        f"passive-assoc: error: {what} needs {module} (the '{extra}' extra), which is not installed: "
+        f"pip install '.[{extra}]' in the passive-assoc checkout\n"
+    )
+    assert sorted(tmp_path.iterdir()) == before
+
+
+def test_a_missing_module_is_caught_as_an_import_would_see_it(tmp_path: Path) -> None:
+    """The same through the import system: matplotlib made unimportable in a fresh interpreter."""
+    code = (
+        "import sys\nsys.modules['matplotlib'] = None\nfrom passive_assoc.cli import main\n"
+        f"sys.exit(main(['reproduce', 'fti', '--runs', '2', '--plot', {str(tmp_path / 'x.png')!r}]))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr.splitlines() == [
+        "passive-assoc: error: --plot needs matplotlib (the 'plot' extra), which is not installed: "
+        "pip install '.[plot]' in the passive-assoc checkout"
+    ]
+
+
+def _run(*argv: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "passive_assoc.cli", *argv], capture_output=True, text=True, timeout=300, cwd=cwd
+    )
+
+
+def test_a_library_warning_is_one_line() -> None:
+    """The sensors and measurements swapped: the reader's warning, then the error, one line each
+    (the warning used to print its source file and line and the code line under it)."""
+    sensors, meas = str(EXAMPLES / "associate_sensors.csv"), str(EXAMPLES / "associate_measurements.csv")
+    done = _run("associate", sensors, "--sensors", meas, "--out", "never")
+    assert done.returncode == 2
+    assert done.stderr.splitlines() == [
+        f"passive-assoc: warning: {meas!r}: ignoring column(s) ['time', 'azimuth', 'elevation', 'truth'] "
+        "(not part of a sensor file)",
+        f"passive-assoc: error: {meas!r}: missing column 'x' (got ['sensor'])",
+    ]
+
+
+def test_ctrl_c_is_status_130_and_one_line(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """(That Ctrl-C reaches a long compiled call as KeyboardInterrupt is tests/test_interrupt.py's.)"""
+    from passive_assoc.commands import associate
+
+    def interrupted(args: object) -> int:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(associate, "main", interrupted)
+    assert cli_main([*_ASSOCIATE, "--out", str(tmp_path)]) == 130
+    assert capsys.readouterr().err == "passive-assoc: interrupted\n"
+
+
+def test_a_closed_standard_output_stops_quietly(tmp_path: Path) -> None:
+    """`... --json | head -1`: the reader goes away; no traceback, status 141 as after SIGPIPE."""
+    local, system = str(EXAMPLES / "topology_local.csv"), str(EXAMPLES / "topology_system.csv")
+    command = [sys.executable, "-m", "passive_assoc.cli", "associate-tracks", local, "--system", system]
+    process = subprocess.Popen(
+        [*command, "--out", str(tmp_path), "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    assert process.stdout is not None and process.stderr is not None
+    process.stdout.close()
+    status, err = process.wait(timeout=300), process.stderr.read()
+    process.stderr.close()
+    assert status == 141
+    assert err.startswith("1540 pairs;") and len(err.splitlines()) == 1, "the report line alone, no traceback"
+    assert (tmp_path / "topology_local.associate-tracks.json").exists(), "the outputs were written first"
+
+
+def test_a_file_that_cannot_be_written_is_one_line_and_status_1(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    from passive_assoc.commands import common
+
+    def full(path: object, columns: object) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(common, "write_csv", full)
+    with pytest.raises(SystemExit) as stop:
+        cli_main([*_ASSOCIATE, "--out", str(tmp_path)])
+    assert stop.value.code == 1
+    assert capsys.readouterr().err == "passive-assoc: error: [Errno 28] No space left on device\n"
+    assert list(tmp_path.iterdir()) == [], "no temporary file is left behind"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        [*_ASSOCIATE, "--out", "{tmp}/out", "--plot", "{tmp}/figure"],
+        ["reproduce", "fti", "--runs", "2", "--plot", "{tmp}/fti.txt"],
+    ],
+)
+def test_a_plot_without_a_figure_format_is_refused_before_any_work(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    """It used to fail after the run with "Format 'bc3b8f16' is not supported" (matplotlib read
+    the temporary file's random part as the format) or "Format 'txt'", the outputs written."""
+    with pytest.raises(SystemExit) as stop:
+        cli_main([a.format(tmp=tmp_path) for a in argv])
+    out, err = capsys.readouterr()
+    assert stop.value.code == 2 and out == "" and list(tmp_path.iterdir()) == []
+    assert err.startswith("passive-assoc: error: --plot: ") and "needs a figure format as its extension: " in err
+    assert ".pdf" in err and ".png" in err and len(err.splitlines()) == 1

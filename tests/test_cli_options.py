@@ -68,3 +68,24 @@ def test_the_walk_finds_the_options() -> None:
     found = {" ".join([*path, action.option_strings[-1]]) for path, action in options()}
     assert {"reproduce fti --runs", "reproduce wavelet --workers", "demo --seed"} <= found
     assert len(found) > 40
+
+
+def test_every_method_parameter_option_says_what_it_is() -> None:
+    """The file commands' parameter options carry the first sentence of the parameter's
+    docstring entry before the values they take and their default (they had only the latter)."""
+
+    def walk(parser: argparse.ArgumentParser) -> Iterator[tuple[str, argparse.Action]]:
+        for group in parser._action_groups:
+            if "parameters" in (group.title or ""):
+                for action in group._group_actions:
+                    yield action.option_strings[-1], action
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for sub in action.choices.values():
+                    yield from walk(sub)
+
+    found = dict(walk(build_parser()))
+    assert {"--method", "--spread-factor", "--rings", "--tau", "--eta", "--max-iter"} <= set(found)
+    bare = [flag for flag, action in found.items() if not action.help or action.help.startswith("[")]
+    assert not bare, bare
+    assert all(action.help and action.help.rstrip().endswith("]") for action in found.values())

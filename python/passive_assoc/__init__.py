@@ -16,44 +16,122 @@ association with wavelets and fuzzy factors),
 
 from __future__ import annotations
 
-from . import evidence
-from ._core import __version__
-from .assignment import SdAssignment, assign_sd, linear_assignment
-from .data import MeasurementTable, SensorNetwork, TrackTable
-from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
-from .formation import FormationLocator, FormationResult, locate_formation
-from .fti import (
-    ClosenessOptima,
-    FuzzyTrackInitiator,
-    InitiatedTrack,
-    InitiationResult,
-    closeness,
-    initiate_tracks,
-    maximize_closeness,
-)
-from .radar_esm import Chi2TrackAssociator, WaveletFuzzyAssociator
-from .simulation import (
-    PAPER_FTI_TARGETS,
-    ConstantVelocityTarget,
-    Scenario,
-    bearing_only_2d_scenario,
-    paper_fti_scenario,
-    simulate,
-)
-from .static_los import (
-    ScanAssociation,
-    StaticAssociation,
-    StaticAssociator,
-    associate_scans,
-    associate_static,
-    enumerate_candidates,
-)
-from .topology import TopologyAssociator
-from .track_association import NearestNeighbourAssociator, TrackAssociation
-from .track_methods import associate_tracks
+import importlib
+from typing import TYPE_CHECKING, Any
 
-#: The fuzzy initiator's track under its pre-subpackage name (``passive_assoc.fti.InitiatedTrack``).
-Track = InitiatedTrack
+from ._core import __version__
+
+#: Where each re-exported name lives, imported on first use (PEP 562 ``__getattr__`` below), so
+#: ``import passive_assoc`` loads neither SciPy nor PyWavelets: the names a program uses cost
+#: their imports, the others nothing. The same names as the ``TYPE_CHECKING`` imports below
+#: (tests/test_lazy_import.py compares them).
+_EXPORTS: dict[str, tuple[str, ...]] = {
+    "assignment": ("SdAssignment", "assign_sd", "linear_assignment"),
+    "data": ("MeasurementTable", "SensorNetwork", "TrackTable"),
+    "estimation": (
+        "TERMINATION_NAMES",
+        "FitResult",
+        "KalmanFilter",
+        "KalmanResult",
+        "crlb",
+        "fisher_and_crlb",
+        "fit_ml",
+    ),
+    "formation": ("FormationLocator", "FormationResult", "locate_formation"),
+    "fti": (
+        "ClosenessOptima",
+        "FuzzyTrackInitiator",
+        "InitiatedTrack",
+        "InitiationResult",
+        "closeness",
+        "initiate_tracks",
+        "maximize_closeness",
+    ),
+    "radar_esm": ("Chi2TrackAssociator", "WaveletFuzzyAssociator"),
+    "simulation": (
+        "PAPER_FTI_TARGETS",
+        "ConstantVelocityTarget",
+        "Scenario",
+        "bearing_only_2d_scenario",
+        "paper_fti_scenario",
+        "simulate",
+    ),
+    "static_los": (
+        "ScanAssociation",
+        "StaticAssociation",
+        "StaticAssociator",
+        "associate_scans",
+        "associate_static",
+        "enumerate_candidates",
+    ),
+    "topology": ("TopologyAssociator",),
+    "track_association": ("NearestNeighbourAssociator", "TrackAssociation"),
+    "track_methods": ("associate_tracks",),
+}
+_HOME = {name: module for module, names in _EXPORTS.items() for name in names}
+#: Other names: the fuzzy initiator's track under its pre-subpackage name
+#: (``passive_assoc.fti.InitiatedTrack``).
+_ALIASES = {"Track": ("fti", "InitiatedTrack")}
+#: Subpackages and modules reachable as attributes (``pa.simulation.static_scan``) without
+#: importing them first, as when this namespace imported them all.
+_SUBMODULES = frozenset({*_EXPORTS, "evidence", "evaluation"})
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOME:
+        value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
+    elif name in _ALIASES:
+        module, original = _ALIASES[name]
+        value = getattr(importlib.import_module(f".{module}", __name__), original)
+    elif name in _SUBMODULES:
+        value = importlib.import_module(f".{name}", __name__)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value  # the next lookup is an ordinary one
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__, *_SUBMODULES})
+
+
+if TYPE_CHECKING:  # what the names are, for type checkers and readers
+    from . import evidence
+    from .assignment import SdAssignment, assign_sd, linear_assignment
+    from .data import MeasurementTable, SensorNetwork, TrackTable
+    from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
+    from .formation import FormationLocator, FormationResult, locate_formation
+    from .fti import (
+        ClosenessOptima,
+        FuzzyTrackInitiator,
+        InitiatedTrack,
+        InitiationResult,
+        initiate_tracks,
+        maximize_closeness,
+    )
+    from .fti.closeness import closeness  # not from .fti: mypy then reports it defined twice
+    from .radar_esm import Chi2TrackAssociator, WaveletFuzzyAssociator
+    from .simulation import (
+        PAPER_FTI_TARGETS,
+        ConstantVelocityTarget,
+        Scenario,
+        bearing_only_2d_scenario,
+        paper_fti_scenario,
+        simulate,
+    )
+    from .static_los import (
+        ScanAssociation,
+        StaticAssociation,
+        StaticAssociator,
+        associate_scans,
+        associate_static,
+        enumerate_candidates,
+    )
+    from .topology import TopologyAssociator
+    from .track_association import NearestNeighbourAssociator, TrackAssociation
+    from .track_methods import associate_tracks
+
+    Track = InitiatedTrack
 
 __all__ = [
     "FormationLocator",

@@ -129,8 +129,8 @@ def test_the_default_vote_is_bounded_and_the_papers_rule_is_an_option() -> None:
     """Where ghosts are dense every point ties for the most exclusive rays, so the paper's
     vote starts a chain from each (quadratic); the default starts at most 64 per level."""
     scan = static_scan(2, n_targets=20, ratio=2.0)
-    bounded = pa.associate_static(scan.measurements, scan.sensors)
-    paper = pa.associate_static(scan.measurements, scan.sensors, max_chains=None)
+    bounded = pa.associate_static(scan.measurements, scan.sensors, "intensity")
+    paper = pa.associate_static(scan.measurements, scan.sensors, "intensity", max_chains=None)
     assert all(level.starts <= 64 for level in bounded.diagnostics.intensity.levels)
     assert max(level.starts for level in paper.diagnostics.intensity.levels) > 64
     for result in (bounded, paper):  # either way every row is in one tuple or clutter

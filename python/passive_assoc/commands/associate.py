@@ -3,12 +3,13 @@ scan of the user's measurement file.
 
 Rows are grouped into scans by ``--scan-column`` (default ``time``: rows with the same time
 form a scan; or any attribute column of the file, e.g. a scan number). Each scan is
-associated on its own. Writes, in ``--out``:
+associated on its own. Writes, in ``--out`` (``<prefix>``: MEAS's file name without its
+extension, or ``--prefix``):
 
-* ``associate_measurements.csv`` — every input row once: row, sensor, time, angles, ``scan``
+* ``<prefix>.associate.csv`` — every input row once: row, sensor, time, angles, ``scan``
   (its index) and ``target`` (the located target's index over the whole file, or −1 for a
   false alarm);
-* ``associate_targets.json`` — per target: its scan, position, covariance, cost and rows.
+* ``<prefix>.associate.json`` — per target: its scan, position, covariance, cost and rows.
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
+from ..assignment import assign_sd
+from ..formation import FormationLocator
 from ..static_los import StaticAssociator
 from ..static_los.batch import scan_keys, scan_rows
 from .common import (
@@ -29,6 +32,9 @@ from .common import (
     add_parameter_options,
     given_parameters,
     output_path,
+    outputs_epilog,
+    parameter_docs,
+    plan_outputs,
     read_inputs,
     row_columns,
     write_atomically,
@@ -43,16 +49,36 @@ DESCRIPTION = (
     "intensity search, or S-D assignment by Lagrangian relaxation or exactly)."
 )
 
+#: When to choose each --method, with the reason measured by benches/static_method_choice.py
+#: (the shipped example's 3 scans, and 120 simulated scans of 5-20 targets, 3-5 sensors,
+#: Pd 0.8-0.95: 1277 targets seen by two sensors or more).
+METHODS_HELP = """methods (--method), measured by benches/static_method_choice.py (targets found exactly):
+  lagrangian  default, right most often for its time: 27 % of targets, 11 of the example's 15; 1-6 ms/scan
+  exact       the proven optimum, for small scans: 28 % of targets, but 0.1-2.3 s/scan at 10-20 targets
+  intensity   the paper's search, to reproduce paper 001: as fast, but 13.5 % of targets, 4 of 15
+"""
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = DESCRIPTION
     parser.epilog = (
         EXAMPLE_FORMATS
-        + "\nexample:\n  passive-assoc associate examples/associate_measurements.csv "
-        + ("--sensors examples/sensors.csv --method lagrangian --out out/")
+        + "\n"
+        + METHODS_HELP
+        + "\n"
+        + outputs_epilog(
+            "associate",
+            "MEAS",
+            "every input row once, with its scan and target (-1: false alarm)",
+            "per target: scan, position, covariance, cost, rows",
+        )
+        + "\nexamples:\n  passive-assoc associate examples/associate_measurements.csv "
+        + "--sensors examples/associate_sensors.csv --out out/\n"
+        + "  passive-assoc associate examples/associate_measurements.csv "
+        + "--sensors examples/associate_sensors.csv --method exact --prefix exact --out out/"
     )
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    add_file_arguments(parser)
+    add_file_arguments(parser, "associate")
     parser.add_argument(
         "--scan-column",
         metavar="NAME",
@@ -65,7 +91,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     defaults = {f.name: f.default for f in dataclasses.fields(StaticAssociator)}
     # "method" is a parameter of the associator like any other: --method.
-    names = add_parameter_options(parser, StaticAssociator._constraints, defaults)
+    docs = parameter_docs(StaticAssociator)
+    # Its entries that point elsewhere ("Solver settings, as in assign_sd"): the sentence there.
+    docs.update({k: v for k, v in parameter_docs(assign_sd).items() if " as in " in docs.get(k, "")})
+    docs.update({k: v for k, v in parameter_docs(FormationLocator).items() if " as in " in docs.get(k, "")})
+    names = add_parameter_options(parser, StaticAssociator._constraints, defaults, docs=docs)
     parser.set_defaults(parameter_names=names)
 
 
@@ -80,6 +110,7 @@ column_name.bad_values = ["", "  "]  # type: ignore[attr-defined]
 
 
 def main(args: argparse.Namespace) -> int:
+    files = plan_outputs(args, {"MEAS": args.measurements, "SENS": args.sensors})
     table, sensors = read_inputs(args)
     keys, scan = scan_keys(table, args.scan_column, name="--scan-column")
     order, offsets = scan_rows(scan, len(keys))
@@ -106,8 +137,9 @@ def main(args: argparse.Namespace) -> int:
     false_alarms = int(np.sum(target < 0))
     write_outputs(
         args,
-        ("associate_measurements.csv", row_columns(table, target, label_name="target", scan=scan)),
-        ("associate_targets.json", {"method": associator.method, "scans": len(groups), "targets": targets}),
+        files,
+        row_columns(table, target, label_name="target", scan=scan),
+        {"method": associator.method, "scans": len(groups), "targets": targets},
         f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms",
     )
     if args.plot:

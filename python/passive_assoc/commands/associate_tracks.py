@@ -4,11 +4,12 @@ against ESM tracks with wavelets and fuzzy factors (METHODS §5), or the nearest
 baseline.
 
 Both files are :class:`~passive_assoc.TrackTable` CSVs (``TrackTable.to_csv``'s columns:
-source, track, time, x, y, [z, vx, …, covariance columns]). Writes, in ``--out``:
+source, track, time, x, y, [z, vx, …, covariance columns]). Writes, in ``--out``
+(``<prefix>``: LOCAL's file name without its extension, or ``--prefix``):
 
-* ``tracks_local.csv`` — every row of LOCAL once: row, source, track, time and
+* ``<prefix>.associate-tracks.csv`` — every row of LOCAL once: row, source, track, time and
   ``system_track`` (the system track it was paired with at that time, or −1);
-* ``tracks_pairs.json`` — the pairs with their scores, and the estimated biases.
+* ``<prefix>.associate-tracks.json`` — the pairs with their scores, and the estimated biases.
 """
 
 from __future__ import annotations
@@ -24,10 +25,13 @@ from ..radar_esm import WaveletFuzzyAssociator
 from ..topology import TopologyAssociator
 from ..track_association import TrackAssociation
 from .common import (
+    add_output_arguments,
     add_parameter_options,
     given_parameters,
     input_file,
-    output_folder,
+    outputs_epilog,
+    parameter_docs,
+    plan_outputs,
     write_outputs,
 )
 
@@ -45,25 +49,34 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = DESCRIPTION
     parser.epilog = (
         "track files: TrackTable CSVs (TrackTable.to_csv), columns source, track, time, x, y[, z],\n"
-        "  then velocity, acceleration and covariance columns as the method needs them.\n"
-        "example:\n  passive-assoc associate-tracks examples/topology_local.csv --system "
-        "examples/topology_system.csv --method topology --out out/"
+        "  then velocity, acceleration and covariance columns as the method needs them.\n\n"
+        + outputs_epilog(
+            "associate-tracks",
+            "LOCAL",
+            "every LOCAL row once, with the system track it was paired with (-1)",
+            "the pairs with their scores, and the estimated biases",
+        )
+        + "\nexamples:\n  passive-assoc associate-tracks examples/topology_local.csv --system "
+        "examples/topology_system.csv --method topology --out out/\n"
+        "  passive-assoc associate-tracks examples/wavelet_esm.csv --system examples/wavelet_radar.csv "
+        "--method wavelet --process-noise 169 --out out/"
     )
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.add_argument("local", metavar="LOCAL", type=input_file, help="local (or ESM) tracks CSV")
     parser.add_argument("--system", metavar="SYSTEM", type=input_file, required=True, help="system tracks CSV")
     parser.add_argument("--method", choices=sorted(_METHODS), default="topology", help="(default topology)")
-    parser.add_argument("--out", metavar="DIR", type=output_folder, default=".", help="output folder (default .)")
-    parser.add_argument("--json", action="store_true", help="also print the pairs as JSON")
+    add_output_arguments(parser, "associate-tracks", "LOCAL")
     names: list[str] = []
     for method, cls in _METHODS.items():
         defaults = {p.name: p.default for p in inspect.signature(cls.__init__).parameters.values()}
-        group = add_parameter_options(parser, cls._constraints, defaults, title=f"--method {method} parameters")
+        title = f"--method {method} parameters"
+        group = add_parameter_options(parser, cls._constraints, defaults, title=title, docs=parameter_docs(cls))
         names += [n for n in group if n not in names]
     parser.set_defaults(parameter_names=names)
 
 
 def main(args: argparse.Namespace) -> int:
+    files = plan_outputs(args, {"LOCAL": args.local, "SYSTEM": args.system})
     local, system = TrackTable.from_csv(args.local, sort=True), TrackTable.from_csv(args.system, sort=True)
     cls = _METHODS[args.method]
     allowed = set(cls._constraints)
@@ -79,8 +92,9 @@ def main(args: argparse.Namespace) -> int:
     paired = int(np.sum(columns["system_track"] >= 0))
     write_outputs(
         args,
-        ("tracks_local.csv", columns),
-        ("tracks_pairs.json", {"method": args.method, "pairs": _pairs(result), "bias": _bias(result)}),
+        files,
+        columns,
+        {"method": args.method, "pairs": _pairs(result), "bias": _bias(result)},
         f"{len(result.pairs)} pairs; {paired} of {len(local)} local track states paired",
     )
     return 0

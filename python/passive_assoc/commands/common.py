@@ -1,16 +1,22 @@
-"""What the file commands (``passive-assoc initiate`` / ``associate``) share: reading the
-user's two files, the method's parameters as options (from the class's declared
-constraints, so every parameter has an option with the library's default), and writing
-outputs so that nothing is half-written.
+"""What the file commands (``passive-assoc initiate``, ``associate``, ``locate``,
+``associate-tracks``) share: reading the user's files, the method's parameters as options
+(from the class's declared constraints, so every parameter has an option with the library's
+default), and the outputs: named after the input file (``<prefix>.<command>.csv`` and
+``.json`` in ``--out``), refused before any work when one would overwrite an input, and
+written so that nothing is half-written.
 """
 
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
+import math
 import os
+import re
 import sys
-from collections.abc import Callable, Mapping
+import warnings
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -22,11 +28,16 @@ from ..experiments.common import _jsonable
 
 __all__ = [
     "add_file_arguments",
+    "add_output_arguments",
+    "check_outputs",
+    "outputs_epilog",
+    "parameter_docs",
+    "plan_outputs",
     "add_parameter_options",
     "output_path",
     "given_parameters",
+    "prefix_name",
     "prepare",
-    "print_json",
     "read_inputs",
     "row_columns",
     "write_atomically",
@@ -45,12 +56,18 @@ angles are counter-clockwise from +x (east), elevation up; radians unless --degr
 """
 
 
-def add_file_arguments(parser: argparse.ArgumentParser) -> None:
+def add_file_arguments(parser: argparse.ArgumentParser, command: str) -> None:
     parser.add_argument(
         "measurements", metavar="MEAS", type=input_file, help="measurements CSV file (or .parquet, with pyarrow)"
     )
     parser.add_argument("--sensors", metavar="SENS", type=input_file, required=True, help="sensors CSV file")
     parser.add_argument("--degrees", action="store_true", help="azimuth and elevation in MEAS are in degrees")
+    add_output_arguments(parser, command, "MEAS")
+
+
+def add_output_arguments(parser: argparse.ArgumentParser, command: str, source: str) -> None:
+    """``--out``, ``--prefix`` and ``--json`` of a file command whose outputs are named after
+    its ``source`` argument (see :func:`plan_outputs`)."""
     parser.add_argument(
         "--out",
         metavar="DIR",
@@ -58,7 +75,75 @@ def add_file_arguments(parser: argparse.ArgumentParser) -> None:
         default=".",
         help="folder for the output files (created if missing; default: .)",
     )
-    parser.add_argument("--json", action="store_true", help="also print the per-target summary as JSON")
+    parser.add_argument(
+        "--prefix",
+        metavar="NAME",
+        type=prefix_name,
+        help=f"name the outputs NAME.{command}.csv and NAME.{command}.json "
+        f"(default: {source}'s file name without its extension)",
+    )
+    parser.add_argument(
+        "--json",
+        action="store_true",
+        help="print the JSON summary on standard output (the one-line report then goes to standard error)",
+    )
+    parser.set_defaults(command_name=command, output_source=source)
+
+
+def outputs_epilog(command: str, source: str, rows: str, summary: str) -> str:
+    """The help's account of the two outputs: ``rows`` says what the CSV holds, ``summary``
+    what the JSON file holds."""
+    return (
+        "outputs, in --out (default .):\n"
+        f"  <prefix>.{command}.csv   {rows}\n"
+        f"  <prefix>.{command}.json  {summary}\n"
+        f"  <prefix> is {source}'s file name without its extension, or --prefix. A run that would\n"
+        "  overwrite one of its own input files is refused before any work; an earlier output of\n"
+        "  the same name is replaced (whole, or not at all if the run fails).\n"
+    )
+
+
+def prefix_name(text: str) -> str:
+    """argparse type: the outputs' name prefix, a plain file name (no folder: that is ``--out``)."""
+    name = text.strip()
+    if not name or name in (".", "..") or "/" in name or os.sep in name:
+        raise argparse.ArgumentTypeError(f"expected a file name without a folder (--out sets the folder), got {text!r}")
+    return name
+
+
+prefix_name.bad_values = ["", "a/b", ".."]  # type: ignore[attr-defined]
+
+
+def plan_outputs(args: argparse.Namespace, inputs: Mapping[str, str]) -> tuple[Path, Path]:
+    """The command's two output files, ``<out>/<prefix>.<command>.csv`` and ``.json``, the
+    prefix being ``--prefix`` or the stem of the source input (``args.output_source``'s file).
+    Raises ValueError, before any work, when an output (these two or ``--plot``) would
+    overwrite a file of ``inputs`` (argument name → path) or two outputs are one file."""
+    source = inputs[args.output_source]
+    prefix = args.prefix or Path(source).stem
+    files = args.out / f"{prefix}.{args.command_name}.csv", args.out / f"{prefix}.{args.command_name}.json"
+    outputs = [("--out/--prefix", files[0]), ("--out/--prefix", files[1])]
+    if getattr(args, "plot", None) is not None:
+        outputs.append(("--plot", args.plot))
+    check_outputs(inputs, outputs)
+    return files
+
+
+def check_outputs(inputs: Mapping[str, str], outputs: Sequence[tuple[str, Path]]) -> None:
+    """ValueError if an output is one of the input files (the same file, through any link) or
+    two outputs are one file; ``outputs`` are (the option that chose it, path) pairs."""
+    seen: dict[str, str] = {}
+    for option, path in outputs:
+        for name, given in inputs.items():
+            if path.exists() and os.path.samefile(path, given):
+                raise ValueError(
+                    f"{option}: the output {str(path)!r} would overwrite the input file {name} ({given!r}); "
+                    f"choose another {option}"
+                )
+        key = os.path.realpath(path)
+        if key in seen:
+            raise ValueError(f"{option}: the output {str(path)!r} is also the output of {seen[key]}")
+        seen[key] = option
 
 
 def input_file(text: str) -> str:
@@ -74,11 +159,29 @@ input_file.bad_values = ["", "/nonexistent-directory/in.csv"]  # type: ignore[at
 def read_inputs(args: argparse.Namespace) -> tuple[MeasurementTable, SensorNetwork]:
     sensors = SensorNetwork.from_csv(args.sensors)
     unit: AngleUnit = "deg" if args.degrees else "rad"
+    if not args.degrees:
+        # The library's degrees hint names its Python argument, at each check of the run: said
+        # below, once, as --degrees (the command line's main() undoes the filter at the end).
+        warnings.filterwarnings("ignore", message=r"(azimuth|elevation)\[\d+\] = .* rad is beyond ")
     if str(args.measurements).endswith(".parquet"):  # Parquet through the 'parquet' extra
         table = MeasurementTable.from_parquet(args.measurements, angle_unit=unit)
     else:
         table = MeasurementTable.from_csv(args.measurements, angle_unit=unit)
     table.validate_against(sensors)
+    if not args.degrees:
+        for name, values, limit, text in (
+            ("azimuth", table.azimuth, 2 * math.pi, "±2π"),
+            ("elevation", table.elevation, math.pi / 2, "±π/2"),
+        ):
+            largest = max((abs(float(v)) for v in values if math.isfinite(v)), default=0.0)
+            if largest > limit * (1 + 1e-12):
+                warnings.warn(
+                    f"MEAS: {name} values up to {largest:g} are beyond {text} radians: if they are degrees, "
+                    "add --degrees",
+                    UserWarning,
+                    stacklevel=2,
+                )
+                break
     return table, sensors
 
 
@@ -102,9 +205,8 @@ def output_path(text: str) -> Path:
     file is written)."""
     if not text.strip() or text.endswith(("/", os.sep)):
         raise argparse.ArgumentTypeError(f"expected a file name, got {text!r}")
-    path = Path(text).expanduser().resolve()
-    output_folder(str(path.parent))
-    return path
+    given = Path(text).expanduser()
+    return output_folder(str(given.parent)) / given.name  # the name as given, not a link's target
 
 
 output_path.bad_values = ["", "/dev/null/figure.png", "somewhere/"]  # type: ignore[attr-defined]
@@ -136,23 +238,20 @@ def row_columns(table: MeasurementTable, labels: Any, label_name: str = "track",
 
 def write_outputs(
     args: argparse.Namespace,
-    rows: tuple[str, Mapping[str, Any]],
-    summary: tuple[str, Mapping[str, Any]],
+    files: tuple[Path, Path],
+    columns: Mapping[str, Any],
+    record: Mapping[str, Any],
     headline: str,
 ) -> None:
-    """Every command's ending: ``--out`` created, the per-row CSV and the JSON summary
-    written atomically, ``headline`` and the two paths printed, and the summary printed
-    too with ``--json``."""
-    folder = prepare(args.out)
-    (csv_name, columns), (json_name, record) = rows, summary
-    write_atomically(folder / csv_name, lambda path: write_csv(path, columns))
-    write_json(folder / json_name, record)
-    print(f"{headline}; wrote {folder / csv_name} and {folder / json_name}")
-    print_json(args, record)
-
-
-def print_json(args: argparse.Namespace, record: Mapping[str, Any]) -> None:
-    """With ``--json``, the summary on standard output too."""
+    """Every command's ending: ``--out`` created, the per-row CSV and the JSON summary written
+    atomically to ``files`` (from :func:`plan_outputs`), ``headline`` and the two paths
+    printed; with ``--json`` the summary is printed on standard output and the headline on
+    standard error, so that standard output can be piped into a JSON reader."""
+    prepare(args.out)
+    csv_path, json_path = files
+    write_atomically(csv_path, lambda path: write_csv(path, columns))
+    write_json(json_path, record)
+    print(f"{headline}; wrote {csv_path} and {json_path}", file=sys.stderr if args.json else sys.stdout)
     if args.json:
         json.dump(_jsonable(record), sys.stdout, indent=2)
         print()
@@ -172,10 +271,12 @@ def add_parameter_options(
     constraints: Mapping[str, list[Constraint]],
     defaults: Mapping[str, Any],
     title: str = "method parameters",
+    docs: Mapping[str, str] | None = None,
 ) -> list[str]:
-    """One ``--name`` option per scalar parameter the class declares (its default shown,
-    unset = the library's default); returns the parameter names it covers (an option another
-    method already added is shared)."""
+    """One ``--name`` option per scalar parameter the class declares (what it is, from
+    ``docs``, see :func:`parameter_docs`; the values it takes; its default, unset = the
+    library's default); returns the parameter names it covers (an option another method
+    already added is shared)."""
     group = parser.add_argument_group(f"{title} (default: the library's)")
     added = []
     for name, allowed in constraints.items():
@@ -187,6 +288,9 @@ def add_parameter_options(
             added.append(name)
             continue
         default = defaults.get(name)
+        default = "none" if default is None else str(default).lower() if isinstance(default, bool) else default
+        about = (docs or {}).get(name, "").replace("%", "%%")  # argparse %-formats help texts
+        about = f"{about} " if about else ""
         first = kinds[0]
         intervals = [c for c in kinds if isinstance(c, Interval)]
         if isinstance(first, Options) and intervals:  # a word or a number, e.g. reference
@@ -194,24 +298,54 @@ def add_parameter_options(
                 flag,
                 type=_word_or_number(first, intervals[0]),
                 metavar="VALUE",
-                help=f"{first.describe()} or {intervals[0].describe()} (default {default})",
+                help=f"{about}[{first.describe()} or {intervals[0].describe()}; default {default}]",
             )
         elif isinstance(first, Boolean):
-            group.add_argument(flag, type=_boolean, metavar="{true,false}", help=f"(default {default})")
+            group.add_argument(flag, type=_boolean, metavar="{true,false}", help=f"{about}[default {default}]")
         elif isinstance(first, Options):
-            group.add_argument(flag, choices=first.choices, help=f"(default {default})")
+            group.add_argument(flag, choices=first.choices, help=f"{about}[default {default}]")
         elif isinstance(first, Interval):
             text = "none" if None in allowed else None
             group.add_argument(
                 flag,
                 type=_number(first, text),
                 metavar="INT" if first.kind is int else "X",
-                help=f"{first.describe()}{' or none' if text else ''} (default {default})",
+                help=f"{about}[{first.describe()}{' or none' if text else ''}; default {default}]",
             )
         else:
             continue
         added.append(name)
     return added
+
+
+def parameter_docs(documented: object) -> dict[str, str]:
+    """The first sentence of each parameter's entry in the "Parameters" section of the
+    (NumPy-style) docstring of ``documented``, a class or function, markup removed: what
+    ``--help`` says an option is. Names that share an entry (``rings, sectors : int``) share
+    its sentence."""
+    lines = (inspect.getdoc(documented) or "").splitlines()
+    try:
+        start = lines.index("Parameters") + 2
+    except ValueError:
+        return {}
+    entries: dict[tuple[str, ...], list[str]] = {}
+    names: tuple[str, ...] = ()
+    for k in range(start, len(lines)):
+        line = lines[k]
+        if k + 1 < len(lines) and set(lines[k + 1]) == {"-"}:  # the next section's title
+            break
+        if line and not line.startswith(" "):
+            names = tuple(n.strip() for n in line.split(" : ")[0].split(","))
+            entries[names] = []
+        elif names and line.strip():
+            entries[names].append(line.strip())
+    docs = {}
+    for group, text in entries.items():
+        prose = re.sub(r":\w+:`~?([^`]*)`", r"\1", " ".join(text)).replace("``", "")
+        # A sentence ends at a full stop and a space, or at the end: not "eq. 23", "e.g. the".
+        sentence = re.split(r"(?<!\beq)(?<!\be\.g)(?<!\bi\.e)(?<!\bcf)\.(?:\s|$)", prose, maxsplit=1)[0]
+        docs.update(dict.fromkeys(group, f"{sentence}." if sentence else ""))
+    return docs
 
 
 def given_parameters(args: argparse.Namespace, names: list[str]) -> dict[str, Any]:

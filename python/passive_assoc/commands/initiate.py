@@ -1,11 +1,11 @@
 """``passive-assoc initiate MEAS --sensors SENS``: fuzzy track initiation (METHODS §1) on the
 user's own files.
 
-Writes, in ``--out``:
+Writes, in ``--out`` (``<prefix>``: MEAS's file name without its extension, or ``--prefix``):
 
-* ``initiate_measurements.csv`` — every input row once: its row number, sensor, time, angles,
+* ``<prefix>.initiate.csv`` — every input row once: its row number, sensor, time, angles,
   and ``track`` (the initiated track's index, or −1 for clutter);
-* ``initiate_tracks.json`` — per track: the initial state at ``t0`` (x, y, [z], vx, vy, [vz]),
+* ``<prefix>.initiate.json`` — per track: the initial state at ``t0`` (x, y, [z], vx, vy, [vz]),
   its covariance, the fuzzy closeness, χ² and its rows; and the run's ``t0`` and stage counts.
 """
 
@@ -22,6 +22,9 @@ from .common import (
     add_parameter_options,
     given_parameters,
     output_path,
+    outputs_epilog,
+    parameter_docs,
+    plan_outputs,
     read_inputs,
     row_columns,
     write_atomically,
@@ -41,15 +44,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = DESCRIPTION
     parser.epilog = (
         EXAMPLE_FORMATS
+        + "\n"
+        + outputs_epilog(
+            "initiate",
+            "MEAS",
+            "every input row once, with its track (-1: clutter)",
+            "per track: initial state at t0, covariance, closeness, chi2, rows",
+        )
         + "\nexample:\n  passive-assoc initiate examples/initiate_measurements.csv "
-        + ("--sensors examples/sensors.csv --out out/ --plot out/initiate.png")
+        + "--sensors examples/initiate_sensors.csv --out out/ --plot out/initiate.png"
     )
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    add_file_arguments(parser)
+    add_file_arguments(parser, "initiate")
     parser.add_argument(
         "--plot", metavar="FILE", type=output_path, help="save a figure of the sensors, lines of sight and tracks"
     )
-    names = add_parameter_options(parser, FuzzyTrackInitiator._constraints, _defaults())
+    names = add_parameter_options(
+        parser, FuzzyTrackInitiator._constraints, _defaults(), docs=parameter_docs(FuzzyTrackInitiator)
+    )
     parser.set_defaults(parameter_names=names)
 
 
@@ -58,13 +70,15 @@ def _defaults() -> dict[str, Any]:
 
 
 def main(args: argparse.Namespace) -> int:
+    files = plan_outputs(args, {"MEAS": args.measurements, "SENS": args.sensors})
     table, sensors = read_inputs(args)
     initiator = FuzzyTrackInitiator(**given_parameters(args, args.parameter_names))
     result = initiator.initiate(table, sensors)
     write_outputs(
         args,
-        ("initiate_measurements.csv", row_columns(table, result.labels)),
-        ("initiate_tracks.json", track_summary(result)),
+        files,
+        row_columns(table, result.labels),
+        track_summary(result),
         f"{len(result.tracks)} track(s), {len(result.clutter)} of {len(table)} measurements clutter",
     )
     if args.plot:

@@ -2,11 +2,11 @@
 bearings of three or more sensors (METHODS §3: the modified baseline least-distance method,
 with emitter attributes when the file has them).
 
-Writes, in ``--out``:
+Writes, in ``--out`` (``<prefix>``: MEAS's file name without its extension, or ``--prefix``):
 
-* ``locate_measurements.csv`` — every input row once: row, sensor, time, azimuth and
+* ``<prefix>.locate.csv`` — every input row once: row, sensor, time, azimuth and
   ``group`` (the baseline report whose target it was assigned to, or −1: clutter);
-* ``locate_targets.json`` — per baseline report: whether it was associated, its rows, the ML
+* ``<prefix>.locate.json`` — per baseline report: whether it was associated, its rows, the ML
   position and covariance, the cluster radius and the attribute supports.
 """
 
@@ -25,6 +25,9 @@ from .common import (
     add_file_arguments,
     add_parameter_options,
     given_parameters,
+    outputs_epilog,
+    parameter_docs,
+    plan_outputs,
     read_inputs,
     row_columns,
     write_outputs,
@@ -41,12 +44,21 @@ DESCRIPTION = (
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.description = DESCRIPTION
-    parser.epilog = EXAMPLE_FORMATS + (
-        "\nattribute columns (e.g. rf, pw) are used by name with --attributes rf pw; a per-report "
-        "std column is named <name>_std."
+    parser.epilog = (
+        EXAMPLE_FORMATS
+        + "attribute columns (e.g. rf, pw) are used by name with --attributes rf pw; a per-report\n"
+        + "std column is named <name>_std.\n\n"
+        + outputs_epilog(
+            "locate",
+            "MEAS",
+            "every input row once, with its group (-1: clutter)",
+            "per baseline report: associated, rows, position, covariance, radius, support",
+        )
+        + "\nexample:\n  passive-assoc locate examples/locate_measurements.csv --sensors examples/locate_sensors.csv "
+        + "--attributes rf prf pw asp --out out/"
     )
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    add_file_arguments(parser)
+    add_file_arguments(parser, "locate")
     parser.add_argument(
         "--attributes",
         nargs="*",
@@ -55,11 +67,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="attribute columns to gate on (default: the library's)",
     )
     defaults = {f.name: f.default for f in dataclasses.fields(FormationLocator)}
-    names = add_parameter_options(parser, FormationLocator._constraints, defaults)
+    names = add_parameter_options(
+        parser, FormationLocator._constraints, defaults, docs=parameter_docs(FormationLocator)
+    )
     parser.set_defaults(parameter_names=names)
 
 
 def main(args: argparse.Namespace) -> int:
+    files = plan_outputs(args, {"MEAS": args.measurements, "SENS": args.sensors})
     table, sensors = read_inputs(args)
     parameters = given_parameters(args, args.parameter_names)
     if args.attributes is not None:
@@ -68,8 +83,9 @@ def main(args: argparse.Namespace) -> int:
     located, clutter = int(np.sum(result.associated)), len(result.clutter)
     write_outputs(
         args,
-        ("locate_measurements.csv", row_columns(table, result.labels, label_name="group")),
-        ("locate_targets.json", target_summary(result)),
+        files,
+        row_columns(table, result.labels, label_name="group"),
+        target_summary(result),
         f"{located} of {len(result.baseline_rows)} baseline reports located, {clutter} of {len(table)} "
         "measurements clutter",
     )

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import csv
 import os
-import tempfile
+import secrets
 from collections.abc import Callable, Collection, Mapping
 from pathlib import Path
 from typing import Any
@@ -114,17 +114,31 @@ def is_numeric(values: list[str]) -> bool:
 
 
 def write_atomically(path: Path, write: Callable[[Path], None]) -> None:
-    """``write(temporary path)`` then rename over ``path``: a failure leaves no half file."""
+    """``write(temporary path)`` then rename over ``path``: a failure leaves no half file. The
+    file gets the permissions ``open(path, "w")`` gives a new file, 0666 less the umask (not
+    the 0600 of :func:`tempfile.mkstemp`)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    # Same folder (so the rename is atomic), same suffix (matplotlib reads the format off it).
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    os.close(handle)
+    temporary = _new_temporary(path)
     try:
-        write(Path(temporary))
+        write(temporary)
         os.replace(temporary, path)
     except BaseException:
-        Path(temporary).unlink(missing_ok=True)
+        temporary.unlink(missing_ok=True)
         raise
+
+
+def _new_temporary(path: Path) -> Path:
+    """A new empty file beside ``path``: same folder (so the rename is atomic), same suffix
+    (matplotlib reads the format off it), created exclusively with mode 0666 so that the
+    umask applies as to any new file; the writers reopen it, which keeps the mode."""
+    for _ in range(100):
+        temporary = path.with_name(f".{path.stem}.{secrets.token_hex(4)}{path.suffix}")
+        try:
+            os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+        except FileExistsError:
+            continue
+        return temporary
+    raise FileExistsError(f"no free temporary name beside {str(path)!r}")
 
 
 def import_pandas() -> Any:

@@ -3,7 +3,8 @@
 Per run: simulate the paper scenario, initiate tracks with :class:`FuzzyTrackInitiator`,
 match tracks to targets, and fit every target from its true measurements as the
 perfect-association reference. Reports Table 3 (RMS of X0) with, per cell, our RMS with our
-own association, our RMS with perfect association, the CRLB std and the paper's two figures.
+own association, our RMS with perfect association, the CRLB std and the paper's two figures,
+and ends with a one-line :func:`verdict` against the paper.
 """
 
 from __future__ import annotations
@@ -61,6 +62,22 @@ PAPER_RMS_PERFECT = np.array(
         [46.2, 80.1, 6.49, 0.51, 1.08, 0.13],
     ]
 )
+#: The verdict's lines (docs/experiments.md's acceptance lines for paper 000): all targets found
+#: in at least this share of the runs, and at most this many false tracks per run ...
+FOUND_SHARE, FALSE_TRACKS_PER_RUN = 0.95, 0.05
+#: ... the price of association (own RMS / perfect-association RMS) of x0, y0, vx, vy no worse
+#: than the paper's, nor above this where the paper's is lower ...
+PRICE_COMPONENTS, PRICE_FLOOR = (0, 1, 3, 4), 1.10
+#: ... and the perfect-association RMS within this of the CRLB in every cell, widened to
+#: CRLB_SIGMAS Monte-Carlo standard errors (1/sqrt(2 runs) of an RMS) when that is wider: 21 %
+#: at the paper's 100 runs, where sampling alone puts 2 of 24 cells beyond 15 %. The paper's
+#: z0 and vz columns lie below the bound of its own model, so every cell is judged against the
+#: bound, not against the paper's perfect-association figure (EXPERIMENTS.md).
+CRLB_TOLERANCE, CRLB_SIGMAS = 0.15, 3.0
+#: Runs behind the paper's Table 3; fewer give a verdict "at N runs" only.
+PAPER_RUNS = 100
+#: The paper's settings; with others its figures do not apply.
+PAPER_SETTINGS = {"pd": 1.0, "clutter_ratio": 2.0}
 #: A track matches a target when its X0 lies within this squared Mahalanobis distance of the
 #: truth, measured with the target's CRLB (i.e. within 10 best-case standard deviations).
 MATCH_GATE = 100.0
@@ -260,6 +277,65 @@ def print_report(summary: dict[str, Any], settings: dict[str, Any]) -> None:
     )
 
 
+def verdict(summary: dict[str, Any], settings: dict[str, Any]) -> dict[str, Any]:
+    """Whether the run reproduces paper 000, from its own figures against the paper's stated
+    ones and the CRLB (the lines above): ``{"reproduces": bool | None, "failures": [...],
+    "line": "verdict: ..."}``; None when the settings are not the paper's."""
+    changed = [f"--{k.replace('_', '-')} {settings[k]:g}" for k, v in PAPER_SETTINGS.items() if settings[k] != v]
+    if changed:
+        line = (
+            f"verdict: not judged against paper 000 — {', '.join(changed)} differs from the paper's setting "
+            "(Pd 1, clutter 2x), for which its figures are stated"
+        )
+        return {"reproduces": None, "failures": [], "line": line}
+    runs = summary["runs"]
+    failures = []
+    if summary["all_found_runs"] < FOUND_SHARE * runs:
+        failures.append(f"all 4 targets found in {summary['all_found_runs']}/{runs} runs (< {FOUND_SHARE:.0%})")
+    if summary["mean_false_tracks"] > FALSE_TRACKS_PER_RUN:
+        failures.append(f"{summary['mean_false_tracks']:.3f} false tracks per run (> {FALSE_TRACKS_PER_RUN})")
+    price, paper_price = summary["price_of_association"], summary["paper_price_of_association"]
+    bound = np.maximum(paper_price, PRICE_FLOOR)
+    worst_price = (0.0, "")
+    for k in range(price.shape[0]):
+        for c in PRICE_COMPONENTS:
+            cell = f"target {k + 1} {COMPONENTS[c]}"
+            if not np.isfinite(price[k, c]) or price[k, c] > bound[k, c]:
+                failures.append(
+                    f"Table 3 price of association, {cell} {price[k, c]:.3f} > {bound[k, c]:.2f} "
+                    f"(paper's {paper_price[k, c]:.2f})"
+                )
+            elif price[k, c] / bound[k, c] > worst_price[0]:
+                worst_price = (price[k, c] / bound[k, c], f"{cell} {price[k, c]:.3f} against {bound[k, c]:.2f}")
+    tolerance = max(CRLB_TOLERANCE, CRLB_SIGMAS / np.sqrt(2 * runs))
+    off = np.abs(summary["rms_perfect"] / summary["crlb_std"] - 1.0)
+    for k, c in zip(*np.nonzero(~(off <= tolerance)), strict=True):
+        ours, crlb = fmt(summary["rms_perfect"][k, c]), fmt(summary["crlb_std"][k, c])
+        failures.append(
+            f"Table 3 perfect-association RMS, target {k + 1} {COMPONENTS[c]} {ours} is "
+            f"{fmt(100 * off[k, c], 2)} % off the CRLB {crlb} (allowed {100 * tolerance:.0f} %)"
+        )
+    at = "" if runs >= PAPER_RUNS else f" at {runs} runs (the paper's figures are over {PAPER_RUNS})"
+    if failures:
+        shown = "; ".join(failures[:3]) + (f"; and {len(failures) - 3} more" if len(failures) > 3 else "")
+        return {
+            "reproduces": False,
+            "failures": failures,
+            "line": f"verdict: does NOT reproduce paper 000{at}: {shown}",
+        }
+    paper_ratio = PAPER_RMS_PERFECT / summary["crlb_std"]
+    line = (
+        f"verdict: {'reproduces' if not at else 'consistent with'} paper 000{at} — all 4 targets found in "
+        f"{summary['all_found_runs']}/{runs} runs, {summary['mean_false_tracks']:.3f} false tracks per run; "
+        f"price of association within the paper's (or {PRICE_FLOOR:.2f}) in x0, y0, vx, vy of every target "
+        f"(closest: {worst_price[1]}); perfect-association RMS within {100 * off.max():.1f} % of the CRLB "
+        f"for every target and component (allowed {100 * tolerance:.0f} % at {runs} runs; paper: "
+        f"{paper_ratio[:, PRICE_COMPONENTS].min():.2f}-{paper_ratio[:, PRICE_COMPONENTS].max():.2f}x the CRLB "
+        f"in x0, y0, vx, vy, {paper_ratio[:, [2, 5]].min():.2f}-{paper_ratio[:, [2, 5]].max():.2f}x in z0, vz)"
+    )
+    return {"reproduces": True, "failures": [], "line": line}
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--runs", type=positive_int, default=100, help="Monte-Carlo runs (default 100)")
     parser.add_argument("--seed", type=seed_int, default=2026, help="master seed (default 2026)")
@@ -337,11 +413,13 @@ def main(args: argparse.Namespace) -> int:
     }
     print_table2(summary["run0_estimates"], scenario.true_states)
     print_report(summary, settings)
+    judged = verdict(summary, settings)
     if args.json:
-        write_json(args.json, {"experiment": "fti", "settings": settings, **summary})
+        write_json(args.json, {"experiment": "fti", "settings": settings, **summary, "verdict": judged})
     if args.plot:
         from ..plots import plot_fti
 
         plot_fti(scenario, result, summary, args.plot)
         print(f"plot saved to {args.plot}")
+    print(judged["line"])
     return 0

@@ -19,7 +19,7 @@ from .._inputs import check_pair
 from .._progress import ProgressArg, reporting
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
-from .associator import Method, _associator
+from .associator import DEFAULT_METHOD, Method, _associator
 from .candidates import _per_sensor
 
 __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
@@ -58,7 +58,7 @@ def associate_scans(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     scan: str | ArrayLike = "time",
-    method: Method = "intensity",
+    method: Method = DEFAULT_METHOD,
     *,
     progress: ProgressArg = None,
     **settings: Any,
