@@ -21,9 +21,8 @@ from typing import Any
 import numpy as np
 
 from ..data import TrackTable
-from ..radar_esm import WaveletFuzzyAssociator
-from ..topology import TopologyAssociator
 from ..track_association import TrackAssociation
+from ..track_methods import TRACK_METHODS
 from .common import (
     add_output_arguments,
     add_parameter_options,
@@ -39,10 +38,12 @@ __all__ = ["add_arguments", "main"]
 
 DESCRIPTION = (
     "Associate the tracks of local sensors with the system picture, scan by scan: by reference "
-    "topology under azimuth bias (METHODS §4, --method topology) or, radar (SYSTEM) against ESM "
-    "(LOCAL) tracks, by wavelets and fuzzy factors (METHODS §5, --method wavelet)."
+    "topology, which azimuth bias does not move (METHODS §4, --method topology); by least "
+    "position distance within the tracks' covariance gate (--method nearest: unbiased sensors); "
+    "or, radar (SYSTEM) against ESM (LOCAL) tracks, by wavelets and fuzzy factors (METHODS §5, "
+    "--method wavelet) or the weighted chi-square test on the states (--method chi2)."
 )
-_METHODS: dict[str, Any] = {"topology": TopologyAssociator, "wavelet": WaveletFuzzyAssociator}
+_METHODS: dict[str, Any] = TRACK_METHODS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -68,7 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_output_arguments(parser, "associate-tracks", "LOCAL")
     names: list[str] = []
     for method, cls in _METHODS.items():
-        defaults = {p.name: p.default for p in inspect.signature(cls.__init__).parameters.values()}
+        defaults = {p.name: p.default for p in inspect.signature(cls).parameters.values()}
         title = f"--method {method} parameters"
         group = add_parameter_options(parser, cls._constraints, defaults, title=title, docs=parameter_docs(cls))
         names += [n for n in group if n not in names]
@@ -94,7 +95,14 @@ def main(args: argparse.Namespace) -> int:
         args,
         files,
         columns,
-        {"method": args.method, "pairs": _pairs(result), "bias": _bias(result)},
+        {
+            "method": args.method,
+            "termination": result.termination,
+            "success": result.success,
+            "message": result.message,
+            "pairs": _pairs(result),
+            "bias": _bias(result),
+        },
         f"{len(result.pairs)} pairs; {paired} of {len(local)} local track states paired",
     )
     return 0
