@@ -55,6 +55,8 @@ class Radar:
         The radar sees targets at most this far away, metres, > 0; ``inf`` (default) is
         everywhere.
 
+    Notes
+    -----
     Use :meth:`from_degrees` to give the angles in degrees.
     """
 
