@@ -210,7 +210,7 @@ fn bench_descent(c: &mut Criterion) {
     let nearest = candidates
         .iter()
         .min_by(|a, b| {
-            let d = |c: &passive_assoc_core::fti::candidates::Candidate| {
+            let d = |c: &passive_assoc_core::fti::Candidate| {
                 (0..6)
                     .map(|k| ((c.estimate[k] - truth[k]) / c.scale[k]).powi(2))
                     .sum::<f64>()

@@ -16,7 +16,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::candidates::{fit_candidate, Candidate, CandidateSet, RayPair, OOM_HINT};
+use super::candidate::{fit_candidate, Candidate, RayPair, OOM_HINT};
+use super::pool::CandidateSet;
 use super::support::Gate;
 use super::{InitiationOptions, Problem};
 use crate::error::CoreResult;

@@ -19,8 +19,9 @@ use std::collections::HashMap;
 use rayon::prelude::*;
 
 use super::batch::{Batch, ScanPairRays};
-use super::candidates::{CandidateSet, RayPair};
+use super::candidate::RayPair;
 use super::motion_gate;
+use super::pool::CandidateSet;
 use super::{InitiationOptions, Problem};
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;

@@ -84,7 +84,7 @@ fn at_most(n: usize, p: f64, k: usize) -> f64 {
 mod tests {
     use super::{at_most, covered};
     use crate::fti::closeness::Precomputed;
-    use crate::fti::pipeline::refit;
+    use crate::fti::refit::refit;
     use crate::fti::scans::Scans;
     use crate::fti::sim;
     use crate::geometry::model::MAX_DIM;

@@ -34,7 +34,7 @@
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use super::candidates::Candidate;
+use super::candidate::Candidate;
 use super::closeness::{closeness_and_gradient, Precomputed};
 use super::{DescentOptions, Scaling};
 use crate::error::{ensure_finite, CoreError, CoreResult};

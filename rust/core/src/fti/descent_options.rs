@@ -1,8 +1,7 @@
 //! The steepest-ascent search's settings ([`DescentOptions`]) and its coordinates
 //! ([`Scaling`]), built with validated `with_*` setters.
 
-use super::options::positive;
-use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
 
 /// The linear change of variables each descent works in. See [`descent`](super::descent).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,7 +70,7 @@ impl DescentOptions {
     /// of the candidate fit; finite, `> 0`): far below the estimation noise; the final
     /// Gauss-Newton refit supplies the precision.
     pub fn with_step_tol(mut self, step_tol: f64) -> CoreResult<Self> {
-        positive("descent step_tol", Some(step_tol))?;
+        ensure_positive("descent step_tol", Some(step_tol))?;
         self.step_tol = step_tol;
         Ok(self)
     }

@@ -22,6 +22,7 @@
 //! sequential stages are order-defined, so results are bit-identical for any thread count.
 
 mod batch;
+mod candidate;
 pub mod candidates;
 pub mod closeness;
 mod combine;
@@ -35,6 +36,7 @@ mod motion_gate;
 mod options;
 pub mod pipeline;
 pub mod pool;
+mod refit;
 pub mod scans;
 pub mod stages;
 pub mod support;
@@ -53,10 +55,13 @@ mod tests_missed;
 #[cfg(test)]
 mod tests_progress;
 
+pub use candidate::Candidate;
 pub use closeness::{closeness, closeness_and_gradient, Precomputed, Spreads};
-pub use options::{DescentOptions, DetectionOrder, InitiationOptions, Scaling, CHI2_2DOF_999};
+pub use options::{
+    DescentOptions, DetectionOrder, InitiationOptions, Scaling, CHI2_2DOF_999, TRACK_TEST_Z,
+};
 pub use pipeline::{initiate, initiate_reporting};
-pub use track_test::{chi2_quantile, TRACK_TEST_Z};
+pub use track_test::chi2_quantile;
 
 use crate::data::{Measurements, Sensors};
 use crate::geometry::model::{Observation, StateLayout};

@@ -13,7 +13,7 @@
 //! velocity estimate's own error, `(noise_first + noise_last)/(t_last − t_first)` — the
 //! meeting points are each good to their noise. Rejected candidates are never fitted.
 
-use super::candidates::RayPair;
+use super::candidate::RayPair;
 use super::{InitiationOptions, Problem};
 use crate::geometry::los::{closest_points, direction};
 use crate::geometry::model::Space;
@@ -71,7 +71,8 @@ fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64
 #[cfg(test)]
 mod tests {
     use super::passes;
-    use crate::fti::candidates::{fit_candidate, ray_pairs, RayPair};
+    use crate::fti::candidate::{fit_candidate, RayPair};
+    use crate::fti::candidates::ray_pairs;
     use crate::fti::scans::Scans;
     use crate::fti::{sim, InitiationOptions, CHI2_2DOF_999};
 

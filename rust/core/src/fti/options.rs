@@ -2,12 +2,14 @@
 //! the steepest-ascent search's [`DescentOptions`].
 
 pub use super::descent_options::{DescentOptions, Scaling};
-use super::track_test::TRACK_TEST_Z;
-use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
 
 /// 99.9 % quantile of χ²(2): the default candidate gate in 3-D, where a candidate's 4
 /// measurements give 8 equations for 6 unknowns.
 pub const CHI2_2DOF_999: f64 = 13.815510557964274;
+
+/// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
+pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
 
 /// How detection orders the optima: see [`detection_order`](super::detection_order).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -135,7 +137,7 @@ impl InitiationOptions {
 
     /// Relation gate g of eq. 23, in σ (paper 5; finite, `> 0`).
     pub fn with_gate(mut self, gate: f64) -> CoreResult<Self> {
-        positive("gate", Some(gate))?;
+        ensure_positive("gate", Some(gate))?;
         self.gate = gate;
         Ok(self)
     }
@@ -153,7 +155,7 @@ impl InitiationOptions {
     /// Ray gate in σ units (3-D only; finite, `> 0`; `None` = off). See
     /// [`candidates`](super::candidates).
     pub fn with_ray_gate(mut self, ray_gate: Option<f64>) -> CoreResult<Self> {
-        positive("ray_gate", ray_gate)?;
+        ensure_positive("ray_gate", ray_gate)?;
         self.ray_gate = ray_gate;
         Ok(self)
     }
@@ -167,14 +169,14 @@ impl InitiationOptions {
     /// Largest plausible target speed, m/s (finite, `> 0`; `None` = off). See
     /// [`candidates`](super::candidates).
     pub fn with_v_max(mut self, v_max: Option<f64>) -> CoreResult<Self> {
-        positive("v_max", v_max)?;
+        ensure_positive("v_max", v_max)?;
         self.v_max = v_max;
         Ok(self)
     }
 
     /// Candidate χ² gate after the 4-measurement fit (3-D only; finite, `> 0`; `None` = off).
     pub fn with_chi2_gate(mut self, chi2_gate: Option<f64>) -> CoreResult<Self> {
-        positive("chi2_gate", chi2_gate)?;
+        ensure_positive("chi2_gate", chi2_gate)?;
         self.chi2_gate = chi2_gate;
         Ok(self)
     }
@@ -281,7 +283,7 @@ impl InitiationOptions {
     /// them at residuals spread over the whole gate (χ²/dof ≈ 8 for a uniform ±5σ spread); a
     /// target's is χ²-distributed. Default z = 4.753, a true track's tail probability 10⁻⁶.
     pub fn with_track_test(mut self, z: Option<f64>) -> CoreResult<Self> {
-        positive("track_test", z)?;
+        ensure_positive("track_test", z)?;
         self.track_test = z;
         Ok(self)
     }
@@ -382,16 +384,5 @@ impl InitiationOptions {
 
     pub fn refine_passes(&self) -> usize {
         self.refine_passes
-    }
-}
-
-/// `Ok` for `None` or a finite positive value; otherwise the error naming `arg`.
-pub(super) fn positive(arg: &'static str, value: Option<f64>) -> CoreResult<()> {
-    match value {
-        Some(v) if !(v.is_finite() && v > 0.0) => Err(CoreError::out_of_range(
-            arg,
-            format!("{v} must be finite and > 0"),
-        )),
-        _ => Ok(()),
     }
 }

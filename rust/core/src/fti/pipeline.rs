@@ -6,8 +6,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::candidates;
-use super::closeness::{closeness, Precomputed, Spreads};
+use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
+use super::refit::{padded, refit};
 use super::scans::{resolve_pairs, Scans};
 use super::stages::search_and_detect;
 use super::support::{Gate, SupportTable};
@@ -16,8 +17,6 @@ use super::track_test;
 use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
-use crate::estimation::fit::gauss_newton::fit;
-use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::model::{Motion, StateLayout, MAX_DIM};
 use crate::progress::{Progress, Silent};
 
@@ -264,14 +263,14 @@ fn finished(
     // target wrong rows that a refine pass then corrects.
     let n_rows = labels.len();
     Ok(track_test::tested(
-        problem, pre, scans, tracks, n_rows, n_detect, options,
+        problem,
+        pre,
+        scans,
+        tracks,
+        n_rows,
+        n_detect,
+        options.track_test(),
     ))
-}
-
-pub(super) fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
-    let mut x = [0.0; MAX_DIM];
-    x[..estimate.len()].copy_from_slice(estimate);
-    x
 }
 
 /// Refits each classified target on its rows (in parallel, in order). A target whose refit
@@ -305,40 +304,11 @@ fn final_tracks(
     (tracks, out)
 }
 
-pub(super) fn refit(
-    problem: &Problem<'_>,
-    pre: &Precomputed,
-    start: &[f64; MAX_DIM],
-    rows: &[usize],
-) -> Option<Track> {
-    let d = problem.layout.dim();
-    if rows.len() * problem.layout.space.angles() < d {
-        return None;
-    }
-    let obs: Vec<_> = rows.iter().map(|&m| problem.observation(m)).collect();
-    let outcome = fit(&problem.layout, &obs, &start[..d], &FitOptions::default());
-    let usable = !matches!(
-        outcome.termination,
-        Termination::Singular | Termination::NonFinite
-    ) && outcome
-        .estimate
-        .iter()
-        .chain(&outcome.covariance)
-        .all(|v| v.is_finite());
-    usable.then(|| Track {
-        closeness: closeness(pre, &outcome.estimate),
-        estimate: outcome.estimate,
-        covariance: outcome.covariance,
-        chi2: outcome.chi2,
-        measurements: rows.to_vec(),
-    })
-}
-
 /// What [`candidates_of`] returns: the fitted candidates, the stage counts, the scans and
 /// the resolved pairs.
 #[cfg(test)]
 pub(crate) type CandidateRun = (
-    Vec<candidates::Candidate>,
+    Vec<super::candidate::Candidate>,
     super::StageCounts,
     Scans,
     Vec<[usize; 2]>,

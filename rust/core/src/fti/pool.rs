@@ -15,9 +15,19 @@ use std::borrow::Cow;
 
 use rayon::prelude::*;
 
-use super::candidates::{fit_candidate, Candidate, RayPair};
-use super::Problem;
+use super::candidate::{fit_candidate, Candidate, RayPair};
+use super::{Problem, StageCounts};
 use crate::error::{reserve_one, CoreResult};
+
+/// The candidates that survive every enabled rule, with stage counts and timings.
+#[derive(Clone, Debug, Default)]
+pub struct CandidateSet {
+    pub candidates: Pool,
+    pub counts: StageCounts,
+    pub seconds_enumerate: f64,
+    pub seconds_fit: f64,
+    pub seconds_support: f64,
+}
 
 /// A candidate as kept past the limit: what refits it, and its support-gate score.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,7 +145,7 @@ impl Compact {
 #[cfg(test)]
 mod tests {
     use super::Pool;
-    use crate::fti::candidates::Candidate;
+    use crate::fti::candidate::Candidate;
     use crate::fti::pipeline::candidates_of;
     use crate::fti::{sim, InitiationOptions};
 

@@ -1,7 +1,7 @@
 //! The unpruned paper algorithm, written as four nested loops, and the test that the
 //! pipeline with every pruning rule off is exactly it.
 
-use super::candidates::{fit_candidate, Candidate, RayPair};
+use super::candidate::{fit_candidate, Candidate, RayPair};
 use super::pipeline::candidates_of;
 use super::scans::Scans;
 use super::sim;

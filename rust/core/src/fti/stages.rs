@@ -29,7 +29,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::candidates::Candidate;
+use super::candidate::Candidate;
 use super::closeness::{closeness, Precomputed};
 use super::descent::{descend_all, Optimum};
 use super::detection_order::detect;

@@ -17,7 +17,7 @@
 
 use super::closeness::Precomputed;
 use super::detection::residual2;
-use super::pipeline::{padded, refit};
+use super::refit::{padded, refit};
 use super::scans::Scans;
 use super::track_test::trimmed;
 use super::{Problem, Track};

@@ -16,13 +16,10 @@
 use super::closeness::Precomputed;
 use super::coverage_test;
 use super::detection::residual2;
-use super::pipeline::refit;
+use super::refit::refit;
 use super::scans::Scans;
-use super::{InitiationOptions, Problem, Track};
+use super::{Problem, Track};
 use crate::geometry::model::MAX_DIM;
-
-/// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
-pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
 
 /// χ²(dof) quantile at standard-normal level `z` by Wilson–Hilferty (conservative, i.e.
 /// slightly high, at few degrees of freedom; within 3 % from 10).
@@ -46,7 +43,7 @@ const OUTLIER_Z: f64 = 3.090_232_306_167_813;
 /// 10⁻⁵ in docs/methods.md §1 (*Track test*).
 const TRIMMED_Z: f64 = 3.719_016_485_455_709;
 
-/// The tracks that pass (trimmed, then the coverage test of module `coverage_test`),
+/// The tracks that pass at standard-normal level `z` (all when `None`; trimmed, then the coverage test of module `coverage_test`),
 /// relabelled; every other row is clutter.
 pub(super) fn tested(
     problem: &Problem<'_>,
@@ -55,9 +52,9 @@ pub(super) fn tested(
     tracks: Vec<Track>,
     n_rows: usize,
     n_detect: usize,
-    options: &InitiationOptions,
+    z: Option<f64>,
 ) -> (Vec<Track>, Vec<i64>) {
-    let kept: Vec<Track> = match options.track_test() {
+    let kept: Vec<Track> = match z {
         None => tracks,
         Some(z) => {
             let trimmed = (tracks.into_iter())
@@ -121,7 +118,7 @@ fn passes(problem: &Problem<'_>, track: &Track, z: f64) -> bool {
 mod tests {
     use super::trimmed;
     use crate::fti::closeness::Precomputed;
-    use crate::fti::pipeline::refit;
+    use crate::fti::refit::refit;
     use crate::fti::sim;
     use crate::fti::TRACK_TEST_Z;
     use crate::geometry::model::MAX_DIM;

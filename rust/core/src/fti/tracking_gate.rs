@@ -38,7 +38,7 @@
 
 use std::f64::consts::PI;
 
-use super::candidates::Candidate;
+use super::candidate::Candidate;
 use super::support::{azimuth_window, in_box, Gate, ScanAngles};
 use super::Problem;
 use crate::geometry::angles::wrap;
@@ -220,6 +220,18 @@ impl Prediction {
     /// Wider than the noise alone would make the window: the nearest row is not trusted.
     fn wide(&self, sigma: &[f64; 2]) -> bool {
         (0..self.count).any(|a| self.spread[a] > sigma[a] * sigma[a])
+    }
+}
+
+impl Gate<'_> {
+    /// The support gate's verdict: the fixed gate (module `support`), then this walk on its
+    /// survivors. The walk's score when the candidate passes both, `None` when not.
+    pub fn keeps(&self, problem: &Problem<'_>, c: &Candidate) -> Option<f64> {
+        let (table, scans, gate, n_detect) = (self.table, self.scans, self.gate, self.n_detect);
+        if !table.supports(problem, scans, c, gate, n_detect) {
+            return None;
+        }
+        score(problem, self, c)
     }
 }
 
