@@ -13,11 +13,10 @@ use super::interrupt;
 use super::progress::Sink;
 use passive_assoc_core::data::Sensors;
 use passive_assoc_core::error::ensure_finite;
-use passive_assoc_core::fti::closeness::closeness_batch;
-use passive_assoc_core::fti::descent::descend_from;
 use passive_assoc_core::fti::{
-    initiate_reporting, DescentOptions, Initiation, InitiationOptions, Precomputed, Spreads,
-    StageCounts as CoreCounts, StageSeconds as CoreSeconds,
+    closeness_batch, descend_from, initiate_reporting, DescentOptions, Initiation,
+    InitiationOptions, Precomputed, Spreads, StageCounts as CoreCounts,
+    StageSeconds as CoreSeconds,
 };
 use passive_assoc_core::parallel::with_threads;
 

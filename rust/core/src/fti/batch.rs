@@ -205,7 +205,7 @@ mod tests {
     use super::*;
     use crate::fti::candidates::generate_in;
     use crate::fti::scans::{resolve_pairs, Scans};
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
 
     /// Batches of 7 that let go of their ray pairs at every scan pair find the candidates,
     /// in the same order, and the counts of one batch per 16 384: in 2-D and 3-D, over the

@@ -220,7 +220,7 @@ mod tests {
     use super::*;
     use crate::fti::candidates::ray_pairs;
     use crate::fti::scans::Scans;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
     use crate::geometry::model::{Motion, StateLayout};
 
     /// On cluttered 2-D and 3-D scenes with a `v_max` that reaches a few km, the grid prunes

@@ -3,7 +3,7 @@
 
 use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
 
-/// The linear change of variables each descent works in. See [`descent`](super::descent).
+/// The linear change of variables each descent works in. See module `descent`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Scaling {
     /// `x = x_c + L·y` with `L·Lᵀ` the candidate fit's covariance (default).
@@ -23,7 +23,7 @@ impl std::str::FromStr for Scaling {
 }
 
 /// Settings of the steepest-ascent search (eq. 19), built with validated `with_*` setters.
-/// See [`descent`](super::descent) for the method.
+/// See module `descent` for the method.
 ///
 /// ```
 /// use passive_assoc_core::fti::{DescentOptions, Scaling};

@@ -233,7 +233,7 @@ fn assign_scan(
 mod tests {
     use super::{for_each_residual2, residual2};
     use crate::fti::scans::Scans;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
 
     /// The per-scan prediction gives every row the number `residual2` gives, bit for bit, in
     /// 3-D and in the plane (where the stored elevation is NaN and must not be read), for the

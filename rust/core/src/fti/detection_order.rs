@@ -127,7 +127,8 @@ mod tests {
     use crate::data::{Measurements, Sensors};
     use crate::fti::descent::Optimum;
     use crate::fti::scans::Scans;
-    use crate::fti::{sim, DetectionOrder, InitiationOptions};
+    use crate::fti::tests::sim;
+    use crate::fti::{DetectionOrder, InitiationOptions};
     use crate::geometry::model::{predict, Motion, Space, StateLayout, MAX_DIM};
 
     fn optimum(x: [f64; 4]) -> Optimum {

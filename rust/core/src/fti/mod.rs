@@ -2,66 +2,75 @@
 //! scans, asynchronous sampling and missed detections, in 3-D (azimuth/elevation, 6-D X0) and
 //! 2-D (bearing only, 4-D X0) from the same code.
 //!
-//! The pipeline ([`initiate`]), one module per stage:
+//! The pipeline ([`initiate`]), one private module per stage, from the bottom up; the public
+//! API is what this module re-exports:
 //!
-//! 1. [`scans`]: a scan is the rows of one sensor with one exact time value; each sensor's
-//!    first and last scan in the table feed the candidates (and, in a second pass on the rows
-//!    the first pass's detection left, the next-outermost scans: `candidate_scans`).
-//! 2. [`candidates`]: for each sensor pair (a, b), one measurement from each of a-first,
-//!    b-first, a-last, b-last (eq. 20–22). The product is never materialised: first-scan ray
-//!    pairs and last-scan ray pairs are formed and pruned separately, then combined in chunks
-//!    and fitted by Gauss-Newton. Every pruning rule is optional; with all off every 4-tuple is
+//! 1. `scans` ([`Scans`]): a scan is the rows of one sensor with one exact time value; each
+//!    sensor's first and last scan in the table feed the candidates (and, in a second pass on
+//!    the rows the first pass's detection left, the next-outermost scans: `candidate_scans`).
+//! 2. `candidates` ([`generate_candidates`]): for each sensor pair (a, b), one measurement
+//!    from each of a-first, b-first, a-last, b-last (eq. 20–22). The product is never
+//!    materialised: first-scan ray pairs and last-scan ray pairs are formed and pruned
+//!    separately, then combined (`combine`, with the motion-corrected ray gate of
+//!    `motion_gate`) and fitted by Gauss-Newton in parallel batches (`batch`). One candidate,
+//!    its ray pairs and its fit are `candidate` ([`Candidate`]); the fitted candidates wait in
+//!    a `pool` ([`Pool`]). Every pruning rule is optional; with all off every 4-tuple is
 //!    fitted, which is the paper's unpruned algorithm.
-//! 3. [`closeness`](mod@closeness): the fuzzy synthetic closeness R(X0) (eq. 17–18) and its gradient.
-//! 4. [`support`]: candidates fewer than Nd scans support are dropped (project extension).
-//! 5. [`descent`]: steepest ascent of R from each surviving candidate (eq. 19), merged optima.
-//! 6. [`detection`]: detection (eq. 23) and ambiguity resolution (eq. 24).
-//! 7. [`pipeline`]: the driver and the final Gauss-Newton refit of each track.
+//! 3. `closeness` ([`closeness`]): the fuzzy synthetic closeness R(X0) (eq. 17–18) and its
+//!    gradient.
+//! 4. `support`: candidates fewer than Nd scans support are dropped (project extension): the
+//!    fixed gate there, then the walk of `tracking_gate`.
+//! 5. `descent` ([`descend`]): steepest ascent of R from each surviving candidate (eq. 19);
+//!    `merge` merges the optima, and `stages` searches in stages when there are many.
+//! 6. `detection` and `detection_order`: detection (eq. 23) and ambiguity resolution
+//!    (eq. 24).
+//! 7. `pipeline` ([`initiate`]): the driver; the end of the pipeline is the Gauss-Newton
+//!    refit of each track (`refit`), the join of split tracks (`track_join`) and the track
+//!    test (`track_quality`, with the coverage test of `coverage`).
+//!
+//! The settings are `options` ([`InitiationOptions`]) and `descent_options`
+//! ([`DescentOptions`]); the tests of the whole initiation and their simulator are `tests`.
 //!
 //! Parallel stages (fits, descents, final fits) run on rayon and collect in input order; the
 //! sequential stages are order-defined, so results are bit-identical for any thread count.
 
 mod batch;
 mod candidate;
-pub mod candidates;
-pub mod closeness;
+mod candidates;
+mod closeness;
 mod combine;
-mod coverage_test;
-pub mod descent;
+mod coverage;
+mod descent;
 mod descent_options;
-pub mod detection;
-pub mod detection_order;
+mod detection;
+mod detection_order;
 mod merge;
 mod motion_gate;
 mod options;
-pub mod pipeline;
-pub mod pool;
+mod pipeline;
+mod pool;
 mod refit;
-pub mod scans;
-pub mod stages;
-pub mod support;
+mod scans;
+mod stages;
+mod support;
 mod track_join;
-mod track_test;
+mod track_quality;
 mod tracking_gate;
 
 #[cfg(test)]
-mod reference;
-#[cfg(test)]
-mod sim;
-#[cfg(test)]
 mod tests;
-#[cfg(test)]
-mod tests_missed;
-#[cfg(test)]
-mod tests_progress;
 
 pub use candidate::Candidate;
-pub use closeness::{closeness, closeness_and_gradient, Precomputed, Spreads};
+pub use candidates::generate as generate_candidates;
+pub use closeness::{closeness, closeness_and_gradient, closeness_batch, Precomputed, Spreads};
+pub use descent::{descend, descend_from};
 pub use options::{
     DescentOptions, DetectionOrder, InitiationOptions, Scaling, CHI2_2DOF_999, TRACK_TEST_Z,
 };
 pub use pipeline::{initiate, initiate_reporting};
-pub use track_test::chi2_quantile;
+pub use pool::{CandidateSet, Pool};
+pub use scans::{resolve_pairs, Scans};
+pub use track_quality::chi2_quantile;
 
 use crate::data::{Measurements, Sensors};
 use crate::geometry::model::{Observation, StateLayout};
@@ -104,10 +113,10 @@ pub struct StageCounts {
     /// Fits that gave a finite estimate and a positive-definite covariance.
     pub fitted: usize,
     pub chi2_gate: usize,
-    /// Candidates that more than Nd scans support (see [`support`]; = `chi2_gate` when off).
+    /// Candidates that more than Nd scans support (see module `support`; = `chi2_gate` when off).
     pub supported: usize,
     /// Descents run: one per supported candidate, or fewer when a pass searched in stages
-    /// (see [`stages`]).
+    /// (see module `stages`).
     pub optima: usize,
     /// Optima left after merging.
     pub merged: usize,

@@ -74,7 +74,8 @@ mod tests {
     use crate::fti::candidate::{fit_candidate, RayPair};
     use crate::fti::candidates::ray_pairs;
     use crate::fti::scans::Scans;
-    use crate::fti::{sim, InitiationOptions, CHI2_2DOF_999};
+    use crate::fti::tests::sim;
+    use crate::fti::{InitiationOptions, CHI2_2DOF_999};
 
     /// Every 4-tuple of the outer scans of two cluttered paper runs, brute force: the gate
     /// keeps every candidate whose fit passes the χ² gate and rejects most of the others.

@@ -11,7 +11,7 @@ pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 /// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
 pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
 
-/// How detection orders the optima: see [`detection_order`](super::detection_order).
+/// How detection orders the optima: see module `detection_order`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DetectionOrder {
     /// Decreasing R over every row, computed once (the paper's eq. 23).
@@ -46,14 +46,14 @@ impl std::str::FromStr for DetectionOrder {
 /// | `reject_behind` | on | a passive sensor cannot see a target behind it |
 /// | `v_max` | 500 m/s | 2.5× the paper's fastest target; loosening it mostly costs fits |
 /// | `chi2_gate` | 13.8155 | χ²(2) 99.9 % (3-D only) |
-/// | `one_per_scan` | on | a point target yields one report per scan; see [`detection`](super::detection) |
-/// | `detection_order` | membership | R favours ghosts between targets; see [`detection_order`](super::detection_order) |
+/// | `one_per_scan` | on | a point target yields one report per scan; see module `detection` |
+/// | `detection_order` | membership | R favours ghosts between targets; see module `detection_order` |
 /// | `merge_tol` | 1 σ | distinct targets are many σ apart; duplicates converge within 0.1 σ |
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (issue 16's 2-D scene); with the support gate off every candidate is stored (≈ 0.45 kB each) |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
 /// | `track_test` | z = 4.753 (tail 10⁻⁶) | see [`with_track_test`](Self::with_track_test) |
-/// | `support_gate` | on | see [`support`](super::support) |
+/// | `support_gate` | on | see module `support` |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
 /// | `gate_pd` | `None` | misses not priced; see [`with_gate_pd`](Self::with_gate_pd) |
 /// | `search_stage` | 8 192 | see [`with_search_stage`](Self::with_search_stage) |
@@ -153,7 +153,7 @@ impl InitiationOptions {
     }
 
     /// Ray gate in σ units (3-D only; finite, `> 0`; `None` = off). See
-    /// [`candidates`](super::candidates).
+    /// module `candidates`.
     pub fn with_ray_gate(mut self, ray_gate: Option<f64>) -> CoreResult<Self> {
         ensure_positive("ray_gate", ray_gate)?;
         self.ray_gate = ray_gate;
@@ -167,7 +167,7 @@ impl InitiationOptions {
     }
 
     /// Largest plausible target speed, m/s (finite, `> 0`; `None` = off). See
-    /// [`candidates`](super::candidates).
+    /// module `candidates`.
     pub fn with_v_max(mut self, v_max: Option<f64>) -> CoreResult<Self> {
         ensure_positive("v_max", v_max)?;
         self.v_max = v_max;
@@ -182,7 +182,7 @@ impl InitiationOptions {
     }
 
     /// A target takes at most one measurement per (sensor, scan) (on by default). See
-    /// [`detection`](super::detection).
+    /// module `detection`.
     pub fn with_one_per_scan(mut self, one_per_scan: bool) -> Self {
         self.one_per_scan = one_per_scan;
         self
@@ -190,14 +190,14 @@ impl InitiationOptions {
 
     /// The order in which detection visits the optima: [`DetectionOrder::Membership`]
     /// (default) or the paper's [`DetectionOrder::Closeness`]. See
-    /// [`detection_order`](super::detection_order).
+    /// module `detection_order`.
     pub fn with_detection_order(mut self, detection_order: DetectionOrder) -> Self {
         self.detection_order = detection_order;
         self
     }
 
     /// Optima closer than this scaled distance are one optimum (finite, `>= 0`). See
-    /// [`descent`](super::descent).
+    /// module `descent`.
     pub fn with_merge_tol(mut self, merge_tol: f64) -> CoreResult<Self> {
         if !(merge_tol.is_finite() && merge_tol >= 0.0) {
             return Err(CoreError::out_of_range(
@@ -240,7 +240,7 @@ impl InitiationOptions {
     /// Candidates searched before detection runs (project extension; at least 1): a pass
     /// with more candidates than this searches them in stages, by decreasing tracking-gate
     /// score, and later stages only search candidates the gates still keep on the rows
-    /// detection has left (module [`stages`](super::stages)). `None`: every candidate is
+    /// detection has left (module `stages`). `None`: every candidate is
     /// searched before detection, as in the paper, whatever their number.
     pub fn with_search_stage(mut self, search_stage: Option<usize>) -> CoreResult<Self> {
         if search_stage == Some(0) {
@@ -257,7 +257,7 @@ impl InitiationOptions {
     /// detections; at least 1). 1 is the paper: each sensor's first and last scan. With k > 1
     /// a second pass, on the rows the first pass's detection left, also combines each sensor's
     /// i-th scan from the start with its j-th from the end for every other i, j < k (see
-    /// [`Scans::scan_slots`](super::scans::Scans::scan_slots)), so a target missed in an outer
+    /// [`Scans::scan_slots`](super::Scans::scan_slots)), so a target missed in an outer
     /// scan is still initiated.
     pub fn with_candidate_scans(mut self, candidate_scans: usize) -> CoreResult<Self> {
         if candidate_scans < 1 {
@@ -271,7 +271,7 @@ impl InitiationOptions {
     }
 
     /// Descend only from candidates that more than Nd scans support (on by default; off = the
-    /// paper, every candidate is descended). See [`support`](super::support).
+    /// paper, every candidate is descended). See module `support`.
     pub fn with_support_gate(mut self, support_gate: bool) -> Self {
         self.support_gate = support_gate;
         self

@@ -13,7 +13,7 @@ use super::scans::{resolve_pairs, Scans};
 use super::stages::search_and_detect;
 use super::support::{Gate, SupportTable};
 use super::track_join;
-use super::track_test;
+use super::track_quality;
 use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
@@ -262,7 +262,7 @@ fn finished(
     // The track test runs once, on the refined tracks: an early classification can give a
     // target wrong rows that a refine pass then corrects.
     let n_rows = labels.len();
-    Ok(track_test::tested(
+    Ok(track_quality::tested(
         problem,
         pre,
         scans,

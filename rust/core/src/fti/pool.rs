@@ -147,7 +147,8 @@ mod tests {
     use super::Pool;
     use crate::fti::candidate::Candidate;
     use crate::fti::pipeline::candidates_of;
-    use crate::fti::{sim, InitiationOptions};
+    use crate::fti::tests::sim;
+    use crate::fti::InitiationOptions;
 
     /// A compact pool gives back every candidate exactly as it was fitted, score included,
     /// in 2-D and 3-D, and compacts only past its limit.

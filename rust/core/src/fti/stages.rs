@@ -180,8 +180,8 @@ fn search_order(
 
 #[cfg(test)]
 mod tests {
-    use crate::fti::sim;
     use crate::fti::tests::run;
+    use crate::fti::tests::sim;
     use crate::fti::InitiationOptions;
     use crate::parallel::with_threads;
 

@@ -229,8 +229,8 @@ pub struct Gate<'a> {
 #[cfg(test)]
 mod tests {
     use super::{azimuth_window, Neighbours};
-    use crate::fti::sim;
     use crate::fti::tests::run;
+    use crate::fti::tests::sim;
     use crate::fti::InitiationOptions;
     use std::f64::consts::PI;
 

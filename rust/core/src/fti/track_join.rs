@@ -19,7 +19,7 @@ use super::closeness::Precomputed;
 use super::detection::residual2;
 use super::refit::{padded, refit};
 use super::scans::Scans;
-use super::track_test::trimmed;
+use super::track_quality::trimmed;
 use super::{Problem, Track};
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, MAX_DIM};
@@ -133,7 +133,7 @@ fn try_join(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
     use crate::fti::TRACK_TEST_Z;
 
     /// One target's rows shared between two tracks (even and odd scans)

@@ -327,7 +327,8 @@ mod tests {
     use super::*;
     use crate::fti::pipeline::candidates_of;
     use crate::fti::support::SupportTable;
-    use crate::fti::{sim, InitiationOptions};
+    use crate::fti::tests::sim;
+    use crate::fti::InitiationOptions;
 
     /// In 2-D with clutter (where the χ² gate has no information): every candidate made of
     /// one target's four rows passes, and the gate removes candidates the fixed gate keeps;

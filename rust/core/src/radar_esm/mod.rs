@@ -33,8 +33,6 @@ mod options;
 mod rows;
 
 #[cfg(test)]
-mod full_tests;
-#[cfg(test)]
 mod tests;
 
 pub use coarse::{coarse_gate, runs_sequentially, CoarseGate, MAX_PAIRS};

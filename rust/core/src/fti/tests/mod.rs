@@ -1,14 +1,21 @@
-//! Tests of the whole initiation on simulated data (see `sim`).
+//! Tests of the whole initiation on simulated data (module `sim`), and what the stages' unit
+//! tests share: the simulator and [`run`].
+
+mod missed;
+mod progress;
+mod reference;
+pub(super) mod sim;
 
 use super::closeness::{closeness, closeness_and_gradient, Precomputed};
 use super::descent::descend;
 use super::pipeline::candidates_of;
-use super::sim::{self, Scenario, PAPER_TARGETS};
 use super::{initiate, DescentOptions, Initiation, InitiationOptions, Spreads};
 use crate::error::CoreError;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, Motion, Space, StateLayout, MAX_DIM};
 use crate::parallel::with_threads;
+use reference::rules_off;
+use sim::{Scenario, PAPER_TARGETS};
 
 pub(super) fn run(sc: &Scenario, options: &InitiationOptions) -> Result<Initiation, CoreError> {
     let sensors = sc.sensors();
@@ -241,8 +248,6 @@ fn results_do_not_depend_on_the_thread_count() {
     assert_eq!(one.stage_counts, two.stage_counts);
     assert_eq!(one.descent_iterations, two.descent_iterations);
 }
-
-use super::reference::rules_off;
 
 #[test]
 fn bad_input_is_reported_with_the_argument() {

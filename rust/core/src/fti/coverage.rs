@@ -86,7 +86,7 @@ mod tests {
     use crate::fti::closeness::Precomputed;
     use crate::fti::refit::refit;
     use crate::fti::scans::Scans;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
     use crate::geometry::model::MAX_DIM;
 
     /// Two 2-D targets, three sensors, 8 scans: each target's rows, one target's rows from two

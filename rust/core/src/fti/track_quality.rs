@@ -14,7 +14,7 @@
 //! target with a stray row loses the row; a clutter track cannot shed rows until it fits.
 
 use super::closeness::Precomputed;
-use super::coverage_test;
+use super::coverage;
 use super::detection::residual2;
 use super::refit::refit;
 use super::scans::Scans;
@@ -43,7 +43,7 @@ const OUTLIER_Z: f64 = 3.090_232_306_167_813;
 /// 10⁻⁵ in docs/methods.md §1 (*Track test*).
 const TRIMMED_Z: f64 = 3.719_016_485_455_709;
 
-/// The tracks that pass at standard-normal level `z` (all when `None`; trimmed, then the coverage test of module `coverage_test`),
+/// The tracks that pass at standard-normal level `z` (all when `None`; trimmed, then the coverage test of module `coverage`),
 /// relabelled; every other row is clutter.
 pub(super) fn tested(
     problem: &Problem<'_>,
@@ -60,7 +60,7 @@ pub(super) fn tested(
             let trimmed = (tracks.into_iter())
                 .filter_map(|t| trimmed(problem, pre, t, n_detect, z))
                 .collect();
-            coverage_test::covered(problem, scans, trimmed)
+            coverage::covered(problem, scans, trimmed)
         }
     };
     let mut labels = vec![-1i64; n_rows];
@@ -119,7 +119,7 @@ mod tests {
     use super::trimmed;
     use crate::fti::closeness::Precomputed;
     use crate::fti::refit::refit;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
     use crate::fti::TRACK_TEST_Z;
     use crate::geometry::model::MAX_DIM;
 

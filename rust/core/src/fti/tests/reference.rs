@@ -1,12 +1,11 @@
 //! The unpruned paper algorithm, written as four nested loops, and the test that the
 //! pipeline with every pruning rule off is exactly it.
 
-use super::candidate::{fit_candidate, Candidate, RayPair};
-use super::pipeline::candidates_of;
-use super::scans::Scans;
-use super::sim;
-use super::tests::run;
-use super::{InitiationOptions, Problem};
+use super::{run, sim};
+use crate::fti::candidate::{fit_candidate, Candidate, RayPair};
+use crate::fti::pipeline::candidates_of;
+use crate::fti::scans::Scans;
+use crate::fti::{InitiationOptions, Problem};
 use crate::geometry::model::{Motion, StateLayout};
 
 /// Every 4-tuple of every pair, fitted from the same start as the pipeline uses.
