@@ -55,9 +55,9 @@ impl InitiationSettings {
             .with_scaling(parse("descent_scaling", &self.descent_scaling)?);
         Ok(InitiationOptions::default()
             .with_pairs(pairs)
-            .with_gate(self.gate_sigmas)?
+            .with_gate_sigmas(self.gate_sigmas)?
             .with_n_detect(self.n_detect.map(|n| count("n_detect", n, 1)).transpose()?)?
-            .with_ray_gate(self.ray_gate_sigmas)?
+            .with_ray_gate_sigmas(self.ray_gate_sigmas)?
             .with_reject_behind(self.reject_behind)
             .with_v_max(self.v_max)?
             .with_chi2_gate(self.chi2_gate)?

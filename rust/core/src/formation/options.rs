@@ -61,9 +61,9 @@ impl Region {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FormationOptions {
-    baseline: usize,
+    baseline_sensor: usize,
     reference: Reference,
-    radius: ClusterRadius,
+    cluster_radius: ClusterRadius,
     one_to_one: bool,
     r_max: f64,
     region: Option<Region>,
@@ -78,9 +78,9 @@ impl Default for FormationOptions {
     /// no region, full lines (not only in front of the sensors), [`triangulation_fit_options`].
     fn default() -> Self {
         Self {
-            baseline: 0,
+            baseline_sensor: 0,
             reference: Reference::Smallest,
-            radius: ClusterRadius::Planar,
+            cluster_radius: ClusterRadius::Planar,
             one_to_one: false,
             r_max: 200e3,
             region: None,
@@ -100,8 +100,8 @@ pub fn triangulation_fit_options() -> FitOptions {
 }
 
 impl FormationOptions {
-    pub fn with_baseline(mut self, baseline: usize) -> Self {
-        self.baseline = baseline;
+    pub fn with_baseline_sensor(mut self, baseline_sensor: usize) -> Self {
+        self.baseline_sensor = baseline_sensor;
         self
     }
 
@@ -110,8 +110,8 @@ impl FormationOptions {
         self
     }
 
-    pub fn with_radius(mut self, radius: ClusterRadius) -> Self {
-        self.radius = radius;
+    pub fn with_cluster_radius(mut self, cluster_radius: ClusterRadius) -> Self {
+        self.cluster_radius = cluster_radius;
         self
     }
 
@@ -158,14 +158,14 @@ impl FormationOptions {
         self
     }
 
-    pub fn baseline(&self) -> usize {
-        self.baseline
+    pub fn baseline_sensor(&self) -> usize {
+        self.baseline_sensor
     }
     pub fn reference(&self) -> Reference {
         self.reference
     }
-    pub fn radius(&self) -> ClusterRadius {
-        self.radius
+    pub fn cluster_radius(&self) -> ClusterRadius {
+        self.cluster_radius
     }
     pub fn one_to_one(&self) -> bool {
         self.one_to_one

@@ -9,8 +9,8 @@
 //! module `candidate`; this module is the stage's driver and the pair-level rules. The
 //! pruning rules, each optional:
 //!
-//! * **ray gate** (3-D only; `ray_gate` in σ): the two rays' closest-point distance must be
-//!   ≤ `ray_gate·√((σ_a·r_a)² + (σ_b·r_b)²) + v_max·|t_a − t_b|`. The first term is the
+//! * **ray gate** (3-D only; `ray_gate_sigmas` in σ): the two rays' closest-point distance must be
+//!   ≤ `ray_gate_sigmas·√((σ_a·r_a)² + (σ_b·r_b)²) + v_max·|t_a − t_b|`. The first term is the
 //!   lateral spread of each ray at its range r from angle noise, with σ_j = max(σβ_j, σε_j)
 //!   (conservative: never rejects more than the larger angle's noise allows). The second is
 //!   how far the target moves between asynchronous samples: without it the gate would reject
@@ -144,7 +144,7 @@ pub(super) fn ray_pairs(
                     what: "ray pairs of one scan pair",
                     count: out.len() + 1,
                     cap: options.max_candidates(),
-                    hint: "tighten ray_gate, enable reject_behind, or raise max_candidates",
+                    hint: "tighten ray_gate_sigmas, enable reject_behind, or raise max_candidates",
                 });
             }
             reserve_one(&mut out, "ray pairs of one scan pair", OOM_HINT)?;
@@ -155,7 +155,7 @@ pub(super) fn ray_pairs(
 }
 
 fn ray_gate_passes(problem: &Problem<'_>, pair: &RayPair, options: &InitiationOptions) -> bool {
-    let Some(gate) = options.ray_gate() else {
+    let Some(gate) = options.ray_gate_sigmas() else {
         return true;
     };
     if problem.layout.space == Space::Planar {

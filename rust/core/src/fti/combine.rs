@@ -71,7 +71,7 @@ pub(super) fn combine_with(
             what: "first × last ray-pair tests of one scan pair",
             count: work,
             cap,
-            hint: "set or lower v_max, tighten ray_gate, enable reject_behind, or raise \
+            hint: "set or lower v_max, tighten ray_gate_sigmas, enable reject_behind, or raise \
                    max_candidates (the cap is 200 tests per allowed candidate)",
         });
     }
@@ -104,7 +104,7 @@ pub(super) fn combine_with(
                         what: "candidates reaching the fitting stage",
                         count: set.counts.v_max,
                         cap: options.max_candidates(),
-                        hint: "tighten ray_gate or v_max, enable reject_behind, use fewer \
+                        hint: "tighten ray_gate_sigmas or v_max, enable reject_behind, use fewer \
                                sensor pairs, or raise max_candidates",
                     });
                 }

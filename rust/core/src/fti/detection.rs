@@ -134,7 +134,7 @@ pub(super) fn detect_by_closeness(
     options: &InitiationOptions,
     available: &mut [bool],
 ) -> Vec<usize> {
-    let gate2 = options.gate() * options.gate();
+    let gate2 = options.gate_sigmas() * options.gate_sigmas();
     let n_detect = options.n_detect_for(scans.len());
     let one = options.one_per_scan();
     let mut accepted = Vec::new();

@@ -83,7 +83,7 @@ fn detect_by_membership(
     options: &InitiationOptions,
     available: &mut [bool],
 ) -> Vec<usize> {
-    let gate2 = options.gate() * options.gate();
+    let gate2 = options.gate_sigmas() * options.gate_sigmas();
     let n_detect = options.n_detect_for(scans.len());
     let one = options.one_per_scan();
     let taken = |i: usize, available: &[bool]| {

@@ -1,5 +1,5 @@
 //! The motion-corrected ray gate (3-D, a project extension of the ray gate; on whenever
-//! `ray_gate` is): a candidate's own velocity replaces the `v_max` slack of the pair rule.
+//! `ray_gate_sigmas` is): a candidate's own velocity replaces the `v_max` slack of the pair rule.
 //!
 //! The ray gate judges one ray pair alone, so for asynchronous sensors it must allow the
 //! target to move `v_max·|t_a − t_b|` between the two samples (2.5 km at the paper's 5 s and
@@ -9,7 +9,7 @@
 //! `v = (P_last − P_first)/(t_last − t_first)` from the two meeting points; moving ray b by
 //! `v·(t_a − t_b)` puts the target on both lines at the same instant, so for a true candidate
 //! the two lines meet up to noise. The rule: in both pairs, the corrected closest approach is
-//! at most `ray_gate · (√((σ_a·r_a)² + (σ_b·r_b)²) + |t_a − t_b|·δv)`, where δv bounds the
+//! at most `ray_gate_sigmas · (√((σ_a·r_a)² + (σ_b·r_b)²) + |t_a − t_b|·δv)`, where δv bounds the
 //! velocity estimate's own error, `(noise_first + noise_last)/(t_last − t_first)` — the
 //! meeting points are each good to their noise. Rejected candidates are never fitted.
 
@@ -26,7 +26,7 @@ pub(super) fn passes(
     last: &RayPair,
     options: &InitiationOptions,
 ) -> bool {
-    let Some(gate) = options.ray_gate() else {
+    let Some(gate) = options.ray_gate_sigmas() else {
         return true;
     };
     if problem.layout.space == Space::Planar {

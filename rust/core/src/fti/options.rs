@@ -40,9 +40,9 @@ impl std::str::FromStr for DetectionOrder {
 /// | field | default | why |
 /// |---|---|---|
 /// | `pairs` | every pair a < b | |
-/// | `gate` | 5 | the paper's g |
+/// | `gate_sigmas` | 5 | the paper's g |
 /// | `n_detect` | auto | ⌈0.6·N⌉ − 1 for N scans in the table: the paper's Nd = 9 at N = 16; see [`n_detect_for`](Self::n_detect_for) |
-/// | `ray_gate` | 5 σ | misses a true ray pair with probability < 10⁻⁵ (3-D only) |
+/// | `ray_gate_sigmas` | 5 σ | misses a true ray pair with probability < 10⁻⁵ (3-D only) |
 /// | `reject_behind` | on | a passive sensor cannot see a target behind it |
 /// | `v_max` | 500 m/s | 2.5× the paper's fastest target; loosening it mostly costs fits |
 /// | `chi2_gate` | 13.8155 | χ²(2) 99.9 % (3-D only) |
@@ -65,12 +65,12 @@ impl std::str::FromStr for DetectionOrder {
 /// use passive_assoc_core::fti::{DescentOptions, InitiationOptions};
 /// let o = InitiationOptions::default()
 ///     .with_pairs(Some(vec![[0, 1]]))
-///     .with_gate(4.0).unwrap()
+///     .with_gate_sigmas(4.0).unwrap()
 ///     .with_v_max(None).unwrap()
 ///     .with_descent(DescentOptions::default().with_max_iter(50));
-/// assert_eq!((o.gate(), o.v_max(), o.descent().max_iter()), (4.0, None, 50));
+/// assert_eq!((o.gate_sigmas(), o.v_max(), o.descent().max_iter()), (4.0, None, 50));
 /// assert_eq!(o.pairs(), Some(&[[0, 1]][..]));
-/// assert!(InitiationOptions::default().with_gate(0.0).is_err());
+/// assert!(InitiationOptions::default().with_gate_sigmas(0.0).is_err());
 /// assert!(InitiationOptions::default().with_n_detect(Some(0)).is_err());
 /// assert_eq!(InitiationOptions::default().n_detect_for(16), 9);
 /// assert!(InitiationOptions::default().with_gate_pd(Some(1.0)).is_err());
@@ -78,9 +78,9 @@ impl std::str::FromStr for DetectionOrder {
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitiationOptions {
     pairs: Option<Vec<[usize; 2]>>,
-    gate: f64,
+    gate_sigmas: f64,
     n_detect: Option<usize>,
-    ray_gate: Option<f64>,
+    ray_gate_sigmas: Option<f64>,
     reject_behind: bool,
     v_max: Option<f64>,
     chi2_gate: Option<f64>,
@@ -98,17 +98,17 @@ pub struct InitiationOptions {
 }
 
 impl Default for InitiationOptions {
-    /// The values of the table above: every pair, `gate = 5`, `n_detect` automatic,
-    /// `ray_gate = Some(5)`, `reject_behind`, `v_max = Some(500)`,
+    /// The values of the table above: every pair, `gate_sigmas = 5`, `n_detect` automatic,
+    /// `ray_gate_sigmas = Some(5)`, `reject_behind`, `v_max = Some(500)`,
     /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the membership detection
     /// order, `merge_tol = 1`, the default descent, `max_candidates = 500_000`,
     /// `refine_passes = 2`, `candidate_scans = 4`, `search_stage = Some(8192)`.
     fn default() -> Self {
         Self {
             pairs: None,
-            gate: 5.0,
+            gate_sigmas: 5.0,
             n_detect: None,
-            ray_gate: Some(5.0),
+            ray_gate_sigmas: Some(5.0),
             reject_behind: true,
             v_max: Some(500.0),
             chi2_gate: Some(CHI2_2DOF_999),
@@ -136,9 +136,9 @@ impl InitiationOptions {
     }
 
     /// Relation gate g of eq. 23, in σ (paper 5; finite, `> 0`).
-    pub fn with_gate(mut self, gate: f64) -> CoreResult<Self> {
-        ensure_positive("gate", Some(gate))?;
-        self.gate = gate;
+    pub fn with_gate_sigmas(mut self, gate_sigmas: f64) -> CoreResult<Self> {
+        ensure_positive("gate_sigmas", Some(gate_sigmas))?;
+        self.gate_sigmas = gate_sigmas;
         Ok(self)
     }
 
@@ -154,9 +154,9 @@ impl InitiationOptions {
 
     /// Ray gate in σ units (3-D only; finite, `> 0`; `None` = off). See
     /// module `candidates`.
-    pub fn with_ray_gate(mut self, ray_gate: Option<f64>) -> CoreResult<Self> {
-        ensure_positive("ray_gate", ray_gate)?;
-        self.ray_gate = ray_gate;
+    pub fn with_ray_gate_sigmas(mut self, ray_gate_sigmas: Option<f64>) -> CoreResult<Self> {
+        ensure_positive("ray_gate_sigmas", ray_gate_sigmas)?;
+        self.ray_gate_sigmas = ray_gate_sigmas;
         Ok(self)
     }
 
@@ -328,8 +328,8 @@ impl InitiationOptions {
         self.pairs.as_deref()
     }
 
-    pub fn gate(&self) -> f64 {
-        self.gate
+    pub fn gate_sigmas(&self) -> f64 {
+        self.gate_sigmas
     }
 
     /// Nd for a table of `n_scans` scans (over all sensors): the explicit value, or
@@ -346,8 +346,8 @@ impl InitiationOptions {
         self.n_detect
     }
 
-    pub fn ray_gate(&self) -> Option<f64> {
-        self.ray_gate
+    pub fn ray_gate_sigmas(&self) -> Option<f64> {
+        self.ray_gate_sigmas
     }
 
     pub fn reject_behind(&self) -> bool {

@@ -105,7 +105,7 @@ pub fn initiate_reporting(
         &problem,
         &scans,
         &states,
-        options.gate(),
+        options.gate_sigmas(),
         options.one_per_scan(),
     )?;
     seconds.detection += clock.elapsed().as_secs_f64();
@@ -155,7 +155,7 @@ impl Run {
         let gate = masked.as_ref().or(self.support.as_ref()).map(|table| Gate {
             table,
             scans,
-            gate: options.gate(),
+            gate: options.gate_sigmas(),
             n_detect: options.n_detect_for(scans.len()),
             miss_score: options.gate_pd().map_or(0.0, |pd| (1.0 - pd).ln()),
         });
@@ -215,7 +215,7 @@ fn free_dissolved(
     if options.track_test().is_none() || states.is_empty() {
         return Ok(());
     }
-    let (gate, one_per_scan) = (options.gate(), options.one_per_scan());
+    let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
     let classified = classify(problem, scans, states, gate, one_per_scan)?;
     let (_, kept) = finished(problem, pre, scans, states, classified.clone(), options)?;
     let mut survived = vec![false; states.len()];
@@ -242,7 +242,7 @@ fn finished(
     labels: Vec<i64>,
     options: &InitiationOptions,
 ) -> CoreResult<(Vec<Track>, Vec<i64>)> {
-    let (gate, one_per_scan) = (options.gate(), options.one_per_scan());
+    let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
     let (mut tracks, mut labels) = final_tracks(problem, pre, states, labels);
     let n_detect = options.n_detect_for(scans.len());
     if let Some(z) = options.track_test() {

@@ -350,7 +350,7 @@ mod tests {
             for c in &candidates {
                 let owner = sc.truth[c.rows[0]];
                 let is_true = owner >= 0 && c.rows.iter().all(|&m| sc.truth[m] == owner);
-                if !support.supports(&problem, &scans, c, options.gate(), n_detect) {
+                if !support.supports(&problem, &scans, c, options.gate_sigmas(), n_detect) {
                     assert!(!is_true, "the fixed gate lost a true candidate");
                     continue;
                 }
@@ -358,7 +358,7 @@ mod tests {
                 let gating = |miss_score| Gate {
                     table: &support,
                     scans: &scans,
-                    gate: options.gate(),
+                    gate: options.gate_sigmas(),
                     n_detect,
                     miss_score,
                 };

@@ -20,17 +20,17 @@ pub const DEFAULT_MAX_CANDIDATES: usize = 1_000_000;
 ///
 /// ```
 /// use passive_assoc_core::static_los::EnumerateOptions;
-/// let o = EnumerateOptions::default().with_gate(9.0).unwrap()
+/// let o = EnumerateOptions::default().with_chi2_gate(9.0).unwrap()
 ///     .with_min_intensity(3).unwrap()
 ///     .with_max_candidates(10_000).unwrap();
-/// assert_eq!((o.gate(), o.min_intensity(), o.max_candidates()), (9.0, 3, 10_000));
+/// assert_eq!((o.chi2_gate(), o.min_intensity(), o.max_candidates()), (9.0, 3, 10_000));
 /// assert!(o.use_window());
-/// assert!(EnumerateOptions::default().with_gate(f64::NAN).is_err());
+/// assert!(EnumerateOptions::default().with_chi2_gate(f64::NAN).is_err());
 /// assert!(EnumerateOptions::default().with_min_intensity(1).is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnumerateOptions {
-    gate: f64,
+    chi2_gate: f64,
     min_intensity: usize,
     max_candidates: usize,
     fit: FitOptions,
@@ -38,12 +38,12 @@ pub struct EnumerateOptions {
 }
 
 impl Default for EnumerateOptions {
-    /// `gate = `[`DEFAULT_GATE`] (χ²(1) 99 %), `min_intensity = `[`DEFAULT_MIN_INTENSITY`],
+    /// `chi2_gate = `[`DEFAULT_GATE`] (χ²(1) 99 %), `min_intensity = `[`DEFAULT_MIN_INTENSITY`],
     /// `max_candidates = `[`DEFAULT_MAX_CANDIDATES`], `fit = `[`enumeration_fit_options`]`()`,
     /// the bearing window on.
     fn default() -> Self {
         Self {
-            gate: DEFAULT_GATE,
+            chi2_gate: DEFAULT_GATE,
             min_intensity: DEFAULT_MIN_INTENSITY,
             max_candidates: DEFAULT_MAX_CANDIDATES,
             fit: enumeration_fit_options(),
@@ -64,14 +64,16 @@ pub fn enumeration_fit_options() -> FitOptions {
 
 impl EnumerateOptions {
     /// Per-angle gate γ on the normalised squared residual (eq. 3; finite, `> 0`).
-    pub fn with_gate(mut self, gate: f64) -> CoreResult<Self> {
-        if !(gate.is_finite() && gate > 0.0) {
+    pub fn with_chi2_gate(mut self, chi2_gate: f64) -> CoreResult<Self> {
+        if !(chi2_gate.is_finite() && chi2_gate > 0.0) {
             return Err(CoreError::out_of_range(
-                "gate",
-                format!("{gate} must be finite and > 0 (a normalised squared residual per angle)"),
+                "chi2_gate",
+                format!(
+                    "{chi2_gate} must be finite and > 0 (a normalised squared residual per angle)"
+                ),
             ));
         }
-        self.gate = gate;
+        self.chi2_gate = chi2_gate;
         Ok(self)
     }
 
@@ -114,8 +116,8 @@ impl EnumerateOptions {
         self
     }
 
-    pub fn gate(&self) -> f64 {
-        self.gate
+    pub fn chi2_gate(&self) -> f64 {
+        self.chi2_gate
     }
 
     pub fn min_intensity(&self) -> usize {

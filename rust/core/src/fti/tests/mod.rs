@@ -272,8 +272,11 @@ fn bad_input_is_reported_with_the_argument() {
     // Value-only settings are rejected by their setters, before any data is seen.
     let defaults = InitiationOptions::default;
     assert!(matches!(
-        defaults().with_gate(0.0),
-        Err(CoreError::OutOfRange { arg: "gate", .. })
+        defaults().with_gate_sigmas(0.0),
+        Err(CoreError::OutOfRange {
+            arg: "gate_sigmas",
+            ..
+        })
     ));
     assert!(matches!(
         defaults().with_n_detect(Some(0)),

@@ -32,7 +32,7 @@ pub fn all_fitted(problem: &Problem<'_>, scans: &Scans, pairs: &[[usize; 2]]) ->
 /// Every pruning rule switched off.
 pub fn rules_off() -> InitiationOptions {
     InitiationOptions::default()
-        .with_ray_gate(None)
+        .with_ray_gate_sigmas(None)
         .and_then(|o| o.with_v_max(None))
         .and_then(|o| o.with_chi2_gate(None))
         .expect("None is always valid")
@@ -58,7 +58,7 @@ fn all_rules_off_is_the_unpruned_paper_algorithm() {
         assert_eq!(got, expected);
         // Rules so loose they prune nothing change nothing downstream either.
         let loose = InitiationOptions::default()
-            .with_ray_gate(Some(1e12))
+            .with_ray_gate_sigmas(Some(1e12))
             .and_then(|o| o.with_v_max(Some(1e12)))
             .and_then(|o| o.with_chi2_gate(Some(1e300)))
             .expect("valid")

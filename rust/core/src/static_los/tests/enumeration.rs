@@ -203,8 +203,8 @@ fn cap_and_bad_input_are_errors() {
     // Value-only settings are rejected by their setters.
     let defaults = EnumerateOptions::default;
     for (built, arg) in [
-        (defaults().with_gate(0.0), "gate"),
-        (defaults().with_gate(f64::NAN), "gate"),
+        (defaults().with_chi2_gate(0.0), "chi2_gate"),
+        (defaults().with_chi2_gate(f64::NAN), "chi2_gate"),
         (defaults().with_min_intensity(1), "min_intensity"),
         (defaults().with_max_candidates(0), "max_candidates"),
     ] {
@@ -326,7 +326,9 @@ fn enumeration_equals_brute_force_with_sensors_among_targets() {
         let gate = rng.random_range(1.0..30.0);
         total += assert_matches_brute_force(
             &s,
-            &EnumerateOptions::default().with_gate(gate).expect("valid"),
+            &EnumerateOptions::default()
+                .with_chi2_gate(gate)
+                .expect("valid"),
         );
     }
     assert!(total > 200, "the cases should not be trivial: {total}");
