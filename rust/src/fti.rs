@@ -42,7 +42,7 @@ pub struct InitiationSettings {
     refine_passes: i64,
     candidate_scans: i64,
     support_gate: bool,
-    track_test_z: Option<f64>,
+    track_test: Option<f64>,
     gate_pd: Option<f64>,
     search_stage: Option<i64>,
     n_threads: Option<i64>,
@@ -69,7 +69,7 @@ impl InitiationSettings {
             .with_refine_passes(count("refine_passes", self.refine_passes, 0)?)
             .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?
             .with_support_gate(self.support_gate)
-            .with_track_test(self.track_test_z)?
+            .with_track_test(self.track_test)?
             .with_gate_pd(self.gate_pd)?
             .with_search_stage(
                 (self.search_stage)

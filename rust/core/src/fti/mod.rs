@@ -26,7 +26,8 @@
 //!    (eq. 24).
 //! 7. `pipeline` ([`initiate`]): the driver; the end of the pipeline is the Gauss-Newton
 //!    refit of each track (`refit`), the join of split tracks (`track_join`) and the track
-//!    test (`track_quality`, with the coverage test of `coverage`).
+//!    test (`track_quality`, with the coverage test of `coverage`; its levels come from
+//!    `quantiles`).
 //!
 //! The settings are `options` ([`InitiationOptions`]) and `descent_options`
 //! ([`DescentOptions`]); the tests of the whole initiation and their simulator are `tests`.
@@ -49,6 +50,7 @@ mod motion_gate;
 mod options;
 mod pipeline;
 mod pool;
+mod quantiles;
 mod refit;
 mod scans;
 mod stages;
@@ -65,12 +67,12 @@ pub use candidates::generate as generate_candidates;
 pub use closeness::{closeness, closeness_and_gradient, closeness_batch, Precomputed, Spreads};
 pub use descent::{descend, descend_from};
 pub use options::{
-    DescentOptions, DetectionOrder, InitiationOptions, Scaling, CHI2_2DOF_999, TRACK_TEST_Z,
+    DescentOptions, DetectionOrder, InitiationOptions, Scaling, CHI2_2DOF_999, TRACK_TEST,
 };
 pub use pipeline::{initiate, initiate_reporting};
 pub use pool::{CandidateSet, Pool};
+pub use quantiles::{chi2_quantile, normal_quantile};
 pub use scans::{resolve_pairs, Scans};
-pub use track_quality::chi2_quantile;
 
 use crate::data::{Measurements, Sensors};
 use crate::geometry::model::{Observation, StateLayout};

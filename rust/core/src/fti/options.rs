@@ -2,14 +2,15 @@
 //! the steepest-ascent search's [`DescentOptions`].
 
 pub use super::descent_options::{DescentOptions, Scaling};
+use super::quantiles::upper_normal_level;
 use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
 
 /// 99.9 % quantile of χ²(2): the default candidate gate in 3-D, where a candidate's 4
 /// measurements give 8 equations for 6 unknowns.
 pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 
-/// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
-pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
+/// The final track test's default tail probability: a true track fails it once in 10⁶.
+pub const TRACK_TEST: f64 = 1e-6;
 
 /// How detection orders the optima: see module `detection_order`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,7 +53,7 @@ impl std::str::FromStr for DetectionOrder {
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (issue 16's 2-D scene); with the support gate off every candidate is stored (≈ 0.45 kB each) |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
-/// | `track_test` | z = 4.753 (tail 10⁻⁶) | see [`with_track_test`](Self::with_track_test) |
+/// | `track_test` | 10⁻⁶ (z = 4.753) | see [`with_track_test`](Self::with_track_test) |
 /// | `support_gate` | on | see module `support` |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
 /// | `gate_pd` | `None` | misses not priced; see [`with_gate_pd`](Self::with_gate_pd) |
@@ -120,7 +121,7 @@ impl Default for InitiationOptions {
             refine_passes: 2,
             candidate_scans: 4,
             support_gate: true,
-            track_test: Some(TRACK_TEST_Z),
+            track_test: Some(TRACK_TEST),
             gate_pd: None,
             search_stage: Some(8192),
         }
@@ -277,14 +278,21 @@ impl InitiationOptions {
         self
     }
 
-    /// Dissolve a final track whose refit χ² exceeds the χ²(dof) quantile at standard-normal
-    /// level `z` (Wilson–Hilferty; dof = angles − state dimension), its rows becoming clutter
-    /// (project extension; finite `> 0`, `None` = off). A track of clutter reports threads
-    /// them at residuals spread over the whole gate (χ²/dof ≈ 8 for a uniform ±5σ spread); a
-    /// target's is χ²-distributed. Default z = 4.753, a true track's tail probability 10⁻⁶.
-    pub fn with_track_test(mut self, z: Option<f64>) -> CoreResult<Self> {
-        ensure_positive("track_test", z)?;
-        self.track_test = z;
+    /// Dissolve a final track whose refit χ² exceeds the χ²(dof) quantile at this upper tail
+    /// probability (dof = angles − state dimension), its rows becoming clutter (project
+    /// extension; in (0, 0.5), `None` = off). The quantile is Wilson–Hilferty's at the
+    /// standard-normal level `z = −Φ⁻¹(track_test)` ([`track_test_level`](Self::track_test_level)).
+    /// A track of clutter reports threads them at residuals spread over the whole gate
+    /// (χ²/dof ≈ 8 for a uniform ±5σ spread); a target's is χ²-distributed. Default
+    /// [`TRACK_TEST`] = 10⁻⁶ (z = 4.753).
+    pub fn with_track_test(mut self, track_test: Option<f64>) -> CoreResult<Self> {
+        if let Some(p) = track_test.filter(|p| !(*p > 0.0 && *p < 0.5)) {
+            return Err(CoreError::out_of_range(
+                "track_test",
+                format!("{p} must be in (0, 0.5)"),
+            ));
+        }
+        self.track_test = track_test;
         Ok(self)
     }
 
@@ -308,8 +316,15 @@ impl InitiationOptions {
         self.gate_pd
     }
 
+    /// The track test's tail probability (`None`: off).
     pub fn track_test(&self) -> Option<f64> {
         self.track_test
+    }
+
+    /// The track test's standard-normal level `z = −Φ⁻¹(track_test)` (AS 241: SciPy's
+    /// `-ndtri` to the last bit or two; to the bit at the default 10⁻⁶).
+    pub fn track_test_level(&self) -> Option<f64> {
+        self.track_test.map(upper_normal_level)
     }
 
     pub fn support_gate(&self) -> bool {

@@ -245,7 +245,8 @@ fn finished(
     let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
     let (mut tracks, mut labels) = final_tracks(problem, pre, states, labels);
     let n_detect = options.n_detect_for(scans.len());
-    if let Some(z) = options.track_test() {
+    let level = options.track_test_level();
+    if let Some(z) = level {
         if let Some(states) = track_join::joined(problem, pre, scans, &tracks, n_detect, gate, z) {
             let relabelled = classify(problem, scans, &states, gate, one_per_scan)?;
             (tracks, labels) = final_tracks(problem, pre, &states, relabelled);
@@ -263,13 +264,7 @@ fn finished(
     // target wrong rows that a refine pass then corrects.
     let n_rows = labels.len();
     Ok(track_quality::tested(
-        problem,
-        pre,
-        scans,
-        tracks,
-        n_rows,
-        n_detect,
-        options.track_test(),
+        problem, pre, scans, tracks, n_rows, n_detect, level,
     ))
 }
 

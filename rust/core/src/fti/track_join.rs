@@ -133,8 +133,9 @@ fn try_join(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fti::quantiles::upper_normal_level;
     use crate::fti::tests::sim;
-    use crate::fti::TRACK_TEST_Z;
+    use crate::fti::TRACK_TEST;
 
     /// One target's rows shared between two tracks (even and odd scans)
     /// are joined; two targets' own tracks are not.
@@ -165,7 +166,7 @@ mod tests {
             &halves,
             n_detect,
             gate,
-            TRACK_TEST_Z,
+            upper_normal_level(TRACK_TEST),
         )
         .expect("the halves join");
         assert_eq!(states.len(), 1);
@@ -181,7 +182,7 @@ mod tests {
             &targets,
             n_detect,
             1e9,
-            TRACK_TEST_Z,
+            upper_normal_level(TRACK_TEST),
         );
         assert!(apart.is_none(), "two targets were joined");
     }
