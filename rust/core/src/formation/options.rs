@@ -72,11 +72,19 @@ pub struct FormationOptions {
 }
 
 impl Default for FormationOptions {
-    /// The paper's settings (η and the Dempster reading belong to the attribute gate,
-    /// [`crate::evidence::AttributeGate`]): baseline sensor 0, the
-    /// smallest reference subset, the planar radius, independent baselines, R_max = 200 km,
-    /// no region, full lines (not only in front of the sensors), [`triangulation_fit_options`].
+    /// [`FormationOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl FormationOptions {
+    /// The project's defaults, those of the Python package (`FormationLocator`), which are
+    /// the paper's settings (η and the Dempster reading belong to the attribute gate,
+    /// [`crate::evidence::AttributeGate`]): baseline sensor 0, the smallest reference subset,
+    /// the planar cluster radius, independent baselines, R_max = 200 km, no region, full lines
+    /// (not only in front of the sensors), [`triangulation_fit_options`].
+    pub fn recommended() -> Self {
         Self {
             baseline_sensor: 0,
             reference: Reference::Smallest,
@@ -87,6 +95,15 @@ impl Default for FormationOptions {
             in_front: false,
             fit: triangulation_fit_options(),
         }
+    }
+
+    /// The published method (METHODS §3, paper 004): the same as
+    /// [`recommended`](Self::recommended), whose values are the paper's (R_max = 200 km, the
+    /// planar "2d" radius of its modification, full lines, each baseline report decided on
+    /// its own); where it is silent (the baseline sensor, "any" reference subset, the ML
+    /// triangulation's tolerance) they are the recommended ones.
+    pub fn paper() -> Self {
+        Self::recommended()
     }
 }
 

@@ -42,8 +42,17 @@ pub struct DescentOptions {
 }
 
 impl Default for DescentOptions {
-    /// Whitened scaling, `max_iter = 100`, `step_tol = 1e-2` (scaled units), `r_tol = 1e-9`.
+    /// [`DescentOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl DescentOptions {
+    /// The project's defaults, those of the Python package (`maximize_closeness`, and
+    /// `FuzzyTrackInitiator`'s `descent_*`): whitened scaling, `max_iter = 100`,
+    /// `step_tol = 1e-2` (scaled units), `r_tol = 1e-9`.
+    pub fn recommended() -> Self {
         Self {
             scaling: Scaling::Whitened,
             max_iter: 100,
@@ -51,9 +60,19 @@ impl Default for DescentOptions {
             r_tol: 1e-9,
         }
     }
-}
 
-impl DescentOptions {
+    /// The published method (METHODS §1 eq. 19): differs from
+    /// [`recommended`](Self::recommended) only in the diagonal scaling, the candidate fit's
+    /// per-component standard deviations that METHODS names (whitened removes the
+    /// position–velocity correlation and converges in fewer steps). The paper gives no
+    /// iteration cap or tolerances: those are the recommended ones.
+    pub fn paper() -> Self {
+        Self {
+            scaling: Scaling::Diagonal,
+            ..Self::recommended()
+        }
+    }
+
     /// The change of variables: whitened (the default) or diagonal.
     pub fn with_scaling(mut self, scaling: Scaling) -> Self {
         self.scaling = scaling;

@@ -36,9 +36,11 @@ impl std::str::FromStr for DetectionOrder {
 }
 
 /// Every parameter of the initiation except the data, built with validated `with_*` setters.
-/// `Default` gives the recommended values:
+/// The names are `FuzzyTrackInitiator`'s parameters (the descent's are its `descent_*`).
+/// `Default` is [`recommended`](Self::recommended), the values below, which are the Python
+/// package's defaults; [`paper`](Self::paper) is the published method:
 ///
-/// | field | default | why |
+/// | field | recommended | why |
 /// |---|---|---|
 /// | `pairs` | every pair a < b | |
 /// | `gate_sigmas` | 5 | the paper's g |
@@ -99,12 +101,21 @@ pub struct InitiationOptions {
 }
 
 impl Default for InitiationOptions {
-    /// The values of the table above: every pair, `gate_sigmas = 5`, `n_detect` automatic,
-    /// `ray_gate_sigmas = Some(5)`, `reject_behind`, `v_max = Some(500)`,
-    /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the membership detection
-    /// order, `merge_tol = 1`, the default descent, `max_candidates = 500_000`,
-    /// `refine_passes = 2`, `candidate_scans = 4`, `search_stage = Some(8192)`.
+    /// [`InitiationOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl InitiationOptions {
+    /// The project's defaults, the Python package's: every pair, `gate_sigmas = 5`,
+    /// `n_detect` automatic, `ray_gate_sigmas = Some(5)`, `reject_behind`,
+    /// `v_max = Some(500)`, `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the
+    /// membership detection order, `merge_tol = 1`, the recommended descent,
+    /// `max_candidates = 500_000`, `refine_passes = 2`, `candidate_scans = 4`, the support
+    /// gate on, `track_test = Some(`[`TRACK_TEST`]`)`, misses not priced,
+    /// `search_stage = Some(8192)` (the table of [`InitiationOptions`] says why).
+    pub fn recommended() -> Self {
         Self {
             pairs: None,
             gate_sigmas: 5.0,
@@ -126,9 +137,43 @@ impl Default for InitiationOptions {
             search_stage: Some(8192),
         }
     }
-}
 
-impl InitiationOptions {
+    /// The published method (METHODS §1, paper 000): the paper's unpruned algorithm and
+    /// pipeline. It differs from [`recommended`](Self::recommended) in:
+    ///
+    /// * `n_detect = Some(9)`, the paper's Nd (recommended: from the table's scans, which is 9
+    ///   at the paper's 16 scans and grows with them);
+    /// * `ray_gate_sigmas`, `v_max` and `chi2_gate` `None` and `reject_behind` off: the paper
+    ///   fits every 4-tuple (12⁴ ≈ 21 000 a pair in its run); the rules are the
+    ///   restatement's pruning, conservative but not the paper's;
+    /// * `one_per_scan` off and the closeness detection order: eq. 23 as printed;
+    /// * the diagonal descent scaling ([`DescentOptions::paper`]): per-component standard
+    ///   deviations, the scaling METHODS names;
+    /// * `refine_passes = 0`, `candidate_scans = 1`, the support gate off, `track_test`
+    ///   `None`, `search_stage` `None`: the project extensions, each off, so candidates come
+    ///   from the first and last scans only and every candidate is descended before detection.
+    ///
+    /// Where the paper is silent (`merge_tol`, `max_candidates`, `gate_pd`, the descent's
+    /// iteration cap and tolerances) the values are the recommended ones.
+    pub fn paper() -> Self {
+        Self {
+            n_detect: Some(9),
+            ray_gate_sigmas: None,
+            reject_behind: false,
+            v_max: None,
+            chi2_gate: None,
+            one_per_scan: false,
+            detection_order: DetectionOrder::Closeness,
+            descent: DescentOptions::paper(),
+            refine_passes: 0,
+            candidate_scans: 1,
+            support_gate: false,
+            track_test: None,
+            search_stage: None,
+            ..Self::recommended()
+        }
+    }
+
     /// Sensor pairs that form candidates; `None` = every pair a < b. Checked against the data
     /// (sensor indices, a ≠ b, no repeats, first and last scans) when the initiation runs.
     pub fn with_pairs(mut self, pairs: Option<Vec<[usize; 2]>>) -> Self {
