@@ -1,12 +1,13 @@
-//! One candidate target (METHODS §1 eq. 20–22): the two ray pairs it is made of (first-scan
-//! and last-scan rows of a sensor pair), where each pair's rays meet, and the candidate's
-//! Gauss-Newton ML fit from the triangulated start. Module `candidates` forms and prunes them.
+//! One candidate target (METHODS §1 eq. 20–22) and its Gauss-Newton ML fit from the two ray
+//! pairs it is made of (first-scan and last-scan rows of a sensor pair, module `ray_pairs`),
+//! started from where each pair's rays meet. Module `candidates` forms and prunes them.
 
-use super::Problem;
+use super::problem::Problem;
+use super::ray_pairs::{Meeting, RayPair};
 use crate::estimation::fit::gauss_newton::{fit_into, FitSlots};
 use crate::estimation::fit::{FitOptions, Termination};
-use crate::geometry::los::{closest_points, direction, intersect_bearings, pseudo_linear_state};
-use crate::geometry::model::{Observation, Space, MAX_DIM};
+use crate::geometry::los::pseudo_linear_state;
+use crate::geometry::model::{Observation, MAX_DIM};
 
 /// Candidate fits stop once the Gauss-Newton step is shorter than this many standard
 /// deviations (Mahalanobis). The remaining χ² decrease is then of order its square (0.01),
@@ -29,72 +30,6 @@ pub struct Candidate {
     /// off.
     pub support_score: Option<f64>,
 }
-
-/// Where two rays (lines in 2-D) meet: midpoint of the closest points, the mean time of the
-/// two samples, ranges along each ray and the closest-point distance (0 in 2-D).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Meeting {
-    pub(super) point: [f64; 3],
-    pub(super) time: f64,
-    pub(super) range_a: f64,
-    pub(super) range_b: f64,
-    pub(super) distance: f64,
-}
-
-/// Two rows of one scan pair, as the model sees them, and their meeting (`None` for
-/// parallel rays). The observations are built once here: each costs a sine and a cosine per
-/// angle, and every candidate and motion-gate test of the pair reads them.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct RayPair {
-    pub(super) rows: [usize; 2],
-    pub(super) observations: [Observation; 2],
-    pub(super) meeting: Option<Meeting>,
-}
-
-impl RayPair {
-    pub(super) fn of(problem: &Problem<'_>, ra: usize, rb: usize) -> Self {
-        let observations = [problem.observation(ra), problem.observation(rb)];
-        Self {
-            rows: [ra, rb],
-            meeting: meet(problem.layout.space, &observations),
-            observations,
-        }
-    }
-}
-
-/// Meeting of the lines of sight of two observations (of different sensors).
-fn meet(space: Space, [oa, ob]: &[Observation; 2]) -> Option<Meeting> {
-    let time = 0.5 * (oa.time + ob.time);
-    match space {
-        Space::Planar => {
-            let (sa, sb) = ([oa.sensor[0], oa.sensor[1]], [ob.sensor[0], ob.sensor[1]]);
-            let (p, range_a, range_b) = intersect_bearings(&sa, oa.angles[0], &sb, ob.angles[0])?;
-            Some(Meeting {
-                point: [p[0], p[1], 0.0],
-                time,
-                range_a,
-                range_b,
-                distance: 0.0,
-            })
-        }
-        Space::Spatial => {
-            let ua = direction(oa.angles[0], oa.angles[1]);
-            let ub = direction(ob.angles[0], ob.angles[1]);
-            let m = closest_points(&oa.sensor, &ua, &ob.sensor, &ub)?;
-            Some(Meeting {
-                point: m.midpoint(),
-                time,
-                range_a: m.range_a,
-                range_b: m.range_b,
-                distance: m.distance,
-            })
-        }
-    }
-}
-
-/// What to do when the candidates outgrow memory (max_candidates bounds them only by count).
-pub(super) const OOM_HINT: &str =
-    "lower max_candidates, set v_max, tighten ray_gate_sigmas or enable reject_behind";
 
 /// Gauss-Newton fit of the 4 measurements from the triangulated start; `None` when the fit
 /// is singular or non-finite.

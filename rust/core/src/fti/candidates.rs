@@ -5,9 +5,9 @@
 //! paired and the pair-level rules applied; likewise the last-scan rays; then surviving
 //! first-pairs × last-pairs are combined under the v_max rule (module `combine`: a grid over
 //! the meetings, parallel tests, a cap on the work) and fitted in large batches (module
-//! `batch`: in parallel, collected in order). A candidate, its ray pairs and its fit are
-//! module `candidate`; this module is the stage's driver and the pair-level rules. The
-//! pruning rules, each optional:
+//! `batch`: in parallel, collected in order). A candidate and its fit are module
+//! `candidate`, its ray pairs and the pair-level rules module `ray_pairs`; this module is the
+//! stage's driver. The pruning rules, each optional:
 //!
 //! * **ray gate** (3-D only; `ray_gate_sigmas` in σ): the two rays' closest-point distance must be
 //!   ≤ `ray_gate_sigmas·√((σ_a·r_a)² + (σ_b·r_b)²) + v_max·|t_a − t_b|`. The first term is the
@@ -31,14 +31,14 @@
 use std::time::Instant;
 
 use super::batch::{Batch, ScanPairRays};
-use super::candidate::{RayPair, OOM_HINT};
 use super::combine;
+use super::options::InitiationOptions;
 use super::pool::{CandidateSet, Pool};
+use super::problem::Problem;
+use super::ray_pairs::ray_pairs;
 use super::scans::Scans;
 use super::support::Gate;
-use super::{InitiationOptions, Problem};
-use crate::error::{reserve_one, CoreError, CoreResult};
-use crate::geometry::model::Space;
+use crate::error::CoreResult;
 use crate::progress::{Progress, Tally};
 
 /// Generates, prunes and fits the candidates of every scan quadruple `[a-first, b-first,
@@ -113,64 +113,4 @@ pub(super) fn generate_in(
     }
     set.seconds_enumerate = start.elapsed().as_secs_f64() - set.seconds_fit - set.seconds_support;
     Ok(set)
-}
-
-/// Pairs every row of `rows_a` with every row of `rows_b` under the ray gate and the
-/// behind-sensor rule; returns the survivors and how many passed the ray gate.
-pub(super) fn ray_pairs(
-    problem: &Problem<'_>,
-    rows_a: &[usize],
-    rows_b: &[usize],
-    options: &InitiationOptions,
-) -> CoreResult<(Vec<RayPair>, usize)> {
-    let mut out = Vec::new();
-    let mut passed_ray = 0usize;
-    for &ra in rows_a {
-        for &rb in rows_b {
-            let pair = RayPair::of(problem, ra, rb);
-            if !ray_gate_passes(problem, &pair, options) {
-                continue;
-            }
-            passed_ray += 1;
-            if options.reject_behind()
-                && !pair
-                    .meeting
-                    .is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
-            {
-                continue;
-            }
-            if out.len() == options.max_candidates() {
-                return Err(CoreError::CapExceeded {
-                    what: "ray pairs of one scan pair",
-                    count: out.len() + 1,
-                    cap: options.max_candidates(),
-                    hint: "tighten ray_gate_sigmas, enable reject_behind, or raise max_candidates",
-                });
-            }
-            reserve_one(&mut out, "ray pairs of one scan pair", OOM_HINT)?;
-            out.push(pair);
-        }
-    }
-    Ok((out, passed_ray))
-}
-
-fn ray_gate_passes(problem: &Problem<'_>, pair: &RayPair, options: &InitiationOptions) -> bool {
-    let Some(gate) = options.ray_gate_sigmas() else {
-        return true;
-    };
-    if problem.layout.space == Space::Planar {
-        return true; // lines in the plane always meet: the rule is vacuous
-    }
-    let [oa, ob] = &pair.observations;
-    let motion = match options.v_max() {
-        Some(v) => v * (oa.time - ob.time).abs(),
-        None if oa.time != ob.time => return true, // unbounded motion between the samples
-        None => 0.0,
-    };
-    let Some(m) = pair.meeting else {
-        return false;
-    };
-    let (sa, sb) = (oa.sigma[0].max(oa.sigma[1]), ob.sigma[0].max(ob.sigma[1]));
-    let noise = ((sa * m.range_a).powi(2) + (sb * m.range_b).powi(2)).sqrt();
-    m.distance <= gate * noise + motion
 }

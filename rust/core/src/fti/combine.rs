@@ -19,10 +19,11 @@ use std::collections::HashMap;
 use rayon::prelude::*;
 
 use super::batch::{Batch, ScanPairRays};
-use super::candidate::RayPair;
 use super::motion_gate;
+use super::options::InitiationOptions;
 use super::pool::CandidateSet;
-use super::{InitiationOptions, Problem};
+use super::problem::Problem;
+use super::ray_pairs::RayPair;
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;
 
@@ -218,7 +219,7 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fti::candidates::ray_pairs;
+    use crate::fti::ray_pairs::ray_pairs;
     use crate::fti::scans::Scans;
     use crate::fti::tests::sim;
     use crate::geometry::model::{Motion, StateLayout};

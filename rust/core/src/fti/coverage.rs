@@ -20,8 +20,9 @@
 //! detection probability and are present over the whole window, as the candidates do (they
 //! come from each sensor's outermost scans).
 
+use super::output::Track;
+use super::problem::Problem;
 use super::scans::Scans;
-use super::{Problem, Track};
 
 /// Lower-tail probability below which a track's count is too low to be a target's.
 const LEVEL: f64 = 1e-4;

@@ -36,7 +36,7 @@ use rayon::prelude::*;
 
 use super::candidate::Candidate;
 use super::closeness::{closeness_and_gradient, Precomputed};
-use super::{DescentOptions, Scaling};
+use super::descent_options::{DescentOptions, Scaling};
 use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::geometry::model::MAX_DIM;
 use crate::progress::Tally;

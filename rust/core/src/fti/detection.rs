@@ -28,8 +28,9 @@
 //! one-measurement-per-scan constraint. Rows related to no target are clutter.
 
 use super::descent::Optimum;
+use super::options::InitiationOptions;
+use super::problem::Problem;
 use super::scans::Scans;
-use super::{InitiationOptions, Problem};
 use crate::assign::lap::solve_dense;
 use crate::error::CoreResult;
 use crate::geometry::angles::wrap;

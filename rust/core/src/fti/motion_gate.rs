@@ -13,8 +13,9 @@
 //! velocity estimate's own error, `(noise_first + noise_last)/(t_last − t_first)` — the
 //! meeting points are each good to their noise. Rejected candidates are never fitted.
 
-use super::candidate::RayPair;
-use super::{InitiationOptions, Problem};
+use super::options::InitiationOptions;
+use super::problem::Problem;
+use super::ray_pairs::RayPair;
 use crate::geometry::los::{closest_points, direction};
 use crate::geometry::model::Space;
 
@@ -71,11 +72,11 @@ fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64
 #[cfg(test)]
 mod tests {
     use super::passes;
-    use crate::fti::candidate::{fit_candidate, RayPair};
-    use crate::fti::candidates::ray_pairs;
+    use crate::fti::candidate::fit_candidate;
+    use crate::fti::options::{InitiationOptions, CHI2_2DOF_999};
+    use crate::fti::ray_pairs::{ray_pairs, RayPair};
     use crate::fti::scans::Scans;
     use crate::fti::tests::sim;
-    use crate::fti::{InitiationOptions, CHI2_2DOF_999};
 
     /// Every 4-tuple of the outer scans of two cluttered paper runs, brute force: the gate
     /// keeps every candidate whose fit passes the χ² gate and rejects most of the others.

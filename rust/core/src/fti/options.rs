@@ -1,7 +1,8 @@
-//! The initiation's settings, built with validated `with_*` setters: [`InitiationOptions`] and
-//! the steepest-ascent search's [`DescentOptions`].
+//! The initiation's settings, built with validated `with_*` setters: [`InitiationOptions`]
+//! (the steepest-ascent search's own are module `descent_options`), and the hint that names
+//! them when the candidates outgrow memory.
 
-pub use super::descent_options::{DescentOptions, Scaling};
+use super::descent_options::DescentOptions;
 use super::quantiles::upper_normal_level;
 use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
 
@@ -11,6 +12,10 @@ pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 
 /// The final track test's default tail probability: a true track fails it once in 10⁶.
 pub const TRACK_TEST: f64 = 1e-6;
+
+/// What to do when the candidates outgrow memory (max_candidates bounds them only by count).
+pub(super) const OOM_HINT: &str =
+    "lower max_candidates, set v_max, tighten ray_gate_sigmas or enable reject_behind";
 
 /// How detection orders the optima: see module `detection_order`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -8,13 +8,15 @@ use rayon::prelude::*;
 use super::candidates;
 use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
+use super::options::InitiationOptions;
+use super::output::{Initiation, StageCounts, StageSeconds, Track};
+use super::problem::Problem;
 use super::refit::{padded, refit};
 use super::scans::{resolve_pairs, Scans};
 use super::stages::search_and_detect;
 use super::support::{Gate, SupportTable};
 use super::track_join;
 use super::track_quality;
-use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::{Motion, StateLayout, MAX_DIM};
@@ -297,47 +299,6 @@ fn final_tracks(
         tracks.push(track);
     }
     (tracks, out)
-}
-
-/// What [`candidates_of`] returns: the fitted candidates, the stage counts, the scans and
-/// the resolved pairs.
-#[cfg(test)]
-pub(crate) type CandidateRun = (
-    Vec<super::candidate::Candidate>,
-    super::StageCounts,
-    Scans,
-    Vec<[usize; 2]>,
-);
-
-/// Candidates only (no search), for tests and diagnostics.
-#[cfg(test)]
-pub(crate) fn candidates_of(
-    sensors: &Sensors<'_>,
-    measurements: &Measurements<'_>,
-    t0: f64,
-    options: &InitiationOptions,
-) -> CoreResult<CandidateRun> {
-    let problem = Problem {
-        sensors: *sensors,
-        measurements: *measurements,
-        layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0 }),
-        t0,
-        progress: &Silent,
-    };
-    let scans = Scans::new(measurements, sensors.len());
-    let pairs = resolve_pairs(options.pairs(), &scans)?;
-    let slots: Vec<[usize; 4]> = pairs
-        .iter()
-        .flat_map(|&p| scans.scan_slots(p, 1, false))
-        .collect();
-    let set = candidates::generate(&problem, &scans, &slots, None, options, None)?;
-    stop_if_stopped(&problem)?;
-    Ok((
-        set.candidates.into_whole(&problem),
-        set.counts,
-        scans,
-        pairs,
-    ))
 }
 
 /// Ends the pipeline between stages when the user asked to stop (Ctrl-C, or the progress

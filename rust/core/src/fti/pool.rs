@@ -15,8 +15,10 @@ use std::borrow::Cow;
 
 use rayon::prelude::*;
 
-use super::candidate::{fit_candidate, Candidate, RayPair};
-use super::{Problem, StageCounts};
+use super::candidate::{fit_candidate, Candidate};
+use super::output::StageCounts;
+use super::problem::Problem;
+use super::ray_pairs::RayPair;
 use crate::error::{reserve_one, CoreResult};
 
 /// The candidates that survive every enabled rule, with stage counts and timings.
@@ -146,9 +148,9 @@ impl Compact {
 mod tests {
     use super::Pool;
     use crate::fti::candidate::Candidate;
-    use crate::fti::pipeline::candidates_of;
+    use crate::fti::options::InitiationOptions;
+    use crate::fti::tests::candidates_of;
     use crate::fti::tests::sim;
-    use crate::fti::InitiationOptions;
 
     /// A compact pool gives back every candidate exactly as it was fitted, score included,
     /// in 2-D and 3-D, and compacts only past its limit.

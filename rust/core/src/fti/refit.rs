@@ -2,7 +2,8 @@
 //! track join and the track test all run.
 
 use super::closeness::{closeness, Precomputed};
-use super::{Problem, Track};
+use super::output::Track;
+use super::problem::Problem;
 use crate::estimation::fit::gauss_newton::fit;
 use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::model::MAX_DIM;

@@ -17,8 +17,8 @@
 //! support it. Each scan's rows are kept sorted by azimuth and found by binary search.
 
 use super::candidate::Candidate;
+use super::problem::Problem;
 use super::scans::Scans;
-use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{gradient_rows, predict, Observation, Space};
 
@@ -229,9 +229,9 @@ pub struct Gate<'a> {
 #[cfg(test)]
 mod tests {
     use super::{azimuth_window, Neighbours};
+    use crate::fti::options::InitiationOptions;
     use crate::fti::tests::run;
     use crate::fti::tests::sim;
-    use crate::fti::InitiationOptions;
     use std::f64::consts::PI;
 
     #[test]

@@ -17,10 +17,11 @@
 
 use super::closeness::Precomputed;
 use super::detection::residual2;
+use super::output::Track;
+use super::problem::Problem;
 use super::refit::{padded, refit};
 use super::scans::Scans;
 use super::track_quality::trimmed;
-use super::{Problem, Track};
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, MAX_DIM};
 
@@ -133,9 +134,9 @@ fn try_join(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fti::options::TRACK_TEST;
     use crate::fti::quantiles::upper_normal_level;
     use crate::fti::tests::sim;
-    use crate::fti::TRACK_TEST;
 
     /// One target's rows shared between two tracks (even and odd scans)
     /// are joined; two targets' own tracks are not.

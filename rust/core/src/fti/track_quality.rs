@@ -16,10 +16,11 @@
 use super::closeness::Precomputed;
 use super::coverage;
 use super::detection::residual2;
+use super::output::Track;
+use super::problem::Problem;
 use super::quantiles::chi2_quantile;
 use super::refit::refit;
 use super::scans::Scans;
-use super::{Problem, Track};
 use crate::geometry::model::MAX_DIM;
 
 /// Standard-normal level of an outlier row: χ²(angles) at 1 − 10⁻³ (`−Φ⁻¹(10⁻³)`).
@@ -104,10 +105,10 @@ fn passes(problem: &Problem<'_>, track: &Track, z: f64) -> bool {
 mod tests {
     use super::trimmed;
     use crate::fti::closeness::Precomputed;
+    use crate::fti::options::TRACK_TEST;
     use crate::fti::quantiles::upper_normal_level;
     use crate::fti::refit::refit;
     use crate::fti::tests::sim;
-    use crate::fti::TRACK_TEST;
     use crate::geometry::model::MAX_DIM;
 
     #[test]

@@ -39,8 +39,8 @@
 use std::f64::consts::PI;
 
 use super::candidate::Candidate;
+use super::problem::Problem;
 use super::support::{azimuth_window, in_box, Gate, ScanAngles};
-use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{gradient_rows, predict, Space, MAX_DIM};
 
@@ -325,10 +325,10 @@ impl Walk<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fti::pipeline::candidates_of;
+    use crate::fti::options::InitiationOptions;
     use crate::fti::support::SupportTable;
+    use crate::fti::tests::candidates_of;
     use crate::fti::tests::sim;
-    use crate::fti::InitiationOptions;
 
     /// In 2-D with clutter (where the χ² gate has no information): every candidate made of
     /// one target's four rows passes, and the gate removes candidates the fixed gate keeps;

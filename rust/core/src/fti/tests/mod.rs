@@ -1,19 +1,26 @@
 //! Tests of the whole initiation on simulated data (module `sim`), and what the stages' unit
-//! tests share: the simulator and [`run`].
+//! tests share: the simulator, [`run`] and [`candidates_of`].
 
+mod candidates;
 mod missed;
 mod progress;
 mod reference;
 pub(super) mod sim;
 
+use super::candidate::Candidate;
+use super::candidates::generate;
 use super::closeness::{closeness, closeness_and_gradient, Precomputed};
 use super::descent::descend;
-use super::pipeline::candidates_of;
+use super::output::StageCounts;
+use super::problem::Problem;
+use super::scans::{resolve_pairs, Scans};
 use super::{initiate, DescentOptions, Initiation, InitiationOptions, Spreads};
-use crate::error::CoreError;
+use crate::data::{Measurements, Sensors};
+use crate::error::{CoreError, CoreResult};
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, Motion, Space, StateLayout, MAX_DIM};
 use crate::parallel::with_threads;
+use crate::progress::Silent;
 use reference::rules_off;
 use sim::{Scenario, PAPER_TARGETS};
 
@@ -21,6 +28,39 @@ pub(super) fn run(sc: &Scenario, options: &InitiationOptions) -> Result<Initiati
     let sensors = sc.sensors();
     let table = sc.measurements(&sensors);
     initiate(&sensors, &table, &sc.spreads(), 0.0, options)
+}
+
+/// What [`candidates_of`] returns: the fitted candidates, the stage counts, the scans and
+/// the resolved pairs.
+pub(super) type CandidateRun = (Vec<Candidate>, StageCounts, Scans, Vec<[usize; 2]>);
+
+/// The candidates of pass 1 only (no search), whole.
+pub(super) fn candidates_of(
+    sensors: &Sensors<'_>,
+    measurements: &Measurements<'_>,
+    t0: f64,
+    options: &InitiationOptions,
+) -> CoreResult<CandidateRun> {
+    let problem = Problem {
+        sensors: *sensors,
+        measurements: *measurements,
+        layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0 }),
+        t0,
+        progress: &Silent,
+    };
+    let scans = Scans::new(measurements, sensors.len());
+    let pairs = resolve_pairs(options.pairs(), &scans)?;
+    let slots: Vec<[usize; 4]> = pairs
+        .iter()
+        .flat_map(|&p| scans.scan_slots(p, 1, false))
+        .collect();
+    let set = generate(&problem, &scans, &slots, None, options, None)?;
+    Ok((
+        set.candidates.into_whole(&problem),
+        set.counts,
+        scans,
+        pairs,
+    ))
 }
 
 fn precomputed(sc: &Scenario) -> Precomputed {

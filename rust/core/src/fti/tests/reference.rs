@@ -1,9 +1,9 @@
 //! The unpruned paper algorithm, written as four nested loops, and the test that the
 //! pipeline with every pruning rule off is exactly it.
 
-use super::{run, sim};
-use crate::fti::candidate::{fit_candidate, Candidate, RayPair};
-use crate::fti::pipeline::candidates_of;
+use super::{candidates_of, run, sim};
+use crate::fti::candidate::{fit_candidate, Candidate};
+use crate::fti::ray_pairs::RayPair;
 use crate::fti::scans::Scans;
 use crate::fti::{InitiationOptions, Problem};
 use crate::geometry::model::{Motion, StateLayout};
