@@ -16,11 +16,9 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use passive_assoc_core::data::{Measurements, Sensors};
-use passive_assoc_core::fti::candidates::generate;
-use passive_assoc_core::fti::descent::descend;
-use passive_assoc_core::fti::scans::{resolve_pairs, Scans};
 use passive_assoc_core::fti::{
-    closeness_and_gradient, initiate, InitiationOptions, Precomputed, Problem, Spreads,
+    closeness_and_gradient, descend, generate_candidates, initiate, resolve_pairs,
+    InitiationOptions, Precomputed, Problem, Scans, Spreads,
 };
 use passive_assoc_core::geometry::model::{predict, Motion, Space, StateLayout};
 use passive_assoc_core::parallel::with_threads;
@@ -204,13 +202,14 @@ fn bench_descent(c: &mut Criterion) {
         .iter()
         .flat_map(|&p| scans.scan_slots(p, 1, false))
         .collect();
-    let set = generate(&problem, &scans, &outer, None, &options, None).expect("candidates");
+    let set =
+        generate_candidates(&problem, &scans, &outer, None, &options, None).expect("candidates");
     let truth = TARGETS[0];
     let candidates = set.candidates.into_whole(&problem);
     let nearest = candidates
         .iter()
         .min_by(|a, b| {
-            let d = |c: &passive_assoc_core::fti::candidates::Candidate| {
+            let d = |c: &passive_assoc_core::fti::Candidate| {
                 (0..6)
                     .map(|k| ((c.estimate[k] - truth[k]) / c.scale[k]).powi(2))
                     .sum::<f64>()

@@ -107,7 +107,7 @@ fn bench_case(c: &mut Criterion, name: &str, s: &Scan) {
     let run = || {
         let cands = enumerate(&sensors, &table, &detection, &options).expect("enumerates");
         let input = cands.intensity_input().expect("valid");
-        let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
+        let out = intensity_search(&input, &IntensityOptions::paper()).expect("searches");
         (cands, out)
     };
     let cands =
@@ -148,7 +148,7 @@ fn bench_case(c: &mut Criterion, name: &str, s: &Scan) {
     c.bench_function(&format!("static/{name}/intensity"), |b| {
         b.iter(|| {
             pool.install(|| {
-                intensity_search(&input, &IntensityOptions::default())
+                intensity_search(&input, &IntensityOptions::paper())
                     .expect("searches")
                     .chosen
                     .len()
@@ -156,7 +156,7 @@ fn bench_case(c: &mut Criterion, name: &str, s: &Scan) {
         })
     });
     // The same with at most 64 chains per level (not the paper's rule; for large scans).
-    let capped = IntensityOptions::default()
+    let capped = IntensityOptions::paper()
         .with_max_chains(Some(64))
         .expect("valid");
     c.bench_function(&format!("static/{name}/intensity_max_chains_64"), |b| {

@@ -89,7 +89,7 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
         refine_passes=2,
         candidate_scans=4,
         support_gate=True,
-        track_test_z=4.75,
+        track_test=1e-6,
         gate_pd=None,
     )
     spreads = (rest["spread_azimuth"], rest["spread_elevation"])

@@ -362,3 +362,13 @@ def locate_formation(
     attributes: AttributeEvidence | None,
     settings: FormationSettings,
 ) -> FormationOutput: ...
+
+#: A core default as Python reads it: a number, a flag, a choice, or None.
+OptionValue = bool | int | float | str | tuple[float, ...] | list[tuple[int, int]] | None
+
+def option_defaults(paper: bool = False) -> dict[str, dict[str, OptionValue]]:
+    """Each core options struct's ``recommended()`` values (``paper=True``: its ``paper()``),
+    ``{kind: {Python parameter name: value}}``; kinds ``initiation``, ``descent``,
+    ``enumeration``, ``intensity``, ``lagrangian``, ``branch_bound``, ``formation``,
+    ``topology``, ``decision``, ``fit``, ``kalman``, ``coarse``. Values keep the core's meaning:
+    ``decision["threshold"]`` is absolute (λ·rings·sectors), ``time_limit`` in seconds."""

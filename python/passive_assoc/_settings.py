@@ -65,7 +65,7 @@ class InitiationSettings:
     refine_passes: int
     candidate_scans: int
     support_gate: bool
-    track_test_z: float | None
+    track_test: float | None
     gate_pd: float | None
     search_stage: int | None
     n_threads: int | None

@@ -69,9 +69,9 @@ impl FormationSettings {
             Some(r) => Reference::Sensor(count("reference", r, 0)?),
         };
         let mut options = FormationOptions::default()
-            .with_baseline(count("baseline_sensor", self.baseline_sensor, 0)?)
+            .with_baseline_sensor(count("baseline_sensor", self.baseline_sensor, 0)?)
             .with_reference(reference)
-            .with_radius(parse("cluster_radius", &self.cluster_radius)?)
+            .with_cluster_radius(parse("cluster_radius", &self.cluster_radius)?)
             .with_one_to_one(self.one_to_one)
             .with_r_max(self.r_max)?
             .with_in_front(self.in_front);

@@ -13,11 +13,10 @@ use super::interrupt;
 use super::progress::Sink;
 use passive_assoc_core::data::Sensors;
 use passive_assoc_core::error::ensure_finite;
-use passive_assoc_core::fti::closeness::closeness_batch;
-use passive_assoc_core::fti::descent::descend_from;
 use passive_assoc_core::fti::{
-    initiate_reporting, DescentOptions, Initiation, InitiationOptions, Precomputed, Spreads,
-    StageCounts as CoreCounts, StageSeconds as CoreSeconds,
+    closeness_batch, descend_from, initiate_reporting, DescentOptions, Initiation,
+    InitiationOptions, Precomputed, Spreads, StageCounts as CoreCounts,
+    StageSeconds as CoreSeconds,
 };
 use passive_assoc_core::parallel::with_threads;
 
@@ -43,7 +42,7 @@ pub struct InitiationSettings {
     refine_passes: i64,
     candidate_scans: i64,
     support_gate: bool,
-    track_test_z: Option<f64>,
+    track_test: Option<f64>,
     gate_pd: Option<f64>,
     search_stage: Option<i64>,
     n_threads: Option<i64>,
@@ -56,9 +55,9 @@ impl InitiationSettings {
             .with_scaling(parse("descent_scaling", &self.descent_scaling)?);
         Ok(InitiationOptions::default()
             .with_pairs(pairs)
-            .with_gate(self.gate_sigmas)?
+            .with_gate_sigmas(self.gate_sigmas)?
             .with_n_detect(self.n_detect.map(|n| count("n_detect", n, 1)).transpose()?)?
-            .with_ray_gate(self.ray_gate_sigmas)?
+            .with_ray_gate_sigmas(self.ray_gate_sigmas)?
             .with_reject_behind(self.reject_behind)
             .with_v_max(self.v_max)?
             .with_chi2_gate(self.chi2_gate)?
@@ -70,7 +69,7 @@ impl InitiationSettings {
             .with_refine_passes(count("refine_passes", self.refine_passes, 0)?)
             .with_candidate_scans(count("candidate_scans", self.candidate_scans, 1)?)?
             .with_support_gate(self.support_gate)
-            .with_track_test(self.track_test_z)?
+            .with_track_test(self.track_test)?
             .with_gate_pd(self.gate_pd)?
             .with_search_stage(
                 (self.search_stage)

@@ -6,6 +6,7 @@
 mod assign;
 mod batch;
 mod convert;
+mod defaults;
 mod errors;
 mod fit;
 mod formation;
@@ -44,6 +45,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(radar_esm::wavelet_coarse_gate, m)?)?;
     m.add_function(wrap_pyfunction!(radar_esm::wavelet_coarse_gate_coupled, m)?)?;
     m.add_function(wrap_pyfunction!(radar_esm::repeated_maximum, m)?)?;
+    m.add_function(wrap_pyfunction!(defaults::option_defaults, m)?)?;
     m.add_class::<topology::AssociatorState>()?;
     m.add_class::<topology::ScanPairs>()?;
     m.add_class::<topology::Bias>()?;

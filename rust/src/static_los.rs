@@ -205,7 +205,7 @@ pub fn enumeration_options(
     settings: &EnumerationSettings,
 ) -> BindResult<(EnumerateOptions, Option<usize>)> {
     let options = EnumerateOptions::default()
-        .with_gate(settings.chi2_gate)?
+        .with_chi2_gate(settings.chi2_gate)?
         .with_min_intensity(count("min_intensity", settings.min_intensity, 2)?)?
         .with_max_candidates(count("max_candidates", settings.max_candidates, 1)?)?;
     Ok((options, threads(settings.n_threads)?))

@@ -17,7 +17,6 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.special import ndtri
 
 from .. import _core
 from .._inputs import check_pair
@@ -318,7 +317,7 @@ class FuzzyTrackInitiator(Configurable):
             refine_passes=self.refine_passes,
             candidate_scans=self.candidate_scans,
             support_gate=self.support_gate,
-            track_test_z=None if self.track_test is None else float(-ndtri(self.track_test)),
+            track_test=self.track_test,
             gate_pd=self.gate_pd,
             search_stage=self.search_stage,
             n_threads=self.n_threads,

@@ -85,6 +85,17 @@ pub fn reserve_one<T>(vec: &mut Vec<T>, what: &'static str, hint: &'static str) 
         })
 }
 
+/// `Ok` for `None` or a finite positive value; otherwise the error naming `arg`.
+pub fn ensure_positive(arg: &'static str, value: Option<f64>) -> CoreResult<()> {
+    match value {
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(CoreError::out_of_range(
+            arg,
+            format!("{v} must be finite and > 0"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Fails with [`CoreError::NonFinite`] at the first NaN/inf of `values`.
 pub fn ensure_finite(arg: &'static str, values: &[f64]) -> CoreResult<()> {
     match values.iter().position(|v| !v.is_finite()) {

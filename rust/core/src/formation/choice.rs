@@ -27,7 +27,7 @@ impl Scene<'_> {
         used: Option<&[bool]>,
         counts: &mut PruneCounts,
     ) -> Option<Choice> {
-        let baseline = self.options.baseline();
+        let baseline = self.options.baseline_sensor();
         let free: Vec<Vec<Meeting>>;
         let subsets = match used {
             None => subsets,
@@ -104,8 +104,8 @@ impl Scene<'_> {
 
     /// Eq. 6 for the lines `picks` (meeting index per non-baseline sensor).
     fn radius(&self, base_index: usize, subsets: &[Vec<Meeting>], picks: &[usize]) -> f64 {
-        let baseline = self.options.baseline();
-        match self.options.radius() {
+        let baseline = self.options.baseline_sensor();
+        match self.options.cluster_radius() {
             ClusterRadius::AlongBaseline => {
                 let along = (0..self.lines.len())
                     .filter(|&k| k != baseline)

@@ -117,17 +117,17 @@ fn check(
             format!("the baseline least-distance method needs at least 3 sensors, got {s}"),
         ));
     }
-    if options.baseline() >= s {
+    if options.baseline_sensor() >= s {
         return Err(CoreError::out_of_range(
             "baseline_sensor",
             format!(
                 "{} is not a sensor of the {s}-sensor network",
-                options.baseline()
+                options.baseline_sensor()
             ),
         ));
     }
     if let Reference::Sensor(r) = options.reference() {
-        if r >= s || r == options.baseline() {
+        if r >= s || r == options.baseline_sensor() {
             return Err(CoreError::out_of_range(
                 "reference",
                 format!("sensor {r} must exist (< {s}) and differ from the baseline sensor"),
@@ -239,7 +239,7 @@ fn assemble(scene: &Scene<'_>, choices: &[Option<Choice>], counts: PruneCounts) 
         times_chosen: Vec::new(),
         counts,
     };
-    let baseline = scene.options.baseline();
+    let baseline = scene.options.baseline_sensor();
     for (b, (choice, fit)) in choices.iter().zip(&fitted).enumerate() {
         match (choice, fit) {
             (Some(c), Some(f)) => {

@@ -61,9 +61,9 @@ impl Region {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FormationOptions {
-    baseline: usize,
+    baseline_sensor: usize,
     reference: Reference,
-    radius: ClusterRadius,
+    cluster_radius: ClusterRadius,
     one_to_one: bool,
     r_max: f64,
     region: Option<Region>,
@@ -72,21 +72,38 @@ pub struct FormationOptions {
 }
 
 impl Default for FormationOptions {
-    /// The paper's settings (η and the Dempster reading belong to the attribute gate,
-    /// [`crate::evidence::AttributeGate`]): baseline sensor 0, the
-    /// smallest reference subset, the planar radius, independent baselines, R_max = 200 km,
-    /// no region, full lines (not only in front of the sensors), [`triangulation_fit_options`].
+    /// [`FormationOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl FormationOptions {
+    /// The project's defaults, those of the Python package (`FormationLocator`), which are
+    /// the paper's settings (η and the Dempster reading belong to the attribute gate,
+    /// [`crate::evidence::AttributeGate`]): baseline sensor 0, the smallest reference subset,
+    /// the planar cluster radius, independent baselines, R_max = 200 km, no region, full lines
+    /// (not only in front of the sensors), [`triangulation_fit_options`].
+    pub fn recommended() -> Self {
         Self {
-            baseline: 0,
+            baseline_sensor: 0,
             reference: Reference::Smallest,
-            radius: ClusterRadius::Planar,
+            cluster_radius: ClusterRadius::Planar,
             one_to_one: false,
             r_max: 200e3,
             region: None,
             in_front: false,
             fit: triangulation_fit_options(),
         }
+    }
+
+    /// The published method (METHODS §3, paper 004): the same as
+    /// [`recommended`](Self::recommended), whose values are the paper's (R_max = 200 km, the
+    /// planar "2d" radius of its modification, full lines, each baseline report decided on
+    /// its own); where it is silent (the baseline sensor, "any" reference subset, the ML
+    /// triangulation's tolerance) they are the recommended ones.
+    pub fn paper() -> Self {
+        Self::recommended()
     }
 }
 
@@ -100,8 +117,8 @@ pub fn triangulation_fit_options() -> FitOptions {
 }
 
 impl FormationOptions {
-    pub fn with_baseline(mut self, baseline: usize) -> Self {
-        self.baseline = baseline;
+    pub fn with_baseline_sensor(mut self, baseline_sensor: usize) -> Self {
+        self.baseline_sensor = baseline_sensor;
         self
     }
 
@@ -110,8 +127,8 @@ impl FormationOptions {
         self
     }
 
-    pub fn with_radius(mut self, radius: ClusterRadius) -> Self {
-        self.radius = radius;
+    pub fn with_cluster_radius(mut self, cluster_radius: ClusterRadius) -> Self {
+        self.cluster_radius = cluster_radius;
         self
     }
 
@@ -158,14 +175,14 @@ impl FormationOptions {
         self
     }
 
-    pub fn baseline(&self) -> usize {
-        self.baseline
+    pub fn baseline_sensor(&self) -> usize {
+        self.baseline_sensor
     }
     pub fn reference(&self) -> Reference {
         self.reference
     }
-    pub fn radius(&self) -> ClusterRadius {
-        self.radius
+    pub fn cluster_radius(&self) -> ClusterRadius {
+        self.cluster_radius
     }
     pub fn one_to_one(&self) -> bool {
         self.one_to_one

@@ -94,13 +94,13 @@ impl<'a> Scene<'a> {
     }
 
     pub fn baseline_lines(&self) -> &[Line] {
-        &self.lines[self.options.baseline()]
+        &self.lines[self.options.baseline_sensor()]
     }
 
     /// The subsets `A_k` of baseline line `base` for every sensor (the baseline's own is
     /// empty and never read), with the pruning counts.
     pub fn subsets(&self, base: &Line, counts: &mut PruneCounts) -> Vec<Vec<Meeting>> {
-        let baseline = self.options.baseline();
+        let baseline = self.options.baseline_sensor();
         (0..self.lines.len())
             .map(|k| match k == baseline {
                 true => Vec::new(),

@@ -167,7 +167,7 @@ fn bad_networks_and_options_are_errors_naming_the_argument() {
             .expect_err("must fail")
             .to_string()
     };
-    assert!(err(FormationOptions::default().with_baseline(3)).starts_with("baseline_sensor"));
+    assert!(err(FormationOptions::default().with_baseline_sensor(3)).starts_with("baseline_sensor"));
     assert!(
         err(FormationOptions::default().with_reference(Reference::Sensor(0)))
             .starts_with("reference")

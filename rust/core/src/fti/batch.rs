@@ -16,9 +16,13 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::candidates::{fit_candidate, Candidate, CandidateSet, RayPair, OOM_HINT};
+use super::candidate::{fit_candidate, Candidate};
+use super::options::InitiationOptions;
+use super::options::OOM_HINT;
+use super::pool::CandidateSet;
+use super::problem::Problem;
+use super::ray_pairs::RayPair;
 use super::support::Gate;
-use super::{InitiationOptions, Problem};
 use crate::error::CoreResult;
 use crate::geometry::model::Space;
 
@@ -71,6 +75,17 @@ impl<'a> Batch<'a> {
             size: BATCH,
             max_held_pairs: MAX_HELD_PAIRS,
             tuples: Vec::with_capacity(BATCH),
+        }
+    }
+
+    /// The batch with `size` 4-tuples per fit and an early fit past `max_held_pairs` held ray
+    /// pairs: the tests shrink both.
+    #[cfg(test)]
+    pub(super) fn with_limits(self, size: usize, max_held_pairs: usize) -> Self {
+        Self {
+            size,
+            max_held_pairs,
+            ..self
         }
     }
 
@@ -197,44 +212,4 @@ enum Verdict {
     Unsupported,
     /// With the support gate's score when the gate is on.
     Kept(Option<f64>),
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::fti::candidates::generate_in;
-    use crate::fti::scans::{resolve_pairs, Scans};
-    use crate::fti::sim;
-
-    /// Batches of 7 that let go of their ray pairs at every scan pair find the candidates,
-    /// in the same order, and the counts of one batch per 16 384: in 2-D and 3-D, over the
-    /// slots of pass 2 (many scan pairs, most with few survivors).
-    #[test]
-    fn small_batches_find_the_same_candidates() {
-        for sc in [sim::planar(3, true, 10, 8), sim::paper(4, true, 12, 8)] {
-            let sensors = sc.sensors();
-            let table = sc.measurements(&sensors);
-            let problem = sim::problem(sensors, table);
-            let options = InitiationOptions::default();
-            let scans = Scans::new(&table, sensors.len());
-            let pairs = resolve_pairs(options.pairs(), &scans).expect("pairs");
-            let slots: Vec<[usize; 4]> = (pairs.iter())
-                .flat_map(|&p| scans.scan_slots(p, 3, false))
-                .collect();
-            let run = |batch: Batch<'_>| {
-                generate_in(&problem, &scans, &slots, None, &options, batch).expect("runs")
-            };
-            let whole = run(Batch::new(&problem, &options, None));
-            let mut small = Batch::new(&problem, &options, None);
-            (small.size, small.max_held_pairs) = (7, 0);
-            let small = run(small);
-            assert!(
-                whole.counts.fitted > 100 && slots.len() >= 9,
-                "{:?}",
-                whole.counts
-            );
-            assert_eq!(whole.counts, small.counts);
-            assert_eq!(whole.candidates, small.candidates);
-        }
-    }
 }

@@ -19,9 +19,11 @@ use std::collections::HashMap;
 use rayon::prelude::*;
 
 use super::batch::{Batch, ScanPairRays};
-use super::candidates::{CandidateSet, RayPair};
 use super::motion_gate;
-use super::{InitiationOptions, Problem};
+use super::options::InitiationOptions;
+use super::pool::CandidateSet;
+use super::problem::Problem;
+use super::ray_pairs::RayPair;
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;
 
@@ -70,7 +72,7 @@ pub(super) fn combine_with(
             what: "first × last ray-pair tests of one scan pair",
             count: work,
             cap,
-            hint: "set or lower v_max, tighten ray_gate, enable reject_behind, or raise \
+            hint: "set or lower v_max, tighten ray_gate_sigmas, enable reject_behind, or raise \
                    max_candidates (the cap is 200 tests per allowed candidate)",
         });
     }
@@ -103,7 +105,7 @@ pub(super) fn combine_with(
                         what: "candidates reaching the fitting stage",
                         count: set.counts.v_max,
                         cap: options.max_candidates(),
-                        hint: "tighten ray_gate or v_max, enable reject_behind, use fewer \
+                        hint: "tighten ray_gate_sigmas or v_max, enable reject_behind, use fewer \
                                sensor pairs, or raise max_candidates",
                     });
                 }
@@ -217,9 +219,9 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fti::candidates::ray_pairs;
+    use crate::fti::ray_pairs::ray_pairs;
     use crate::fti::scans::Scans;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
     use crate::geometry::model::{Motion, StateLayout};
 
     /// On cluttered 2-D and 3-D scenes with a `v_max` that reaches a few km, the grid prunes

@@ -34,9 +34,9 @@
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use super::candidates::Candidate;
+use super::candidate::Candidate;
 use super::closeness::{closeness_and_gradient, Precomputed};
-use super::{DescentOptions, Scaling};
+use super::descent_options::{DescentOptions, Scaling};
 use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::geometry::model::MAX_DIM;
 use crate::progress::Tally;
@@ -85,7 +85,7 @@ pub fn descend_all(
 }
 
 /// Descents from caller-given starts, each scaled by its own covariance (`P × D × D`,
-/// row-major): the entry point for searching R directly; the pipeline uses [`descend_all`].
+/// row-major): the entry point for searching R directly; the pipeline uses `descend_all`.
 pub fn descend_from(
     pre: &Precomputed,
     starts: &[f64],
@@ -163,7 +163,7 @@ pub fn diagonal(scale: &[f64; MAX_DIM]) -> Factor {
 }
 
 /// Maximises R from `start` in the variables `y` of `x = start + L·y` (`factor` = L, lower
-/// triangular; see the module doc). The returned `scale` is L's diagonal; [`descend_all`]
+/// triangular; see the module doc). The returned `scale` is L's diagonal; `descend_all`
 /// replaces it by the candidate's standard deviations.
 pub fn descend(
     pre: &Precomputed,

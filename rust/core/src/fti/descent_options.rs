@@ -1,10 +1,9 @@
 //! The steepest-ascent search's settings ([`DescentOptions`]) and its coordinates
 //! ([`Scaling`]), built with validated `with_*` setters.
 
-use super::options::positive;
-use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
 
-/// The linear change of variables each descent works in. See [`descent`](super::descent).
+/// The linear change of variables each descent works in. See module `descent`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Scaling {
     /// `x = x_c + L·y` with `L·Lᵀ` the candidate fit's covariance (default).
@@ -24,7 +23,7 @@ impl std::str::FromStr for Scaling {
 }
 
 /// Settings of the steepest-ascent search (eq. 19), built with validated `with_*` setters.
-/// See [`descent`](super::descent) for the method.
+/// See module `descent` for the method.
 ///
 /// ```
 /// use passive_assoc_core::fti::{DescentOptions, Scaling};
@@ -43,8 +42,17 @@ pub struct DescentOptions {
 }
 
 impl Default for DescentOptions {
-    /// Whitened scaling, `max_iter = 100`, `step_tol = 1e-2` (scaled units), `r_tol = 1e-9`.
+    /// [`DescentOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl DescentOptions {
+    /// The project's defaults, those of the Python package (`maximize_closeness`, and
+    /// `FuzzyTrackInitiator`'s `descent_*`): whitened scaling, `max_iter = 100`,
+    /// `step_tol = 1e-2` (scaled units), `r_tol = 1e-9`.
+    pub fn recommended() -> Self {
         Self {
             scaling: Scaling::Whitened,
             max_iter: 100,
@@ -52,9 +60,19 @@ impl Default for DescentOptions {
             r_tol: 1e-9,
         }
     }
-}
 
-impl DescentOptions {
+    /// The published method (METHODS §1 eq. 19): differs from
+    /// [`recommended`](Self::recommended) only in the diagonal scaling, the candidate fit's
+    /// per-component standard deviations that METHODS names (whitened removes the
+    /// position–velocity correlation and converges in fewer steps). The paper gives no
+    /// iteration cap or tolerances: those are the recommended ones.
+    pub fn paper() -> Self {
+        Self {
+            scaling: Scaling::Diagonal,
+            ..Self::recommended()
+        }
+    }
+
     /// The change of variables: whitened (the default) or diagonal.
     pub fn with_scaling(mut self, scaling: Scaling) -> Self {
         self.scaling = scaling;
@@ -71,7 +89,7 @@ impl DescentOptions {
     /// of the candidate fit; finite, `> 0`): far below the estimation noise; the final
     /// Gauss-Newton refit supplies the precision.
     pub fn with_step_tol(mut self, step_tol: f64) -> CoreResult<Self> {
-        positive("descent step_tol", Some(step_tol))?;
+        ensure_positive("descent step_tol", Some(step_tol))?;
         self.step_tol = step_tol;
         Ok(self)
     }

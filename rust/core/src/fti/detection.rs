@@ -28,8 +28,9 @@
 //! one-measurement-per-scan constraint. Rows related to no target are clutter.
 
 use super::descent::Optimum;
+use super::options::InitiationOptions;
+use super::problem::Problem;
 use super::scans::Scans;
-use super::{InitiationOptions, Problem};
 use crate::assign::lap::solve_dense;
 use crate::error::CoreResult;
 use crate::geometry::angles::wrap;
@@ -134,7 +135,7 @@ pub(super) fn detect_by_closeness(
     options: &InitiationOptions,
     available: &mut [bool],
 ) -> Vec<usize> {
-    let gate2 = options.gate() * options.gate();
+    let gate2 = options.gate_sigmas() * options.gate_sigmas();
     let n_detect = options.n_detect_for(scans.len());
     let one = options.one_per_scan();
     let mut accepted = Vec::new();
@@ -233,7 +234,7 @@ fn assign_scan(
 mod tests {
     use super::{for_each_residual2, residual2};
     use crate::fti::scans::Scans;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
 
     /// The per-scan prediction gives every row the number `residual2` gives, bit for bit, in
     /// 3-D and in the plane (where the stored elevation is NaN and must not be read), for the

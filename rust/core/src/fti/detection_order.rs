@@ -22,8 +22,9 @@ use std::collections::BinaryHeap;
 
 use super::descent::Optimum;
 use super::detection::{detect_by_closeness, related_rows_with};
+use super::options::{DetectionOrder, InitiationOptions};
+use super::problem::Problem;
 use super::scans::Scans;
-use super::{DetectionOrder, InitiationOptions, Problem};
 
 /// Eq. 23 detection over the merged optima `order` (by decreasing R), visited in the
 /// options' [`DetectionOrder`], among the rows still `available` (one flag per row; an
@@ -83,7 +84,7 @@ fn detect_by_membership(
     options: &InitiationOptions,
     available: &mut [bool],
 ) -> Vec<usize> {
-    let gate2 = options.gate() * options.gate();
+    let gate2 = options.gate_sigmas() * options.gate_sigmas();
     let n_detect = options.n_detect_for(scans.len());
     let one = options.one_per_scan();
     let taken = |i: usize, available: &[bool]| {
@@ -126,8 +127,9 @@ mod tests {
     use super::detect;
     use crate::data::{Measurements, Sensors};
     use crate::fti::descent::Optimum;
+    use crate::fti::options::{DetectionOrder, InitiationOptions};
     use crate::fti::scans::Scans;
-    use crate::fti::{sim, DetectionOrder, InitiationOptions};
+    use crate::fti::tests::sim;
     use crate::geometry::model::{predict, Motion, Space, StateLayout, MAX_DIM};
 
     fn optimum(x: [f64; 4]) -> Optimum {

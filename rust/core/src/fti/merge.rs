@@ -142,7 +142,7 @@ impl Index {
 #[cfg(test)]
 mod tests {
     use super::{merge, scaled_distance2, Optimum};
-    use crate::fti::sim::Rng;
+    use crate::fti::tests::sim::Rng;
     use crate::geometry::model::MAX_DIM;
 
     /// The plain double loop the index replaces.

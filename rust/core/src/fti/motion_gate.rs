@@ -1,5 +1,5 @@
 //! The motion-corrected ray gate (3-D, a project extension of the ray gate; on whenever
-//! `ray_gate` is): a candidate's own velocity replaces the `v_max` slack of the pair rule.
+//! `ray_gate_sigmas` is): a candidate's own velocity replaces the `v_max` slack of the pair rule.
 //!
 //! The ray gate judges one ray pair alone, so for asynchronous sensors it must allow the
 //! target to move `v_max·|t_a − t_b|` between the two samples (2.5 km at the paper's 5 s and
@@ -9,12 +9,13 @@
 //! `v = (P_last − P_first)/(t_last − t_first)` from the two meeting points; moving ray b by
 //! `v·(t_a − t_b)` puts the target on both lines at the same instant, so for a true candidate
 //! the two lines meet up to noise. The rule: in both pairs, the corrected closest approach is
-//! at most `ray_gate · (√((σ_a·r_a)² + (σ_b·r_b)²) + |t_a − t_b|·δv)`, where δv bounds the
+//! at most `ray_gate_sigmas · (√((σ_a·r_a)² + (σ_b·r_b)²) + |t_a − t_b|·δv)`, where δv bounds the
 //! velocity estimate's own error, `(noise_first + noise_last)/(t_last − t_first)` — the
 //! meeting points are each good to their noise. Rejected candidates are never fitted.
 
-use super::candidates::RayPair;
-use super::{InitiationOptions, Problem};
+use super::options::InitiationOptions;
+use super::problem::Problem;
+use super::ray_pairs::RayPair;
 use crate::geometry::los::{closest_points, direction};
 use crate::geometry::model::Space;
 
@@ -26,7 +27,7 @@ pub(super) fn passes(
     last: &RayPair,
     options: &InitiationOptions,
 ) -> bool {
-    let Some(gate) = options.ray_gate() else {
+    let Some(gate) = options.ray_gate_sigmas() else {
         return true;
     };
     if problem.layout.space == Space::Planar {
@@ -71,9 +72,11 @@ fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64
 #[cfg(test)]
 mod tests {
     use super::passes;
-    use crate::fti::candidates::{fit_candidate, ray_pairs, RayPair};
+    use crate::fti::candidate::fit_candidate;
+    use crate::fti::options::{InitiationOptions, CHI2_2DOF_999};
+    use crate::fti::ray_pairs::{ray_pairs, RayPair};
     use crate::fti::scans::Scans;
-    use crate::fti::{sim, InitiationOptions, CHI2_2DOF_999};
+    use crate::fti::tests::sim;
 
     /// Every 4-tuple of the outer scans of two cluttered paper runs, brute force: the gate
     /// keeps every candidate whose fit passes the χ² gate and rejects most of the others.

@@ -1,15 +1,23 @@
-//! The initiation's settings, built with validated `with_*` setters: [`InitiationOptions`] and
-//! the steepest-ascent search's [`DescentOptions`].
+//! The initiation's settings, built with validated `with_*` setters: [`InitiationOptions`]
+//! (the steepest-ascent search's own are module `descent_options`), and the hint that names
+//! them when the candidates outgrow memory.
 
-pub use super::descent_options::{DescentOptions, Scaling};
-use super::track_test::TRACK_TEST_Z;
-use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
+use super::descent_options::DescentOptions;
+use super::quantiles::upper_normal_level;
+use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
 
 /// 99.9 % quantile of χ²(2): the default candidate gate in 3-D, where a candidate's 4
 /// measurements give 8 equations for 6 unknowns.
 pub const CHI2_2DOF_999: f64 = 13.815510557964274;
 
-/// How detection orders the optima: see [`detection_order`](super::detection_order).
+/// The final track test's default tail probability: a true track fails it once in 10⁶.
+pub const TRACK_TEST: f64 = 1e-6;
+
+/// What to do when the candidates outgrow memory (max_candidates bounds them only by count).
+pub(super) const OOM_HINT: &str =
+    "lower max_candidates, set v_max, tighten ray_gate_sigmas or enable reject_behind";
+
+/// How detection orders the optima: see module `detection_order`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DetectionOrder {
     /// Decreasing R over every row, computed once (the paper's eq. 23).
@@ -33,25 +41,27 @@ impl std::str::FromStr for DetectionOrder {
 }
 
 /// Every parameter of the initiation except the data, built with validated `with_*` setters.
-/// `Default` gives the recommended values:
+/// The names are `FuzzyTrackInitiator`'s parameters (the descent's are its `descent_*`).
+/// `Default` is [`recommended`](Self::recommended), the values below, which are the Python
+/// package's defaults; [`paper`](Self::paper) is the published method:
 ///
-/// | field | default | why |
+/// | field | recommended | why |
 /// |---|---|---|
 /// | `pairs` | every pair a < b | |
-/// | `gate` | 5 | the paper's g |
+/// | `gate_sigmas` | 5 | the paper's g |
 /// | `n_detect` | auto | ⌈0.6·N⌉ − 1 for N scans in the table: the paper's Nd = 9 at N = 16; see [`n_detect_for`](Self::n_detect_for) |
-/// | `ray_gate` | 5 σ | misses a true ray pair with probability < 10⁻⁵ (3-D only) |
+/// | `ray_gate_sigmas` | 5 σ | misses a true ray pair with probability < 10⁻⁵ (3-D only) |
 /// | `reject_behind` | on | a passive sensor cannot see a target behind it |
 /// | `v_max` | 500 m/s | 2.5× the paper's fastest target; loosening it mostly costs fits |
 /// | `chi2_gate` | 13.8155 | χ²(2) 99.9 % (3-D only) |
-/// | `one_per_scan` | on | a point target yields one report per scan; see [`detection`](super::detection) |
-/// | `detection_order` | membership | R favours ghosts between targets; see [`detection_order`](super::detection_order) |
+/// | `one_per_scan` | on | a point target yields one report per scan; see module `detection` |
+/// | `detection_order` | membership | R favours ghosts between targets; see module `detection_order` |
 /// | `merge_tol` | 1 σ | distinct targets are many σ apart; duplicates converge within 0.1 σ |
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (issue 16's 2-D scene); with the support gate off every candidate is stored (≈ 0.45 kB each) |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
-/// | `track_test` | z = 4.753 (tail 10⁻⁶) | see [`with_track_test`](Self::with_track_test) |
-/// | `support_gate` | on | see [`support`](super::support) |
+/// | `track_test` | 10⁻⁶ (z = 4.753) | see [`with_track_test`](Self::with_track_test) |
+/// | `support_gate` | on | see module `support` |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
 /// | `gate_pd` | `None` | misses not priced; see [`with_gate_pd`](Self::with_gate_pd) |
 /// | `search_stage` | 8 192 | see [`with_search_stage`](Self::with_search_stage) |
@@ -63,12 +73,12 @@ impl std::str::FromStr for DetectionOrder {
 /// use passive_assoc_core::fti::{DescentOptions, InitiationOptions};
 /// let o = InitiationOptions::default()
 ///     .with_pairs(Some(vec![[0, 1]]))
-///     .with_gate(4.0).unwrap()
+///     .with_gate_sigmas(4.0).unwrap()
 ///     .with_v_max(None).unwrap()
 ///     .with_descent(DescentOptions::default().with_max_iter(50));
-/// assert_eq!((o.gate(), o.v_max(), o.descent().max_iter()), (4.0, None, 50));
+/// assert_eq!((o.gate_sigmas(), o.v_max(), o.descent().max_iter()), (4.0, None, 50));
 /// assert_eq!(o.pairs(), Some(&[[0, 1]][..]));
-/// assert!(InitiationOptions::default().with_gate(0.0).is_err());
+/// assert!(InitiationOptions::default().with_gate_sigmas(0.0).is_err());
 /// assert!(InitiationOptions::default().with_n_detect(Some(0)).is_err());
 /// assert_eq!(InitiationOptions::default().n_detect_for(16), 9);
 /// assert!(InitiationOptions::default().with_gate_pd(Some(1.0)).is_err());
@@ -76,9 +86,9 @@ impl std::str::FromStr for DetectionOrder {
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitiationOptions {
     pairs: Option<Vec<[usize; 2]>>,
-    gate: f64,
+    gate_sigmas: f64,
     n_detect: Option<usize>,
-    ray_gate: Option<f64>,
+    ray_gate_sigmas: Option<f64>,
     reject_behind: bool,
     v_max: Option<f64>,
     chi2_gate: Option<f64>,
@@ -96,17 +106,26 @@ pub struct InitiationOptions {
 }
 
 impl Default for InitiationOptions {
-    /// The values of the table above: every pair, `gate = 5`, `n_detect` automatic,
-    /// `ray_gate = Some(5)`, `reject_behind`, `v_max = Some(500)`,
-    /// `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the membership detection
-    /// order, `merge_tol = 1`, the default descent, `max_candidates = 500_000`,
-    /// `refine_passes = 2`, `candidate_scans = 4`, `search_stage = Some(8192)`.
+    /// [`InitiationOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl InitiationOptions {
+    /// The project's defaults, the Python package's: every pair, `gate_sigmas = 5`,
+    /// `n_detect` automatic, `ray_gate_sigmas = Some(5)`, `reject_behind`,
+    /// `v_max = Some(500)`, `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the
+    /// membership detection order, `merge_tol = 1`, the recommended descent,
+    /// `max_candidates = 500_000`, `refine_passes = 2`, `candidate_scans = 4`, the support
+    /// gate on, `track_test = Some(`[`TRACK_TEST`]`)`, misses not priced,
+    /// `search_stage = Some(8192)` (the table of [`InitiationOptions`] says why).
+    pub fn recommended() -> Self {
         Self {
             pairs: None,
-            gate: 5.0,
+            gate_sigmas: 5.0,
             n_detect: None,
-            ray_gate: Some(5.0),
+            ray_gate_sigmas: Some(5.0),
             reject_behind: true,
             v_max: Some(500.0),
             chi2_gate: Some(CHI2_2DOF_999),
@@ -118,14 +137,48 @@ impl Default for InitiationOptions {
             refine_passes: 2,
             candidate_scans: 4,
             support_gate: true,
-            track_test: Some(TRACK_TEST_Z),
+            track_test: Some(TRACK_TEST),
             gate_pd: None,
             search_stage: Some(8192),
         }
     }
-}
 
-impl InitiationOptions {
+    /// The published method (METHODS §1, paper 000): the paper's unpruned algorithm and
+    /// pipeline. It differs from [`recommended`](Self::recommended) in:
+    ///
+    /// * `n_detect = Some(9)`, the paper's Nd (recommended: from the table's scans, which is 9
+    ///   at the paper's 16 scans and grows with them);
+    /// * `ray_gate_sigmas`, `v_max` and `chi2_gate` `None` and `reject_behind` off: the paper
+    ///   fits every 4-tuple (12⁴ ≈ 21 000 a pair in its run); the rules are the
+    ///   restatement's pruning, conservative but not the paper's;
+    /// * `one_per_scan` off and the closeness detection order: eq. 23 as printed;
+    /// * the diagonal descent scaling ([`DescentOptions::paper`]): per-component standard
+    ///   deviations, the scaling METHODS names;
+    /// * `refine_passes = 0`, `candidate_scans = 1`, the support gate off, `track_test`
+    ///   `None`, `search_stage` `None`: the project extensions, each off, so candidates come
+    ///   from the first and last scans only and every candidate is descended before detection.
+    ///
+    /// Where the paper is silent (`merge_tol`, `max_candidates`, `gate_pd`, the descent's
+    /// iteration cap and tolerances) the values are the recommended ones.
+    pub fn paper() -> Self {
+        Self {
+            n_detect: Some(9),
+            ray_gate_sigmas: None,
+            reject_behind: false,
+            v_max: None,
+            chi2_gate: None,
+            one_per_scan: false,
+            detection_order: DetectionOrder::Closeness,
+            descent: DescentOptions::paper(),
+            refine_passes: 0,
+            candidate_scans: 1,
+            support_gate: false,
+            track_test: None,
+            search_stage: None,
+            ..Self::recommended()
+        }
+    }
+
     /// Sensor pairs that form candidates; `None` = every pair a < b. Checked against the data
     /// (sensor indices, a ≠ b, no repeats, first and last scans) when the initiation runs.
     pub fn with_pairs(mut self, pairs: Option<Vec<[usize; 2]>>) -> Self {
@@ -134,9 +187,9 @@ impl InitiationOptions {
     }
 
     /// Relation gate g of eq. 23, in σ (paper 5; finite, `> 0`).
-    pub fn with_gate(mut self, gate: f64) -> CoreResult<Self> {
-        positive("gate", Some(gate))?;
-        self.gate = gate;
+    pub fn with_gate_sigmas(mut self, gate_sigmas: f64) -> CoreResult<Self> {
+        ensure_positive("gate_sigmas", Some(gate_sigmas))?;
+        self.gate_sigmas = gate_sigmas;
         Ok(self)
     }
 
@@ -151,10 +204,10 @@ impl InitiationOptions {
     }
 
     /// Ray gate in σ units (3-D only; finite, `> 0`; `None` = off). See
-    /// [`candidates`](super::candidates).
-    pub fn with_ray_gate(mut self, ray_gate: Option<f64>) -> CoreResult<Self> {
-        positive("ray_gate", ray_gate)?;
-        self.ray_gate = ray_gate;
+    /// module `candidates`.
+    pub fn with_ray_gate_sigmas(mut self, ray_gate_sigmas: Option<f64>) -> CoreResult<Self> {
+        ensure_positive("ray_gate_sigmas", ray_gate_sigmas)?;
+        self.ray_gate_sigmas = ray_gate_sigmas;
         Ok(self)
     }
 
@@ -165,22 +218,22 @@ impl InitiationOptions {
     }
 
     /// Largest plausible target speed, m/s (finite, `> 0`; `None` = off). See
-    /// [`candidates`](super::candidates).
+    /// module `candidates`.
     pub fn with_v_max(mut self, v_max: Option<f64>) -> CoreResult<Self> {
-        positive("v_max", v_max)?;
+        ensure_positive("v_max", v_max)?;
         self.v_max = v_max;
         Ok(self)
     }
 
     /// Candidate χ² gate after the 4-measurement fit (3-D only; finite, `> 0`; `None` = off).
     pub fn with_chi2_gate(mut self, chi2_gate: Option<f64>) -> CoreResult<Self> {
-        positive("chi2_gate", chi2_gate)?;
+        ensure_positive("chi2_gate", chi2_gate)?;
         self.chi2_gate = chi2_gate;
         Ok(self)
     }
 
     /// A target takes at most one measurement per (sensor, scan) (on by default). See
-    /// [`detection`](super::detection).
+    /// module `detection`.
     pub fn with_one_per_scan(mut self, one_per_scan: bool) -> Self {
         self.one_per_scan = one_per_scan;
         self
@@ -188,14 +241,14 @@ impl InitiationOptions {
 
     /// The order in which detection visits the optima: [`DetectionOrder::Membership`]
     /// (default) or the paper's [`DetectionOrder::Closeness`]. See
-    /// [`detection_order`](super::detection_order).
+    /// module `detection_order`.
     pub fn with_detection_order(mut self, detection_order: DetectionOrder) -> Self {
         self.detection_order = detection_order;
         self
     }
 
     /// Optima closer than this scaled distance are one optimum (finite, `>= 0`). See
-    /// [`descent`](super::descent).
+    /// module `descent`.
     pub fn with_merge_tol(mut self, merge_tol: f64) -> CoreResult<Self> {
         if !(merge_tol.is_finite() && merge_tol >= 0.0) {
             return Err(CoreError::out_of_range(
@@ -238,7 +291,7 @@ impl InitiationOptions {
     /// Candidates searched before detection runs (project extension; at least 1): a pass
     /// with more candidates than this searches them in stages, by decreasing tracking-gate
     /// score, and later stages only search candidates the gates still keep on the rows
-    /// detection has left (module [`stages`](super::stages)). `None`: every candidate is
+    /// detection has left (module `stages`). `None`: every candidate is
     /// searched before detection, as in the paper, whatever their number.
     pub fn with_search_stage(mut self, search_stage: Option<usize>) -> CoreResult<Self> {
         if search_stage == Some(0) {
@@ -255,7 +308,7 @@ impl InitiationOptions {
     /// detections; at least 1). 1 is the paper: each sensor's first and last scan. With k > 1
     /// a second pass, on the rows the first pass's detection left, also combines each sensor's
     /// i-th scan from the start with its j-th from the end for every other i, j < k (see
-    /// [`Scans::scan_slots`](super::scans::Scans::scan_slots)), so a target missed in an outer
+    /// [`Scans::scan_slots`](super::Scans::scan_slots)), so a target missed in an outer
     /// scan is still initiated.
     pub fn with_candidate_scans(mut self, candidate_scans: usize) -> CoreResult<Self> {
         if candidate_scans < 1 {
@@ -269,20 +322,27 @@ impl InitiationOptions {
     }
 
     /// Descend only from candidates that more than Nd scans support (on by default; off = the
-    /// paper, every candidate is descended). See [`support`](super::support).
+    /// paper, every candidate is descended). See module `support`.
     pub fn with_support_gate(mut self, support_gate: bool) -> Self {
         self.support_gate = support_gate;
         self
     }
 
-    /// Dissolve a final track whose refit χ² exceeds the χ²(dof) quantile at standard-normal
-    /// level `z` (Wilson–Hilferty; dof = angles − state dimension), its rows becoming clutter
-    /// (project extension; finite `> 0`, `None` = off). A track of clutter reports threads
-    /// them at residuals spread over the whole gate (χ²/dof ≈ 8 for a uniform ±5σ spread); a
-    /// target's is χ²-distributed. Default z = 4.753, a true track's tail probability 10⁻⁶.
-    pub fn with_track_test(mut self, z: Option<f64>) -> CoreResult<Self> {
-        positive("track_test", z)?;
-        self.track_test = z;
+    /// Dissolve a final track whose refit χ² exceeds the χ²(dof) quantile at this upper tail
+    /// probability (dof = angles − state dimension), its rows becoming clutter (project
+    /// extension; in (0, 0.5), `None` = off). The quantile is Wilson–Hilferty's at the
+    /// standard-normal level `z = −Φ⁻¹(track_test)` ([`track_test_level`](Self::track_test_level)).
+    /// A track of clutter reports threads them at residuals spread over the whole gate
+    /// (χ²/dof ≈ 8 for a uniform ±5σ spread); a target's is χ²-distributed. Default
+    /// [`TRACK_TEST`] = 10⁻⁶ (z = 4.753).
+    pub fn with_track_test(mut self, track_test: Option<f64>) -> CoreResult<Self> {
+        if let Some(p) = track_test.filter(|p| !(*p > 0.0 && *p < 0.5)) {
+            return Err(CoreError::out_of_range(
+                "track_test",
+                format!("{p} must be in (0, 0.5)"),
+            ));
+        }
+        self.track_test = track_test;
         Ok(self)
     }
 
@@ -306,8 +366,15 @@ impl InitiationOptions {
         self.gate_pd
     }
 
+    /// The track test's tail probability (`None`: off).
     pub fn track_test(&self) -> Option<f64> {
         self.track_test
+    }
+
+    /// The track test's standard-normal level `z = −Φ⁻¹(track_test)` (AS 241: SciPy's
+    /// `-ndtri` to the last bit or two; to the bit at the default 10⁻⁶).
+    pub fn track_test_level(&self) -> Option<f64> {
+        self.track_test.map(upper_normal_level)
     }
 
     pub fn support_gate(&self) -> bool {
@@ -326,8 +393,8 @@ impl InitiationOptions {
         self.pairs.as_deref()
     }
 
-    pub fn gate(&self) -> f64 {
-        self.gate
+    pub fn gate_sigmas(&self) -> f64 {
+        self.gate_sigmas
     }
 
     /// Nd for a table of `n_scans` scans (over all sensors): the explicit value, or
@@ -344,8 +411,8 @@ impl InitiationOptions {
         self.n_detect
     }
 
-    pub fn ray_gate(&self) -> Option<f64> {
-        self.ray_gate
+    pub fn ray_gate_sigmas(&self) -> Option<f64> {
+        self.ray_gate_sigmas
     }
 
     pub fn reject_behind(&self) -> bool {
@@ -382,16 +449,5 @@ impl InitiationOptions {
 
     pub fn refine_passes(&self) -> usize {
         self.refine_passes
-    }
-}
-
-/// `Ok` for `None` or a finite positive value; otherwise the error naming `arg`.
-pub(super) fn positive(arg: &'static str, value: Option<f64>) -> CoreResult<()> {
-    match value {
-        Some(v) if !(v.is_finite() && v > 0.0) => Err(CoreError::out_of_range(
-            arg,
-            format!("{v} must be finite and > 0"),
-        )),
-        _ => Ok(()),
     }
 }

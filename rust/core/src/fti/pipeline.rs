@@ -6,18 +6,19 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::candidates;
-use super::closeness::{closeness, Precomputed, Spreads};
+use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
+use super::options::InitiationOptions;
+use super::output::{Initiation, StageCounts, StageSeconds, Track};
+use super::problem::Problem;
+use super::refit::{padded, refit};
 use super::scans::{resolve_pairs, Scans};
 use super::stages::search_and_detect;
 use super::support::{Gate, SupportTable};
 use super::track_join;
-use super::track_test;
-use super::{Initiation, InitiationOptions, Problem, StageCounts, StageSeconds, Track};
+use super::track_quality;
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
-use crate::estimation::fit::gauss_newton::fit;
-use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::model::{Motion, StateLayout, MAX_DIM};
 use crate::progress::{Progress, Silent};
 
@@ -106,7 +107,7 @@ pub fn initiate_reporting(
         &problem,
         &scans,
         &states,
-        options.gate(),
+        options.gate_sigmas(),
         options.one_per_scan(),
     )?;
     seconds.detection += clock.elapsed().as_secs_f64();
@@ -156,7 +157,7 @@ impl Run {
         let gate = masked.as_ref().or(self.support.as_ref()).map(|table| Gate {
             table,
             scans,
-            gate: options.gate(),
+            gate: options.gate_sigmas(),
             n_detect: options.n_detect_for(scans.len()),
             miss_score: options.gate_pd().map_or(0.0, |pd| (1.0 - pd).ln()),
         });
@@ -216,7 +217,7 @@ fn free_dissolved(
     if options.track_test().is_none() || states.is_empty() {
         return Ok(());
     }
-    let (gate, one_per_scan) = (options.gate(), options.one_per_scan());
+    let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
     let classified = classify(problem, scans, states, gate, one_per_scan)?;
     let (_, kept) = finished(problem, pre, scans, states, classified.clone(), options)?;
     let mut survived = vec![false; states.len()];
@@ -243,10 +244,11 @@ fn finished(
     labels: Vec<i64>,
     options: &InitiationOptions,
 ) -> CoreResult<(Vec<Track>, Vec<i64>)> {
-    let (gate, one_per_scan) = (options.gate(), options.one_per_scan());
+    let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
     let (mut tracks, mut labels) = final_tracks(problem, pre, states, labels);
     let n_detect = options.n_detect_for(scans.len());
-    if let Some(z) = options.track_test() {
+    let level = options.track_test_level();
+    if let Some(z) = level {
         if let Some(states) = track_join::joined(problem, pre, scans, &tracks, n_detect, gate, z) {
             let relabelled = classify(problem, scans, &states, gate, one_per_scan)?;
             (tracks, labels) = final_tracks(problem, pre, &states, relabelled);
@@ -263,15 +265,9 @@ fn finished(
     // The track test runs once, on the refined tracks: an early classification can give a
     // target wrong rows that a refine pass then corrects.
     let n_rows = labels.len();
-    Ok(track_test::tested(
-        problem, pre, scans, tracks, n_rows, n_detect, options,
+    Ok(track_quality::tested(
+        problem, pre, scans, tracks, n_rows, n_detect, level,
     ))
-}
-
-pub(super) fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
-    let mut x = [0.0; MAX_DIM];
-    x[..estimate.len()].copy_from_slice(estimate);
-    x
 }
 
 /// Refits each classified target on its rows (in parallel, in order). A target whose refit
@@ -303,76 +299,6 @@ fn final_tracks(
         tracks.push(track);
     }
     (tracks, out)
-}
-
-pub(super) fn refit(
-    problem: &Problem<'_>,
-    pre: &Precomputed,
-    start: &[f64; MAX_DIM],
-    rows: &[usize],
-) -> Option<Track> {
-    let d = problem.layout.dim();
-    if rows.len() * problem.layout.space.angles() < d {
-        return None;
-    }
-    let obs: Vec<_> = rows.iter().map(|&m| problem.observation(m)).collect();
-    let outcome = fit(&problem.layout, &obs, &start[..d], &FitOptions::default());
-    let usable = !matches!(
-        outcome.termination,
-        Termination::Singular | Termination::NonFinite
-    ) && outcome
-        .estimate
-        .iter()
-        .chain(&outcome.covariance)
-        .all(|v| v.is_finite());
-    usable.then(|| Track {
-        closeness: closeness(pre, &outcome.estimate),
-        estimate: outcome.estimate,
-        covariance: outcome.covariance,
-        chi2: outcome.chi2,
-        measurements: rows.to_vec(),
-    })
-}
-
-/// What [`candidates_of`] returns: the fitted candidates, the stage counts, the scans and
-/// the resolved pairs.
-#[cfg(test)]
-pub(crate) type CandidateRun = (
-    Vec<candidates::Candidate>,
-    super::StageCounts,
-    Scans,
-    Vec<[usize; 2]>,
-);
-
-/// Candidates only (no search), for tests and diagnostics.
-#[cfg(test)]
-pub(crate) fn candidates_of(
-    sensors: &Sensors<'_>,
-    measurements: &Measurements<'_>,
-    t0: f64,
-    options: &InitiationOptions,
-) -> CoreResult<CandidateRun> {
-    let problem = Problem {
-        sensors: *sensors,
-        measurements: *measurements,
-        layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0 }),
-        t0,
-        progress: &Silent,
-    };
-    let scans = Scans::new(measurements, sensors.len());
-    let pairs = resolve_pairs(options.pairs(), &scans)?;
-    let slots: Vec<[usize; 4]> = pairs
-        .iter()
-        .flat_map(|&p| scans.scan_slots(p, 1, false))
-        .collect();
-    let set = candidates::generate(&problem, &scans, &slots, None, options, None)?;
-    stop_if_stopped(&problem)?;
-    Ok((
-        set.candidates.into_whole(&problem),
-        set.counts,
-        scans,
-        pairs,
-    ))
 }
 
 /// Ends the pipeline between stages when the user asked to stop (Ctrl-C, or the progress

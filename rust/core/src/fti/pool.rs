@@ -15,9 +15,21 @@ use std::borrow::Cow;
 
 use rayon::prelude::*;
 
-use super::candidates::{fit_candidate, Candidate, RayPair};
-use super::Problem;
+use super::candidate::{fit_candidate, Candidate};
+use super::output::StageCounts;
+use super::problem::Problem;
+use super::ray_pairs::RayPair;
 use crate::error::{reserve_one, CoreResult};
+
+/// The candidates that survive every enabled rule, with stage counts and timings.
+#[derive(Clone, Debug, Default)]
+pub struct CandidateSet {
+    pub candidates: Pool,
+    pub counts: StageCounts,
+    pub seconds_enumerate: f64,
+    pub seconds_fit: f64,
+    pub seconds_support: f64,
+}
 
 /// A candidate as kept past the limit: what refits it, and its support-gate score.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,9 +147,10 @@ impl Compact {
 #[cfg(test)]
 mod tests {
     use super::Pool;
-    use crate::fti::candidates::Candidate;
-    use crate::fti::pipeline::candidates_of;
-    use crate::fti::{sim, InitiationOptions};
+    use crate::fti::candidate::Candidate;
+    use crate::fti::options::InitiationOptions;
+    use crate::fti::tests::candidates_of;
+    use crate::fti::tests::sim;
 
     /// A compact pool gives back every candidate exactly as it was fitted, score included,
     /// in 2-D and 3-D, and compacts only past its limit.

@@ -29,15 +29,16 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::candidates::Candidate;
+use super::candidate::Candidate;
 use super::closeness::{closeness, Precomputed};
 use super::descent::{descend_all, Optimum};
 use super::detection_order::detect;
 use super::merge::merge;
+use super::options::InitiationOptions;
 use super::pool::Pool;
+use super::problem::Problem;
 use super::scans::Scans;
 use super::support::{Gate, SupportTable};
-use super::{InitiationOptions, Problem};
 use crate::progress::Tally;
 
 /// What one pass's search and detection produced.
@@ -180,9 +181,9 @@ fn search_order(
 
 #[cfg(test)]
 mod tests {
-    use crate::fti::sim;
+    use crate::fti::options::InitiationOptions;
     use crate::fti::tests::run;
-    use crate::fti::InitiationOptions;
+    use crate::fti::tests::sim;
     use crate::parallel::with_threads;
 
     /// Within one stage the search is the paper's; in stages of 4 the same targets are found

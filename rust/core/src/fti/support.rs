@@ -16,10 +16,9 @@
 //! is where the descent may still move it. The candidate survives when more than Nd scans
 //! support it. Each scan's rows are kept sorted by azimuth and found by binary search.
 
-use super::candidates::Candidate;
+use super::candidate::Candidate;
+use super::problem::Problem;
 use super::scans::Scans;
-use super::tracking_gate;
-use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{gradient_rows, predict, Observation, Space};
 
@@ -213,8 +212,9 @@ pub(super) fn azimuth_window(
     main.iter().chain(wrapped)
 }
 
-/// The support gate as the fitting stage applies it to each fitted candidate: the fixed gate
-/// above, then the tracking gate (module `tracking_gate`) on the survivors.
+/// The support gate's tables and settings, as the fitting stage applies it to each fitted
+/// candidate: the fixed gate above, then the tracking gate (module `tracking_gate`, which
+/// holds [`Gate::keeps`]) on the survivors.
 pub struct Gate<'a> {
     pub table: &'a SupportTable,
     pub scans: &'a Scans,
@@ -226,23 +226,12 @@ pub struct Gate<'a> {
     pub miss_score: f64,
 }
 
-impl Gate<'_> {
-    /// The tracking gate's score when the candidate passes both gates, `None` when not.
-    pub fn keeps(&self, problem: &Problem<'_>, c: &Candidate) -> Option<f64> {
-        let (table, scans, gate, n_detect) = (self.table, self.scans, self.gate, self.n_detect);
-        if !table.supports(problem, scans, c, gate, n_detect) {
-            return None;
-        }
-        tracking_gate::score(problem, self, c)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::{azimuth_window, Neighbours};
-    use crate::fti::sim;
+    use crate::fti::options::InitiationOptions;
     use crate::fti::tests::run;
-    use crate::fti::InitiationOptions;
+    use crate::fti::tests::sim;
     use std::f64::consts::PI;
 
     #[test]

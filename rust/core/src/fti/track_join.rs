@@ -17,10 +17,11 @@
 
 use super::closeness::Precomputed;
 use super::detection::residual2;
-use super::pipeline::{padded, refit};
+use super::output::Track;
+use super::problem::Problem;
+use super::refit::{padded, refit};
 use super::scans::Scans;
-use super::track_test::trimmed;
-use super::{Problem, Track};
+use super::track_quality::trimmed;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, MAX_DIM};
 
@@ -133,8 +134,9 @@ fn try_join(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fti::sim;
-    use crate::fti::TRACK_TEST_Z;
+    use crate::fti::options::TRACK_TEST;
+    use crate::fti::quantiles::upper_normal_level;
+    use crate::fti::tests::sim;
 
     /// One target's rows shared between two tracks (even and odd scans)
     /// are joined; two targets' own tracks are not.
@@ -165,7 +167,7 @@ mod tests {
             &halves,
             n_detect,
             gate,
-            TRACK_TEST_Z,
+            upper_normal_level(TRACK_TEST),
         )
         .expect("the halves join");
         assert_eq!(states.len(), 1);
@@ -181,7 +183,7 @@ mod tests {
             &targets,
             n_detect,
             1e9,
-            TRACK_TEST_Z,
+            upper_normal_level(TRACK_TEST),
         );
         assert!(apart.is_none(), "two targets were joined");
     }

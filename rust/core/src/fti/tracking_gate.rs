@@ -38,9 +38,9 @@
 
 use std::f64::consts::PI;
 
-use super::candidates::Candidate;
+use super::candidate::Candidate;
+use super::problem::Problem;
 use super::support::{azimuth_window, in_box, Gate, ScanAngles};
-use super::Problem;
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{gradient_rows, predict, Space, MAX_DIM};
 
@@ -223,6 +223,18 @@ impl Prediction {
     }
 }
 
+impl Gate<'_> {
+    /// The support gate's verdict: the fixed gate (module `support`), then this walk on its
+    /// survivors. The walk's score when the candidate passes both, `None` when not.
+    pub fn keeps(&self, problem: &Problem<'_>, c: &Candidate) -> Option<f64> {
+        let (table, scans, gate, n_detect) = (self.table, self.scans, self.gate, self.n_detect);
+        if !table.supports(problem, scans, c, gate, n_detect) {
+            return None;
+        }
+        score(problem, self, c)
+    }
+}
+
 /// Whether `c` finds a row in more than `n_detect` scans, updated as it goes, and the rows
 /// it finds are likelier from it than from clutter (module doc).
 #[cfg(test)]
@@ -313,9 +325,10 @@ impl Walk<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fti::pipeline::candidates_of;
+    use crate::fti::options::InitiationOptions;
     use crate::fti::support::SupportTable;
-    use crate::fti::{sim, InitiationOptions};
+    use crate::fti::tests::candidates_of;
+    use crate::fti::tests::sim;
 
     /// In 2-D with clutter (where the χ² gate has no information): every candidate made of
     /// one target's four rows passes, and the gate removes candidates the fixed gate keeps;
@@ -337,7 +350,7 @@ mod tests {
             for c in &candidates {
                 let owner = sc.truth[c.rows[0]];
                 let is_true = owner >= 0 && c.rows.iter().all(|&m| sc.truth[m] == owner);
-                if !support.supports(&problem, &scans, c, options.gate(), n_detect) {
+                if !support.supports(&problem, &scans, c, options.gate_sigmas(), n_detect) {
                     assert!(!is_true, "the fixed gate lost a true candidate");
                     continue;
                 }
@@ -345,7 +358,7 @@ mod tests {
                 let gating = |miss_score| Gate {
                     table: &support,
                     scans: &scans,
-                    gate: options.gate(),
+                    gate: options.gate_sigmas(),
                     n_detect,
                     miss_score,
                 };

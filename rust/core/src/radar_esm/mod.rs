@@ -11,13 +11,15 @@
 //!
 //! Files:
 //! * `options` — [`CoarseOptions`]: the χ² threshold and whitened / scalar statistic;
-//! * `inputs` — [`Operator`] and [`CoarseTracks`]: validated borrowed views of W and of one
-//!   side's coefficients and per-scan variances;
+//! * `inputs` — [`Operator`], [`CoarseTracks`] and [`CoupledTracks`]: validated borrowed
+//!   views of W and of one side's coefficients with per-scan variances or with their full
+//!   covariance;
 //! * `coarse` — [`coarse_gate`]: the statistic and the pass flags of every pair, in parallel
 //!   over radar tracks (the hot path);
 //! * `decision` — [`repeated_maximum`]: the one-to-one decision of every scan (step 4);
 //! * `full` — [`coarse_gate_coupled`]: the same gate when each track brings its
-//!   coefficients' full covariance (a filtered track's errors are correlated in time);
+//!   coefficients' full covariance ([`CoupledTracks`]; a filtered track's errors are
+//!   correlated in time);
 //! * `rows` — the pair loop: both sides prepared once, one radar track's row at a time;
 //! * `cholesky` — the hand-rolled small-matrix Cholesky solve the pair loop runs, several
 //!   pairs at once.
@@ -31,12 +33,10 @@ mod options;
 mod rows;
 
 #[cfg(test)]
-mod full_tests;
-#[cfg(test)]
 mod tests;
 
 pub use coarse::{coarse_gate, runs_sequentially, CoarseGate, MAX_PAIRS};
 pub use decision::repeated_maximum;
-pub use full::{coarse_gate_coupled, CoupledTracks};
-pub use inputs::{CoarseTracks, Operator, Side, MAX_COEFFICIENTS};
+pub use full::coarse_gate_coupled;
+pub use inputs::{CoarseTracks, CoupledTracks, Operator, Side, MAX_COEFFICIENTS};
 pub use options::CoarseOptions;

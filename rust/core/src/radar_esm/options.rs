@@ -20,13 +20,30 @@ pub struct CoarseOptions {
 
 impl CoarseOptions {
     /// The gate `threshold` (the caller's χ² quantile: the core does not know the gate
-    /// probability), whitened statistic.
+    /// probability, nor the degrees of freedom the Python `gate_probability` needs), whitened
+    /// statistic: the same as [`recommended`](Self::recommended).
     pub fn new(threshold: f64) -> CoreResult<Self> {
         Self {
             threshold: 1.0,
             whitened: true,
         }
         .with_threshold(threshold)
+    }
+
+    /// The project's defaults, those of the Python package (`coarse_gate`,
+    /// `WaveletFuzzyAssociator`), at χ² threshold `threshold` (Python computes it from
+    /// `gate_probability`, default 0.99): the whitened statistic. There is no `Default`: the
+    /// threshold depends on the coefficients' count.
+    pub fn recommended(threshold: f64) -> CoreResult<Self> {
+        Self::new(threshold)
+    }
+
+    /// The coarse gate of METHODS §5 step 2 at χ² threshold `threshold`: the same as
+    /// [`recommended`](Self::recommended), whitened, as METHODS requires (the paper's printed
+    /// scalar statistic rejects ~24 % of true pairs at a nominal 1 %; it is
+    /// [`with_whitened(false)`](Self::with_whitened), an ablation).
+    pub fn paper(threshold: f64) -> CoreResult<Self> {
+        Self::new(threshold)
     }
 
     /// A pair passes when its statistic is at most this: finite and > 0.

@@ -8,8 +8,7 @@
 use rayon::prelude::*;
 
 use super::cholesky::quadratic_forms;
-use super::full::CoupledTracks;
-use super::inputs::{CoarseTracks, Operator};
+use super::inputs::{CoarseTracks, CoupledTracks, Operator};
 
 /// ESM tracks per call of the lane kernel.
 const LANES: usize = 4;

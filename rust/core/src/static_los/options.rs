@@ -20,17 +20,17 @@ pub const DEFAULT_MAX_CANDIDATES: usize = 1_000_000;
 ///
 /// ```
 /// use passive_assoc_core::static_los::EnumerateOptions;
-/// let o = EnumerateOptions::default().with_gate(9.0).unwrap()
+/// let o = EnumerateOptions::default().with_chi2_gate(9.0).unwrap()
 ///     .with_min_intensity(3).unwrap()
 ///     .with_max_candidates(10_000).unwrap();
-/// assert_eq!((o.gate(), o.min_intensity(), o.max_candidates()), (9.0, 3, 10_000));
+/// assert_eq!((o.chi2_gate(), o.min_intensity(), o.max_candidates()), (9.0, 3, 10_000));
 /// assert!(o.use_window());
-/// assert!(EnumerateOptions::default().with_gate(f64::NAN).is_err());
+/// assert!(EnumerateOptions::default().with_chi2_gate(f64::NAN).is_err());
 /// assert!(EnumerateOptions::default().with_min_intensity(1).is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnumerateOptions {
-    gate: f64,
+    chi2_gate: f64,
     min_intensity: usize,
     max_candidates: usize,
     fit: FitOptions,
@@ -38,17 +38,9 @@ pub struct EnumerateOptions {
 }
 
 impl Default for EnumerateOptions {
-    /// `gate = `[`DEFAULT_GATE`] (χ²(1) 99 %), `min_intensity = `[`DEFAULT_MIN_INTENSITY`],
-    /// `max_candidates = `[`DEFAULT_MAX_CANDIDATES`], `fit = `[`enumeration_fit_options`]`()`,
-    /// the bearing window on.
+    /// [`EnumerateOptions::recommended`].
     fn default() -> Self {
-        Self {
-            gate: DEFAULT_GATE,
-            min_intensity: DEFAULT_MIN_INTENSITY,
-            max_candidates: DEFAULT_MAX_CANDIDATES,
-            fit: enumeration_fit_options(),
-            use_window: true,
-        }
+        Self::recommended()
     }
 }
 
@@ -63,15 +55,39 @@ pub fn enumeration_fit_options() -> FitOptions {
 }
 
 impl EnumerateOptions {
+    /// The project's defaults, those of the Python package (`StaticAssociator`):
+    /// `chi2_gate = `[`DEFAULT_GATE`] (χ²(1) 99 %), `min_intensity = `[`DEFAULT_MIN_INTENSITY`],
+    /// `max_candidates = `[`DEFAULT_MAX_CANDIDATES`], `fit = `[`enumeration_fit_options`]`()`,
+    /// the bearing window on.
+    pub fn recommended() -> Self {
+        Self {
+            chi2_gate: DEFAULT_GATE,
+            min_intensity: DEFAULT_MIN_INTENSITY,
+            max_candidates: DEFAULT_MAX_CANDIDATES,
+            fit: enumeration_fit_options(),
+            use_window: true,
+        }
+    }
+
+    /// The published enumeration (METHODS §2, paper 001): the same as
+    /// [`recommended`](Self::recommended). The gate γ is the χ² 99 % point METHODS names,
+    /// intensity-1 tuples are not targets, and the cap, the fit's tolerance and the exact
+    /// bearing-window shortcut change no candidate the paper's enumeration would keep.
+    pub fn paper() -> Self {
+        Self::recommended()
+    }
+
     /// Per-angle gate γ on the normalised squared residual (eq. 3; finite, `> 0`).
-    pub fn with_gate(mut self, gate: f64) -> CoreResult<Self> {
-        if !(gate.is_finite() && gate > 0.0) {
+    pub fn with_chi2_gate(mut self, chi2_gate: f64) -> CoreResult<Self> {
+        if !(chi2_gate.is_finite() && chi2_gate > 0.0) {
             return Err(CoreError::out_of_range(
-                "gate",
-                format!("{gate} must be finite and > 0 (a normalised squared residual per angle)"),
+                "chi2_gate",
+                format!(
+                    "{chi2_gate} must be finite and > 0 (a normalised squared residual per angle)"
+                ),
             ));
         }
-        self.gate = gate;
+        self.chi2_gate = chi2_gate;
         Ok(self)
     }
 
@@ -114,8 +130,8 @@ impl EnumerateOptions {
         self
     }
 
-    pub fn gate(&self) -> f64 {
-        self.gate
+    pub fn chi2_gate(&self) -> f64 {
+        self.chi2_gate
     }
 
     pub fn min_intensity(&self) -> usize {
@@ -175,19 +191,40 @@ pub struct IntensityOptions {
 }
 
 impl Default for IntensityOptions {
-    /// `vote_fraction = 0.5` (a strict majority), the valid airspace on, lowest intensity
-    /// S − 1 (at least 2), one chain from every point of H (the paper's rules).
+    /// [`IntensityOptions::recommended`].
     fn default() -> Self {
-        Self {
-            vote_fraction: 0.5,
-            valid_airspace: true,
-            lowest_intensity: None,
-            max_chains: None,
-        }
+        Self::recommended()
     }
 }
 
 impl IntensityOptions {
+    /// The project's defaults, those of the Python package (`StaticAssociator`):
+    /// `vote_fraction = 0.5` (a strict majority), the valid airspace off (it assumes
+    /// clustered targets and drops isolated real ones; its measured gain on spread-out targets
+    /// is within Monte-Carlo noise, docs/methods.md §2), lowest intensity S − 1 (at least 2),
+    /// at most 64 chains per level (where ghosts are dense the paper's vote is quadratic in
+    /// the candidates).
+    pub fn recommended() -> Self {
+        Self {
+            vote_fraction: 0.5,
+            valid_airspace: false,
+            lowest_intensity: None,
+            max_chains: Some(64),
+        }
+    }
+
+    /// The paper's intensity-ordered search (METHODS §2, paper 001): differs from
+    /// [`recommended`](Self::recommended) in the valid airspace on (step 1) and one chain
+    /// from every point of H (`max_chains = None`, step 3). The paper's τ is "the vast
+    /// majority", no number: the recommended strict majority.
+    pub fn paper() -> Self {
+        Self {
+            valid_airspace: true,
+            max_chains: None,
+            ..Self::recommended()
+        }
+    }
+
     /// τ: confirmed when accepted by more than this fraction of the chains; in [0, 1).
     pub fn with_vote_fraction(mut self, vote_fraction: f64) -> CoreResult<Self> {
         if !(vote_fraction.is_finite() && (0.0..1.0).contains(&vote_fraction)) {
@@ -200,7 +237,7 @@ impl IntensityOptions {
         Ok(self)
     }
 
-    /// Drop ghosts outside the valid airspace (step 1; on by default).
+    /// Drop ghosts outside the valid airspace (step 1; off by default, on in the paper).
     pub fn with_valid_airspace(mut self, valid_airspace: bool) -> Self {
         self.valid_airspace = valid_airspace;
         self
@@ -219,8 +256,8 @@ impl IntensityOptions {
         Ok(self)
     }
 
-    /// Run at most this many chains per level (at least 1; `None` = one from every point of
-    /// H, the paper's rule). When H is larger, its best points by (cost, index) start the
+    /// Run at most this many chains per level (at least 1; default 64; `None` = one from
+    /// every point of H, the paper's rule). When H is larger, its best points by (cost, index) start the
     /// chains and the vote threshold is τ times `max_chains` (the starts, even when the vote
     /// stops early).
     pub fn with_max_chains(mut self, max_chains: Option<usize>) -> CoreResult<Self> {

@@ -35,6 +35,8 @@ pub use candidates::{candidate_pairs, chi2_gated, Candidates};
 pub use closeness::{closeness, pair_closeness};
 pub use decision::decide;
 pub use history::ScoreHistory;
-pub use options::{Decision, DecisionOptions, Diffusion, Reference, TopologyOptions, MAX_CELLS};
+pub use options::{
+    Decision, DecisionOptions, Diffusion, Reference, TopologyOptions, MAX_CELLS, THRESHOLD_FRACTION,
+};
 pub use scan::ScanTracks;
 pub use vectors::topology_vectors;

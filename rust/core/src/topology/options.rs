@@ -87,9 +87,17 @@ pub struct TopologyOptions {
 }
 
 impl Default for TopologyOptions {
-    /// 4 rings × 12 sectors (30°, wider than a 10° relative bias) of a 120 km disc,
-    /// Δ = 0.5, Δ′ = 0.7, additive diffusion, north reference.
+    /// [`TopologyOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl TopologyOptions {
+    /// The project's defaults, those of the Python package (`TopologyAssociator`): 4 rings ×
+    /// 12 sectors (30°, wider than a 10° relative bias) of a 120 km disc, Δ = 0.5, Δ′ = 0.7,
+    /// additive diffusion, north reference (`heading_reference=False`).
+    pub fn recommended() -> Self {
         Self {
             rings: 4,
             sectors: 12,
@@ -99,6 +107,13 @@ impl Default for TopologyOptions {
             diffusion: Diffusion::Additive,
             reference: Reference::North,
         }
+    }
+
+    /// The published grid (METHODS §4, paper 002): the same as
+    /// [`recommended`](Self::recommended). The paper's diffusion adds Δ and its sectors start
+    /// at north; it gives no M, N, R_ref, Δ or Δ′, so those are the recommended ones.
+    pub fn paper() -> Self {
+        Self::recommended()
     }
 }
 
@@ -208,21 +223,47 @@ pub struct DecisionOptions {
 }
 
 impl Default for DecisionOptions {
-    /// Threshold 0 (every score counts; the topology associator sets λ·M·N), a window of 6
-    /// scans, no position gate, one-to-one assignment.
+    /// [`DecisionOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+/// λ, the recommended decision threshold as a fraction of the grid's M·N cells (the Python
+/// `TopologyAssociator`'s `threshold`).
+pub const THRESHOLD_FRACTION: f64 = 0.7;
+
+impl DecisionOptions {
+    /// The project's defaults for the topology associator, the Python package's
+    /// (`TopologyAssociator`): threshold λ·M·N with λ = [`THRESHOLD_FRACTION`] on the
+    /// recommended 4 × 12 grid (33.6; with another grid, set λ·M·N), a window of 6 scans, no
+    /// position gate, one-to-one assignment. The nearest-neighbour baseline scores minus
+    /// distances: give it `threshold = −gate`.
+    pub fn recommended() -> Self {
+        let grid = TopologyOptions::recommended();
         Self {
-            threshold: 0.0,
+            threshold: THRESHOLD_FRACTION * grid.rings as f64 * grid.sectors as f64,
             window: 6,
             gate: None,
             chi2_gate: None,
             decision: Decision::Assignment,
         }
     }
-}
 
-impl DecisionOptions {
-    /// A pair needs a window-averaged score strictly above this (finite).
+    /// The published decision (METHODS §4): differs from [`recommended`](Self::recommended)
+    /// in the paper's per-system-track rule. The paper gives no λ and keeps no window (its
+    /// "association quality" has no rule; the window is the project's reading): those are
+    /// the recommended ones.
+    pub fn paper() -> Self {
+        Self {
+            decision: Decision::PerSystemTrack,
+            ..Self::recommended()
+        }
+    }
+
+    /// A pair needs a window-averaged score strictly above this (finite), in score units:
+    /// for topology scoring a closeness W out of M·N, so the Python `threshold` λ (a fraction
+    /// of M·N) is `threshold / (M·N)`; for distance scoring minus metres.
     pub fn with_threshold(mut self, threshold: f64) -> CoreResult<Self> {
         if !threshold.is_finite() {
             return Err(CoreError::out_of_range(

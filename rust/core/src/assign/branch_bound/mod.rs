@@ -34,17 +34,34 @@ pub struct BranchBoundOptions {
 }
 
 impl Default for BranchBoundOptions {
-    /// 10 million nodes, 10 s, and the default Lagrangian options at the root.
+    /// [`BranchBoundOptions::recommended`].
     fn default() -> Self {
-        Self {
-            max_nodes: 10_000_000,
-            time_limit: Some(Duration::from_secs(10)),
-            root: LagrangianOptions::default(),
-        }
+        Self::recommended()
     }
 }
 
 impl BranchBoundOptions {
+    /// The project's defaults, those of the Python package (`assign_sd(method="exact")`):
+    /// 10 million nodes, 10 s, and the recommended Lagrangian options at the root.
+    pub fn recommended() -> Self {
+        Self {
+            max_nodes: 10_000_000,
+            time_limit: Some(Duration::from_secs(10)),
+            root: LagrangianOptions::recommended(),
+        }
+    }
+
+    /// Baseline B of METHODS §2: differs from [`recommended`](Self::recommended) only in the
+    /// root Lagrangian, [`LagrangianOptions::paper`] (the root only bounds and seeds the
+    /// search: the answer is the optimum either way). The node and time caps are not the
+    /// method's: they are the recommended ones.
+    pub fn paper() -> Self {
+        Self {
+            root: LagrangianOptions::paper(),
+            ..Self::recommended()
+        }
+    }
+
     /// Node cap (at least 1); reaching it returns `NotProven(Limit::Nodes)`.
     pub fn with_max_nodes(mut self, max_nodes: usize) -> CoreResult<Self> {
         if max_nodes == 0 {

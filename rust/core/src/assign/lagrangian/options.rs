@@ -66,19 +66,9 @@ impl std::str::FromStr for WarmStart {
 pub const WARM_MIN_SIZE: usize = 50;
 
 impl Default for LagrangianOptions {
-    /// `max_iter = 200`, `gap_tol = 1e-3` (0.1 %, tight enough that the recovered solution is
-    /// usually the optimum, see the tests), `step_scale = 1`, `stall_iters = 10`.
+    /// [`LagrangianOptions::recommended`].
     fn default() -> Self {
-        Self {
-            max_iter: 200,
-            gap_tol: 1e-3,
-            step_scale: 1.0,
-            stall_iters: 10,
-            warm_start: WarmStart::Auto,
-            sensor_order: SensorOrder::Auto,
-            polish: false,
-            time_limit: None,
-        }
+        Self::recommended()
     }
 }
 
@@ -86,6 +76,38 @@ impl Default for LagrangianOptions {
 pub(super) const MIN_STEP_SCALE: f64 = 1e-4;
 
 impl LagrangianOptions {
+    /// The project's defaults, those of the Python package (`assign_sd`,
+    /// `StaticAssociator`): `max_iter = 200`, `gap_tol = 1e-3` (0.1 %, tight enough that the
+    /// recovered solution is usually the optimum, see the tests), `step_scale = 1`,
+    /// `stall_iters = 10`, automatic warm start and sensor order, the end-of-solve polish on
+    /// (on random problems it brings the answer markedly nearer the optimum for little time,
+    /// docs/performance.md) and a 10 s time limit.
+    pub fn recommended() -> Self {
+        Self {
+            max_iter: 200,
+            gap_tol: 1e-3,
+            step_scale: 1.0,
+            stall_iters: 10,
+            warm_start: WarmStart::Auto,
+            sensor_order: SensorOrder::Auto,
+            polish: true,
+            time_limit: Some(Duration::from_secs(10)),
+        }
+    }
+
+    /// Baseline A of METHODS §2 as the papers run it (Pattipati et al. 1992, Deb et al.
+    /// 1997): differs from [`recommended`](Self::recommended) in relaxing the sensors as
+    /// given (sensors 3..S, [`SensorOrder::Given`]) and in no end-of-solve polish (the
+    /// project's addition to the recovery). The papers give no iteration cap, gap, step or
+    /// time limit: those are the recommended ones.
+    pub fn paper() -> Self {
+        Self {
+            sensor_order: SensorOrder::Given,
+            polish: false,
+            ..Self::recommended()
+        }
+    }
+
     /// Subgradient iterations, at least 1.
     pub fn with_max_iter(mut self, max_iter: usize) -> CoreResult<Self> {
         if max_iter == 0 {
@@ -149,7 +171,7 @@ impl LagrangianOptions {
         self
     }
 
-    /// Whether the best solution gets the compound-move polish at the end (off by default):
+    /// Whether the best solution gets the compound-move polish at the end (on by default):
     /// a markedly better primal on large scans for a large share of the solve's time
     /// (`python benches/bench_sensor_order.py`, docs/performance.md).
     pub fn with_polish(mut self, polish: bool) -> Self {
@@ -161,7 +183,8 @@ impl LagrangianOptions {
         self.polish
     }
 
-    /// Wall-clock limit of the subgradient loop (`None`: none; zero is refused). Reaching it
+    /// Wall-clock limit of the subgradient loop (default 10 s; `None`: none; zero is refused).
+    /// Reaching it
     /// ends the solve with the best feasible solution found, `NotProven(Limit::Time)`.
     pub fn with_time_limit(mut self, time_limit: Option<Duration>) -> CoreResult<Self> {
         if time_limit.is_some_and(|d| d.is_zero()) {

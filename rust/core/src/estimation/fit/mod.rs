@@ -43,7 +43,16 @@ pub struct FitOptions {
 }
 
 impl Default for FitOptions {
+    /// [`FitOptions::recommended`].
     fn default() -> Self {
+        Self::recommended()
+    }
+}
+
+impl FitOptions {
+    /// The project's defaults, those of the Python package (`fit_ml`): `max_iter = 50`,
+    /// `xtol = 1e-10`, `step_sigmas = 1e-6`, `max_halvings = 30`.
+    pub fn recommended() -> Self {
         Self {
             max_iter: 50,
             xtol: 1e-10,
@@ -51,9 +60,14 @@ impl Default for FitOptions {
             max_halvings: 30,
         }
     }
-}
 
-impl FitOptions {
+    /// The Gauss-Newton fit the papers name (METHODS §1–§3: Gauss-Newton with a
+    /// step-halving safeguard): the same as [`recommended`](Self::recommended), since no
+    /// paper gives an iteration cap or tolerance.
+    pub fn paper() -> Self {
+        Self::recommended()
+    }
+
     pub fn with_max_iter(mut self, max_iter: usize) -> CoreResult<Self> {
         if max_iter == 0 {
             return Err(CoreError::out_of_range("max_iter", "must be at least 1"));

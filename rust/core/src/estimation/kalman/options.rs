@@ -6,7 +6,9 @@ use super::motion::MotionModel;
 use crate::error::{CoreError, CoreResult};
 
 /// Settings of [`kalman_filter`](super::kalman_filter). There is no default process noise (it
-/// depends on the targets), so construction starts from [`KalmanOptions::new`].
+/// depends on the targets, and the Python `KalmanFilter` requires it too), so construction
+/// starts from [`KalmanOptions::new`], [`KalmanOptions::recommended`] or
+/// [`KalmanOptions::paper`], each given it, and there is no `Default`.
 ///
 /// ```
 /// use passive_assoc_core::estimation::kalman::{Init, KalmanOptions, MeasurementModel, MotionModel};
@@ -43,6 +45,22 @@ impl KalmanOptions {
             init_acceleration_std: 50.0,
         };
         options.with_process_noise(process_noise)
+    }
+
+    /// The project's defaults, those of the Python package (`KalmanFilter`), with process
+    /// noise `process_noise`: constant velocity, position measurements, differencing
+    /// initialisation, single-point prior standard deviations 500 m/s and 50 m/s² (the same
+    /// as [`new`](Self::new) with constant velocity).
+    pub fn recommended(process_noise: f64) -> CoreResult<Self> {
+        Self::new(MotionModel::ConstantVelocity, process_noise)
+    }
+
+    /// The filter of METHODS §5 (paper 003), with process noise `process_noise`: differs from
+    /// [`recommended`](Self::recommended) in the constant-acceleration motion (factor u1 needs
+    /// an acceleration); Cartesian (position) measurements keep it linear. The paper gives no
+    /// initialisation or priors: those are the recommended ones.
+    pub fn paper(process_noise: f64) -> CoreResult<Self> {
+        Self::new(MotionModel::ConstantAcceleration, process_noise)
     }
 
     pub fn with_motion(mut self, motion: MotionModel) -> Self {

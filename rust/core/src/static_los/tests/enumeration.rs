@@ -115,7 +115,7 @@ fn noiseless_full_detection_recovers_the_truth() {
         let sizes = sizes_i64(&c);
         let input =
             intensity_input(&c.tuples, 3, &c.positions, c.dim, &c.costs, &sizes).expect("valid");
-        let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
+        let out = intensity_search(&input, &IntensityOptions::paper()).expect("searches");
         let chosen: Vec<Vec<i64>> = out.chosen.iter().map(|&k| c.tuple(k).to_vec()).collect();
         assert_eq!(
             chosen, truth,
@@ -144,11 +144,11 @@ fn output_is_identical_for_any_thread_count() {
         let input = intensity_input(&one.tuples, 3, &one.positions, one.dim, &one.costs, &sizes)
             .expect("valid");
         let a = with_threads(Some(1), || {
-            intensity_search(&input, &IntensityOptions::default())
+            intensity_search(&input, &IntensityOptions::paper())
         })
         .expect("pool");
         let b = with_threads(Some(3), || {
-            intensity_search(&input, &IntensityOptions::default())
+            intensity_search(&input, &IntensityOptions::paper())
         })
         .expect("pool");
         assert_eq!(a, b);
@@ -172,7 +172,7 @@ fn noisy_scene_is_mostly_recovered() {
         let sizes = sizes_i64(&c);
         let input =
             intensity_input(&c.tuples, 3, &c.positions, 2, &c.costs, &sizes).expect("valid");
-        let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
+        let out = intensity_search(&input, &IntensityOptions::paper()).expect("searches");
         for t in s
             .truth
             .iter()
@@ -203,8 +203,8 @@ fn cap_and_bad_input_are_errors() {
     // Value-only settings are rejected by their setters.
     let defaults = EnumerateOptions::default;
     for (built, arg) in [
-        (defaults().with_gate(0.0), "gate"),
-        (defaults().with_gate(f64::NAN), "gate"),
+        (defaults().with_chi2_gate(0.0), "chi2_gate"),
+        (defaults().with_chi2_gate(f64::NAN), "chi2_gate"),
         (defaults().with_min_intensity(1), "min_intensity"),
         (defaults().with_max_candidates(0), "max_candidates"),
     ] {
@@ -237,21 +237,21 @@ fn cap_and_bad_input_are_errors() {
     assert!(intensity_input(&[1, 1], 1, &[0.0], 1, &[-1.0], &[1]).is_err());
     let input = intensity_input(&tuples, 3, &positions, 2, &costs, &[2, 1, 1]).expect("valid");
     for tau in [1.0, -0.1, f64::NAN] {
-        let err = IntensityOptions::default()
+        let err = IntensityOptions::paper()
             .with_vote_fraction(tau)
             .unwrap_err();
         assert!(err.to_string().starts_with("vote_fraction"), "{err}");
     }
-    let err = IntensityOptions::default()
+    let err = IntensityOptions::paper()
         .with_lowest_intensity(Some(1))
         .unwrap_err();
     assert!(err.to_string().starts_with("lowest_intensity"), "{err}");
-    let err = IntensityOptions::default()
+    let err = IntensityOptions::paper()
         .with_max_chains(Some(0))
         .unwrap_err();
     assert!(err.to_string().starts_with("max_chains"), "{err}");
     // Above S = 3: only the search, which knows S, can tell.
-    let four = IntensityOptions::default()
+    let four = IntensityOptions::paper()
         .with_lowest_intensity(Some(4))
         .expect("valid on its own");
     let err = intensity_search(&input, &four).unwrap_err();
@@ -326,7 +326,9 @@ fn enumeration_equals_brute_force_with_sensors_among_targets() {
         let gate = rng.random_range(1.0..30.0);
         total += assert_matches_brute_force(
             &s,
-            &EnumerateOptions::default().with_gate(gate).expect("valid"),
+            &EnumerateOptions::default()
+                .with_chi2_gate(gate)
+                .expect("valid"),
         );
     }
     assert!(total > 200, "the cases should not be trivial: {total}");

@@ -9,7 +9,7 @@ fn airspace_drops_the_far_point() {
     let positions = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 10.0, 10.0];
     let costs = [-5.0; 5];
     let input = intensity_input(&tuples, 3, &positions, 2, &costs, &[5, 5, 5]).expect("valid");
-    let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
+    let out = intensity_search(&input, &IntensityOptions::paper()).expect("searches");
     // d = mean over j of (min_b δ_bj + max_b δ_bj)/2, by hand.
     let (r200, r181, r162) = (200f64.sqrt(), 181f64.sqrt(), 162f64.sqrt());
     let d = ((1.0 + r200) + 2.0 * (1.0 + r181) + (1.0 + r162) + (r162 + r200)) / 10.0;
@@ -22,7 +22,7 @@ fn airspace_drops_the_far_point() {
     assert_eq!(out.chosen, vec![0, 1, 2, 3]);
     let off = intensity_search(
         &input,
-        &IntensityOptions::default().with_valid_airspace(false),
+        &IntensityOptions::paper().with_valid_airspace(false),
     )
     .expect("searches");
     assert!(off.airspace_radius.is_nan());
@@ -30,7 +30,7 @@ fn airspace_drops_the_far_point() {
     // A single intensity-S point: no airspace, nothing dropped.
     let single = intensity_input(&tuples[..3], 3, &positions[..2], 2, &costs[..1], &[5, 5, 5])
         .expect("valid");
-    let out = intensity_search(&single, &IntensityOptions::default()).expect("searches");
+    let out = intensity_search(&single, &IntensityOptions::paper()).expect("searches");
     assert!(out.airspace_radius.is_nan());
     assert_eq!(out.chosen, vec![0]);
 }
@@ -45,7 +45,7 @@ fn exclusive_rays_outrank_cost() {
         intensity_input(&tuples, 3, &[0.0; 6], 2, &[-5.0, -50.0, -5.0], &[2, 2, 2]).expect("valid");
     let out = intensity_search(
         &input,
-        &IntensityOptions::default().with_valid_airspace(false),
+        &IntensityOptions::paper().with_valid_airspace(false),
     )
     .expect("searches");
     assert_eq!(out.chosen, vec![0, 2]);
@@ -59,7 +59,7 @@ fn vote_needs_a_majority_and_conflicts_go_to_the_cheaper() {
     let tuples = [1, 1, 1, 2, 2, 2, 1, 2, 1, 2, 1, 3];
     let costs = [-5.0, -5.0, -50.0, -6.0];
     let input = intensity_input(&tuples, 3, &[0.0; 8], 2, &costs, &[2, 2, 3]).expect("valid");
-    let no_airspace = IntensityOptions::default().with_valid_airspace(false);
+    let no_airspace = IntensityOptions::paper().with_valid_airspace(false);
     let out = intensity_search(&input, &no_airspace).expect("searches");
     assert_eq!(
         out.chosen,
@@ -80,13 +80,13 @@ fn vote_needs_a_majority_and_conflicts_go_to_the_cheaper() {
         &[1, 1, 1],
     )
     .expect("valid");
-    assert!(intensity_search(&same, &IntensityOptions::default())
+    assert!(intensity_search(&same, &IntensityOptions::paper())
         .expect("searches")
         .chosen
         .is_empty());
     let out = intensity_search(
         &same,
-        &IntensityOptions::default()
+        &IntensityOptions::paper()
             .with_vote_fraction(0.4)
             .expect("valid"),
     )
@@ -103,7 +103,7 @@ fn lower_level_fills_in_missed_targets() {
     let input = intensity_input(&tuples, 3, &positions, 2, &costs, &[2, 1, 2]).expect("valid");
     let out = intensity_search(
         &input,
-        &IntensityOptions::default().with_valid_airspace(false),
+        &IntensityOptions::paper().with_valid_airspace(false),
     )
     .expect("searches");
     // Level 3 confirms 0; level 2 loses 2 and 3 (they use A's reports) and confirms 1.
@@ -148,7 +148,7 @@ fn airspace_index_matches_the_quadratic_definition() {
         let costs = vec![-1.0; n];
         let sizes = [n as i64; 3];
         let input = intensity_input(&tuples, 3, &positions, dim, &costs, &sizes).expect("valid");
-        let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
+        let out = intensity_search(&input, &IntensityOptions::paper()).expect("searches");
         let dist = |a: usize, b: usize| {
             (0..dim)
                 .map(|d| (positions[a * dim + d] - positions[b * dim + d]).powi(2))
@@ -290,7 +290,7 @@ fn intensity_search_equals_the_obvious_implementation() {
         for tau in [0.5, 0.3, 0.0] {
             let fast = intensity_search(
                 &input,
-                &IntensityOptions::default()
+                &IntensityOptions::paper()
                     .with_vote_fraction(tau)
                     .expect("valid")
                     .with_valid_airspace(false),
@@ -323,7 +323,7 @@ fn huge_report_counts_cost_no_memory() {
     let big = [i64::MAX, i64::MAX, i64::MAX];
     let input =
         intensity_input(&[1, 1, 1, 5, 0, 9], 3, &[0.0; 4], 2, &[-1.0, -1.0], &big).expect("valid");
-    let out = intensity_search(&input, &IntensityOptions::default()).expect("searches");
+    let out = intensity_search(&input, &IntensityOptions::paper()).expect("searches");
     assert_eq!(out.chosen, vec![0, 1]);
 }
 
@@ -343,7 +343,7 @@ fn report_ids_by_sort_equal_those_by_table() {
         let costs: Vec<f64> = (0..k).map(|_| -(rng.random_range(1..9) as f64)).collect();
         let positions = vec![0.0; 2 * k];
         let huge = vec![1i64 << 40; n_sensors];
-        let options = IntensityOptions::default().with_valid_airspace(false);
+        let options = IntensityOptions::paper().with_valid_airspace(false);
         let expected = naive_intensity(&tuples, n_sensors, &costs, 0.5);
         for sizes in [&sizes, &huge] {
             let input =
@@ -375,7 +375,7 @@ fn early_decided_vote_equals_the_full_vote() {
         let input =
             intensity_input(&tuples, n_sensors, &positions, 2, &costs, &sizes).expect("valid");
         for tau in [0.5, 0.8] {
-            let options = IntensityOptions::default()
+            let options = IntensityOptions::paper()
                 .with_vote_fraction(tau)
                 .expect("valid")
                 .with_valid_airspace(false);

@@ -14,39 +14,23 @@
 //! target with a stray row loses the row; a clutter track cannot shed rows until it fits.
 
 use super::closeness::Precomputed;
-use super::coverage_test;
+use super::coverage;
 use super::detection::residual2;
-use super::pipeline::refit;
+use super::output::Track;
+use super::problem::Problem;
+use super::quantiles::chi2_quantile;
+use super::refit::refit;
 use super::scans::Scans;
-use super::{InitiationOptions, Problem, Track};
 use crate::geometry::model::MAX_DIM;
 
-/// Standard-normal quantile of 1 − 10⁻⁶: the default level of the final track test.
-pub const TRACK_TEST_Z: f64 = 4.753_424_308_822_899;
-
-/// χ²(dof) quantile at standard-normal level `z` by Wilson–Hilferty (conservative, i.e.
-/// slightly high, at few degrees of freedom; within 3 % from 10).
-///
-/// ```
-/// use passive_assoc_core::fti::{chi2_quantile, TRACK_TEST_Z};
-/// // SciPy's chi2.isf(1e-6, k) is 27.63, 46.86 and 182.13 at k = 2, 10, 100.
-/// assert!((30.0..30.5).contains(&chi2_quantile(2.0, TRACK_TEST_Z)));
-/// assert!((46.86..48.3).contains(&chi2_quantile(10.0, TRACK_TEST_Z)));
-/// assert!((182.1..182.7).contains(&chi2_quantile(100.0, TRACK_TEST_Z)));
-/// ```
-pub fn chi2_quantile(dof: f64, z: f64) -> f64 {
-    let h = 2.0 / (9.0 * dof);
-    dof * (1.0 - h + z * h.sqrt()).powi(3)
-}
-
-/// Standard-normal level of an outlier row: χ²(angles) at 1 − 10⁻³.
+/// Standard-normal level of an outlier row: χ²(angles) at 1 − 10⁻³ (`−Φ⁻¹(10⁻³)`).
 const OUTLIER_Z: f64 = 3.090_232_306_167_813;
 
-/// Standard-normal level a trimmed track must pass: a 10⁻⁴ tail. Measured against 10⁻³ and
+/// Standard-normal level a trimmed track must pass: a 10⁻⁴ tail (`−Φ⁻¹(10⁻⁴)`). Measured against 10⁻³ and
 /// 10⁻⁵ in docs/methods.md §1 (*Track test*).
 const TRIMMED_Z: f64 = 3.719_016_485_455_709;
 
-/// The tracks that pass (trimmed, then the coverage test of module `coverage_test`),
+/// The tracks that pass at standard-normal level `z` (all when `None`; trimmed, then the coverage test of module `coverage`),
 /// relabelled; every other row is clutter.
 pub(super) fn tested(
     problem: &Problem<'_>,
@@ -55,15 +39,15 @@ pub(super) fn tested(
     tracks: Vec<Track>,
     n_rows: usize,
     n_detect: usize,
-    options: &InitiationOptions,
+    z: Option<f64>,
 ) -> (Vec<Track>, Vec<i64>) {
-    let kept: Vec<Track> = match options.track_test() {
+    let kept: Vec<Track> = match z {
         None => tracks,
         Some(z) => {
             let trimmed = (tracks.into_iter())
                 .filter_map(|t| trimmed(problem, pre, t, n_detect, z))
                 .collect();
-            coverage_test::covered(problem, scans, trimmed)
+            coverage::covered(problem, scans, trimmed)
         }
     };
     let mut labels = vec![-1i64; n_rows];
@@ -121,9 +105,10 @@ fn passes(problem: &Problem<'_>, track: &Track, z: f64) -> bool {
 mod tests {
     use super::trimmed;
     use crate::fti::closeness::Precomputed;
-    use crate::fti::pipeline::refit;
-    use crate::fti::sim;
-    use crate::fti::TRACK_TEST_Z;
+    use crate::fti::options::TRACK_TEST;
+    use crate::fti::quantiles::upper_normal_level;
+    use crate::fti::refit::refit;
+    use crate::fti::tests::sim;
     use crate::geometry::model::MAX_DIM;
 
     #[test]
@@ -143,7 +128,7 @@ mod tests {
         let mut rows: Vec<usize> = rows_of(2).into_iter().chain([stray]).collect();
         rows.sort_unstable();
         let track = refit(&problem, &pre, &start, &rows).expect("fits");
-        let kept = trimmed(&problem, &pre, track, 9, TRACK_TEST_Z).expect("kept");
+        let kept = trimmed(&problem, &pre, track, 9, upper_normal_level(TRACK_TEST)).expect("kept");
         assert_eq!(kept.measurements, rows_of(2));
         // Half of target 2's rows and half of target 3's: no single outlier to blame.
         let (two, three) = (rows_of(2), rows_of(3));
@@ -151,6 +136,6 @@ mod tests {
         let mut mixed: Vec<usize> = halves.copied().collect();
         mixed.sort_unstable();
         let track = refit(&problem, &pre, &start, &mixed).expect("fits");
-        assert!(trimmed(&problem, &pre, track, 9, TRACK_TEST_Z).is_none());
+        assert!(trimmed(&problem, &pre, track, 9, upper_normal_level(TRACK_TEST)).is_none());
     }
 }

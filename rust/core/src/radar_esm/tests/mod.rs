@@ -1,6 +1,8 @@
 //! Tests of the coarse gate: small cases by hand, agreement with a naive nalgebra
 //! implementation (`W (Σ_i + Σ_j) Wᵀ` built whole per pair and solved by LU), thread-count
-//! invariance, and bad input.
+//! invariance, and bad input; those of the full-covariance gate are `coupled`.
+
+mod coupled;
 
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};

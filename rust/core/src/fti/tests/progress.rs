@@ -1,9 +1,8 @@
 //! The initiation's progress reports: what a progress bar is shown.
 
-use super::sim;
-use super::tests::run;
-use super::{initiate_reporting, InitiationOptions};
+use super::{run, sim};
 use crate::error::CoreError;
+use crate::fti::{initiate_reporting, InitiationOptions};
 use crate::progress::{Progress, Recorded};
 
 /// Each pass reports its candidate formation, then its search, each from 0 to 1 without going

@@ -1,12 +1,11 @@
 //! The unpruned paper algorithm, written as four nested loops, and the test that the
 //! pipeline with every pruning rule off is exactly it.
 
-use super::candidates::{fit_candidate, Candidate, RayPair};
-use super::pipeline::candidates_of;
-use super::scans::Scans;
-use super::sim;
-use super::tests::run;
-use super::{InitiationOptions, Problem};
+use super::{candidates_of, run, sim};
+use crate::fti::candidate::{fit_candidate, Candidate};
+use crate::fti::ray_pairs::RayPair;
+use crate::fti::scans::Scans;
+use crate::fti::{InitiationOptions, Problem};
 use crate::geometry::model::{Motion, StateLayout};
 
 /// Every 4-tuple of every pair, fitted from the same start as the pipeline uses.
@@ -33,7 +32,7 @@ pub fn all_fitted(problem: &Problem<'_>, scans: &Scans, pairs: &[[usize; 2]]) ->
 /// Every pruning rule switched off.
 pub fn rules_off() -> InitiationOptions {
     InitiationOptions::default()
-        .with_ray_gate(None)
+        .with_ray_gate_sigmas(None)
         .and_then(|o| o.with_v_max(None))
         .and_then(|o| o.with_chi2_gate(None))
         .expect("None is always valid")
@@ -59,7 +58,7 @@ fn all_rules_off_is_the_unpruned_paper_algorithm() {
         assert_eq!(got, expected);
         // Rules so loose they prune nothing change nothing downstream either.
         let loose = InitiationOptions::default()
-            .with_ray_gate(Some(1e12))
+            .with_ray_gate_sigmas(Some(1e12))
             .and_then(|o| o.with_v_max(Some(1e12)))
             .and_then(|o| o.with_chi2_gate(Some(1e300)))
             .expect("valid")

@@ -1,19 +1,66 @@
-//! Tests of the whole initiation on simulated data (see `sim`).
+//! Tests of the whole initiation on simulated data (module `sim`), and what the stages' unit
+//! tests share: the simulator, [`run`] and [`candidates_of`].
 
+mod candidates;
+mod missed;
+mod progress;
+mod reference;
+pub(super) mod sim;
+
+use super::candidate::Candidate;
+use super::candidates::generate;
 use super::closeness::{closeness, closeness_and_gradient, Precomputed};
 use super::descent::descend;
-use super::pipeline::candidates_of;
-use super::sim::{self, Scenario, PAPER_TARGETS};
+use super::output::StageCounts;
+use super::problem::Problem;
+use super::scans::{resolve_pairs, Scans};
 use super::{initiate, DescentOptions, Initiation, InitiationOptions, Spreads};
-use crate::error::CoreError;
+use crate::data::{Measurements, Sensors};
+use crate::error::{CoreError, CoreResult};
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{predict, Motion, Space, StateLayout, MAX_DIM};
 use crate::parallel::with_threads;
+use crate::progress::Silent;
+use reference::rules_off;
+use sim::{Scenario, PAPER_TARGETS};
 
 pub(super) fn run(sc: &Scenario, options: &InitiationOptions) -> Result<Initiation, CoreError> {
     let sensors = sc.sensors();
     let table = sc.measurements(&sensors);
     initiate(&sensors, &table, &sc.spreads(), 0.0, options)
+}
+
+/// What [`candidates_of`] returns: the fitted candidates, the stage counts, the scans and
+/// the resolved pairs.
+pub(super) type CandidateRun = (Vec<Candidate>, StageCounts, Scans, Vec<[usize; 2]>);
+
+/// The candidates of pass 1 only (no search), whole.
+pub(super) fn candidates_of(
+    sensors: &Sensors<'_>,
+    measurements: &Measurements<'_>,
+    t0: f64,
+    options: &InitiationOptions,
+) -> CoreResult<CandidateRun> {
+    let problem = Problem {
+        sensors: *sensors,
+        measurements: *measurements,
+        layout: StateLayout::new(sensors.space(), Motion::ConstantVelocity { t0 }),
+        t0,
+        progress: &Silent,
+    };
+    let scans = Scans::new(measurements, sensors.len());
+    let pairs = resolve_pairs(options.pairs(), &scans)?;
+    let slots: Vec<[usize; 4]> = pairs
+        .iter()
+        .flat_map(|&p| scans.scan_slots(p, 1, false))
+        .collect();
+    let set = generate(&problem, &scans, &slots, None, options, None)?;
+    Ok((
+        set.candidates.into_whole(&problem),
+        set.counts,
+        scans,
+        pairs,
+    ))
 }
 
 fn precomputed(sc: &Scenario) -> Precomputed {
@@ -242,8 +289,6 @@ fn results_do_not_depend_on_the_thread_count() {
     assert_eq!(one.descent_iterations, two.descent_iterations);
 }
 
-use super::reference::rules_off;
-
 #[test]
 fn bad_input_is_reported_with_the_argument() {
     let sc = sim::paper(1, false, 0, 3);
@@ -267,8 +312,11 @@ fn bad_input_is_reported_with_the_argument() {
     // Value-only settings are rejected by their setters, before any data is seen.
     let defaults = InitiationOptions::default;
     assert!(matches!(
-        defaults().with_gate(0.0),
-        Err(CoreError::OutOfRange { arg: "gate", .. })
+        defaults().with_gate_sigmas(0.0),
+        Err(CoreError::OutOfRange {
+            arg: "gate_sigmas",
+            ..
+        })
     ));
     assert!(matches!(
         defaults().with_n_detect(Some(0)),

@@ -20,8 +20,9 @@
 //! detection probability and are present over the whole window, as the candidates do (they
 //! come from each sensor's outermost scans).
 
+use super::output::Track;
+use super::problem::Problem;
 use super::scans::Scans;
-use super::{Problem, Track};
 
 /// Lower-tail probability below which a track's count is too low to be a target's.
 const LEVEL: f64 = 1e-4;
@@ -84,9 +85,9 @@ fn at_most(n: usize, p: f64, k: usize) -> f64 {
 mod tests {
     use super::{at_most, covered};
     use crate::fti::closeness::Precomputed;
-    use crate::fti::pipeline::refit;
+    use crate::fti::refit::refit;
     use crate::fti::scans::Scans;
-    use crate::fti::sim;
+    use crate::fti::tests::sim;
     use crate::geometry::model::MAX_DIM;
 
     /// Two 2-D targets, three sensors, 8 scans: each target's rows, one target's rows from two

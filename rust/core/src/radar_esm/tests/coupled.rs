@@ -5,9 +5,9 @@ use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::*;
 use crate::error::CoreError;
 use crate::parallel::with_threads;
+use crate::radar_esm::*;
 
 /// `n` tracks of `m` coefficients with random symmetric positive-definite covariances
 /// `A Aᵀ + 0.1 I`.

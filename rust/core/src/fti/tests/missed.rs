@@ -1,9 +1,8 @@
 //! Initiation with missed detections: in the middle scans (harmless) and in the outer scans
 //! (the second candidate pass, `candidate_scans`).
 
-use super::sim;
-use super::tests::{assert_exact_tracks, assert_partition, run};
-use super::InitiationOptions;
+use super::{assert_exact_tracks, assert_partition, run, sim};
+use crate::fti::InitiationOptions;
 
 #[test]
 fn three_sensors_with_missed_detections_still_give_the_tracks() {

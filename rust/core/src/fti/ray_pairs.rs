@@ -1,0 +1,132 @@
+//! Ray pairs (METHODS §1 eq. 20–22): one row of each of two scans of a sensor pair, where
+//! their lines of sight meet, and the pair-level pruning rules, the ray gate and the
+//! behind-sensor rule (module `candidates` describes every rule). A candidate is a first-scan
+//! and a last-scan ray pair (module `candidate`).
+
+use super::options::{InitiationOptions, OOM_HINT};
+use super::problem::Problem;
+use crate::error::{reserve_one, CoreError, CoreResult};
+use crate::geometry::los::{closest_points, direction, intersect_bearings};
+use crate::geometry::model::{Observation, Space};
+
+/// Where two rays (lines in 2-D) meet: midpoint of the closest points, the mean time of the
+/// two samples, ranges along each ray and the closest-point distance (0 in 2-D).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Meeting {
+    pub(super) point: [f64; 3],
+    pub(super) time: f64,
+    pub(super) range_a: f64,
+    pub(super) range_b: f64,
+    pub(super) distance: f64,
+}
+
+/// Two rows of one scan pair, as the model sees them, and their meeting (`None` for
+/// parallel rays). The observations are built once here: each costs a sine and a cosine per
+/// angle, and every candidate and motion-gate test of the pair reads them.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct RayPair {
+    pub(super) rows: [usize; 2],
+    pub(super) observations: [Observation; 2],
+    pub(super) meeting: Option<Meeting>,
+}
+
+impl RayPair {
+    pub(super) fn of(problem: &Problem<'_>, ra: usize, rb: usize) -> Self {
+        let observations = [problem.observation(ra), problem.observation(rb)];
+        Self {
+            rows: [ra, rb],
+            meeting: meet(problem.layout.space, &observations),
+            observations,
+        }
+    }
+}
+
+/// Meeting of the lines of sight of two observations (of different sensors).
+fn meet(space: Space, [oa, ob]: &[Observation; 2]) -> Option<Meeting> {
+    let time = 0.5 * (oa.time + ob.time);
+    match space {
+        Space::Planar => {
+            let (sa, sb) = ([oa.sensor[0], oa.sensor[1]], [ob.sensor[0], ob.sensor[1]]);
+            let (p, range_a, range_b) = intersect_bearings(&sa, oa.angles[0], &sb, ob.angles[0])?;
+            Some(Meeting {
+                point: [p[0], p[1], 0.0],
+                time,
+                range_a,
+                range_b,
+                distance: 0.0,
+            })
+        }
+        Space::Spatial => {
+            let ua = direction(oa.angles[0], oa.angles[1]);
+            let ub = direction(ob.angles[0], ob.angles[1]);
+            let m = closest_points(&oa.sensor, &ua, &ob.sensor, &ub)?;
+            Some(Meeting {
+                point: m.midpoint(),
+                time,
+                range_a: m.range_a,
+                range_b: m.range_b,
+                distance: m.distance,
+            })
+        }
+    }
+}
+
+/// Pairs every row of `rows_a` with every row of `rows_b` under the ray gate and the
+/// behind-sensor rule; returns the survivors and how many passed the ray gate.
+pub(super) fn ray_pairs(
+    problem: &Problem<'_>,
+    rows_a: &[usize],
+    rows_b: &[usize],
+    options: &InitiationOptions,
+) -> CoreResult<(Vec<RayPair>, usize)> {
+    let mut out = Vec::new();
+    let mut passed_ray = 0usize;
+    for &ra in rows_a {
+        for &rb in rows_b {
+            let pair = RayPair::of(problem, ra, rb);
+            if !ray_gate_passes(problem, &pair, options) {
+                continue;
+            }
+            passed_ray += 1;
+            if options.reject_behind()
+                && !pair
+                    .meeting
+                    .is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
+            {
+                continue;
+            }
+            if out.len() == options.max_candidates() {
+                return Err(CoreError::CapExceeded {
+                    what: "ray pairs of one scan pair",
+                    count: out.len() + 1,
+                    cap: options.max_candidates(),
+                    hint: "tighten ray_gate_sigmas, enable reject_behind, or raise max_candidates",
+                });
+            }
+            reserve_one(&mut out, "ray pairs of one scan pair", OOM_HINT)?;
+            out.push(pair);
+        }
+    }
+    Ok((out, passed_ray))
+}
+
+fn ray_gate_passes(problem: &Problem<'_>, pair: &RayPair, options: &InitiationOptions) -> bool {
+    let Some(gate) = options.ray_gate_sigmas() else {
+        return true;
+    };
+    if problem.layout.space == Space::Planar {
+        return true; // lines in the plane always meet: the rule is vacuous
+    }
+    let [oa, ob] = &pair.observations;
+    let motion = match options.v_max() {
+        Some(v) => v * (oa.time - ob.time).abs(),
+        None if oa.time != ob.time => return true, // unbounded motion between the samples
+        None => 0.0,
+    };
+    let Some(m) = pair.meeting else {
+        return false;
+    };
+    let (sa, sb) = (oa.sigma[0].max(oa.sigma[1]), ob.sigma[0].max(ob.sigma[1]));
+    let noise = ((sa * m.range_a).powi(2) + (sb * m.range_b).powi(2)).sqrt();
+    m.distance <= gate * noise + motion
+}
