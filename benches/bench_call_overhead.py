@@ -14,7 +14,7 @@ from collections.abc import Callable
 import numpy as np
 import passive_assoc as pa
 from passive_assoc import _core
-from passive_assoc._settings import EnumerationSettings, SdSettings
+from passive_assoc.assignment.sd import SdParameters
 from passive_assoc.data.attributes import attribute_evidence
 from passive_assoc.simulation import static_scan
 from passive_assoc.static_los import Method
@@ -51,7 +51,7 @@ def main() -> None:
     scan = static_scan(1, n_targets=2, n_sensors=3)
     table, sensors = scan.measurements, scan.sensors
     cands = pa.enumerate_candidates(table, sensors)
-    sd = SdSettings("lagrangian", 200, 1e-3, 10_000_000, 10.0, "auto", "auto", True)
+    sd = SdParameters()
     evidence = attribute_evidence(table, sensors, (), None, 0.6, "simple")
     pd, density = np.full(3, 0.95), np.full(3, 0.5)
     costs = np.random.default_rng(0).random((10, 10))
@@ -61,9 +61,7 @@ def main() -> None:
     per_thread_count: tuple[tuple[str, Callable[[int | None], object]], ...] = (
         (
             "_core.enumerate_static (3 sensors, 2 targets)",
-            lambda n: _core.enumerate_static(
-                table, sensors, pd, density, EnumerationSettings(6.635, 2, 10**6, n), evidence
-            ),
+            lambda n: _core.enumerate_static(table, sensors, pd, density, pa.StaticAssociator(n_threads=n), evidence),
         ),
         (
             "KalmanFilter.filter (one 5-row track)",
@@ -76,7 +74,10 @@ def main() -> None:
             f"{per_call(with_threads(call, 1), args.calls):>12.1f}"
         )
     for label, single in (
-        ("_core.assign_sd (16 candidate tuples)", lambda: _core.assign_sd(cands.tuples, cands.costs, cands.sizes, sd)),
+        (
+            "_core.assign_sd (16 candidate tuples)",
+            lambda: _core.assign_sd(cands.tuples, cands.costs, cands.sizes, "lagrangian", sd),
+        ),
         ("_core.assign_2d (10 × 10)", lambda: _core.assign_2d(costs)),
         ("linear_assignment (10 × 10)", lambda: pa.linear_assignment(costs)),
     ):

@@ -24,10 +24,10 @@ from typing import Any
 
 import numpy as np
 from passive_assoc import _core
-from passive_assoc._settings import EnumerationSettings
 
 SENSORS = np.array([[-15e3, 0.0, 0.0], [0.0, -5e3, 0.0], [15e3, 0.0, 0.0]])
-GATE = 6.634896601021214  # χ²(1 dof) 99 %, per angle
+GATE_SIGMAS = 2.5758293035489004  # the two-sided 99 % point per angle
+GATE = GATE_SIGMAS**2  # its χ²(1 dof), 6.635: the brute force's gate on squared residuals
 SQUARE_WIDTH_RAD = 0.761
 
 
@@ -141,7 +141,9 @@ def rust(
     network: Any = SimpleNamespace(
         positions=SENSORS, sigma_azimuth=np.full(s_count, sigma), sigma_elevation=np.full(s_count, sigma), ndim=2
     )
-    settings = EnumerationSettings(chi2_gate=GATE, min_intensity=2, max_candidates=1_000_000, n_threads=n_threads)
+    settings: Any = SimpleNamespace(
+        gate_sigmas=GATE_SIGMAS, min_intensity=2, max_candidates=1_000_000, n_threads=n_threads
+    )
     return _core.enumerate_static(table, network, np.full(s_count, 0.95), density, settings)
 
 

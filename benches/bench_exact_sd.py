@@ -43,7 +43,7 @@ def run(problem: Problem, bb_limit: float) -> dict[str, tuple[float, float, bool
 
     def backend(name: str, limit: float) -> Callable[[], tuple[float, bool]]:
         def solve() -> tuple[float, bool]:
-            r = pa.assign_sd(t, c, n, method="exact", exact_backend=name, time_limit=limit)  # type: ignore[arg-type]
+            r = pa.assign_sd(t, c, n, method="exact", exact_backend=name, time_limit=limit)
             return r.primal_cost, r.optimal
 
         return solve

@@ -11,7 +11,6 @@ import numpy as np
 import passive_assoc as pa
 import pytest
 from passive_assoc import _core
-from passive_assoc._settings import FitSettings
 
 SENSORS = pa.SensorNetwork.spatial([[0, 0, 0], [20e3, 0, 0]], 5e-3, 5e-3)
 TABLE = pa.MeasurementTable.from_arrays(
@@ -44,7 +43,7 @@ def _raw_fit(**change: Any) -> Any:
         sigma_elevation=args.pop("sigma_elevation"),
         ndim=args.pop("ndim", 3),
     )
-    settings = FitSettings(
+    settings = SimpleNamespace(
         motion=args.pop("motion", "cv"),
         t0=args.pop("t0", 0.0),
         max_iter=args.pop("max_iter", 50),

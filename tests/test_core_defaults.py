@@ -14,7 +14,7 @@ from typing import Any
 
 import pytest
 from passive_assoc import _core
-from passive_assoc.assignment.sd import assign_sd
+from passive_assoc.assignment.sd import SdParameters
 from passive_assoc.estimation.fitting import fit_ml
 from passive_assoc.estimation.kalman import KalmanFilter
 from passive_assoc.formation.locator import FormationLocator
@@ -31,8 +31,8 @@ COUNTERPARTS: dict[str, list[Callable[..., Any]]] = {
     "descent": [maximize_closeness],  # DescentOptions
     "enumeration": [StaticAssociator],  # static_los EnumerateOptions
     "intensity": [StaticAssociator],  # static_los IntensityOptions
-    "lagrangian": [assign_sd, StaticAssociator],  # LagrangianOptions
-    "branch_bound": [assign_sd],  # BranchBoundOptions
+    "lagrangian": [SdParameters, StaticAssociator],  # LagrangianOptions (assign_sd's keywords)
+    "branch_bound": [SdParameters, StaticAssociator],  # BranchBoundOptions
     "formation": [FormationLocator],  # FormationOptions
     "topology": [TopologyAssociator],  # TopologyOptions
     "decision": [TopologyAssociator],  # topology DecisionOptions

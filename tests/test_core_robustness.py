@@ -14,18 +14,7 @@ from typing import Any
 import numpy as np
 import pytest
 from passive_assoc import _core
-from passive_assoc._settings import (
-    AttributeEvidence,
-    CoarseGateSettings,
-    DescentSettings,
-    EnumerationSettings,
-    FitSettings,
-    FormationSettings,
-    InitiationSettings,
-    IntensitySettings,
-    KalmanSettings,
-    SdSettings,
-)
+from passive_assoc._settings import AttributeEvidence, CoarseGateSettings
 
 F64 = np.float64
 I64 = np.int64
@@ -57,7 +46,9 @@ def _objects(args: dict[str, Any], ndim: Any) -> tuple[Any, Any, dict[str, Any]]
 
 def _fit(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects(args, kw["ndim"])
-    settings = FitSettings(kw["motion"], 0.0, 50, 1e-10, 1e-6, 30, None)
+    settings = SimpleNamespace(
+        motion=kw["motion"], t0=0.0, max_iter=50, xtol=1e-10, step_sigmas=1e-6, max_halvings=30, n_threads=None
+    )
     return _core.fit_batch(table, network, rest["indices"], rest["offsets"], None, settings)
 
 
@@ -75,14 +66,15 @@ def _closeness(args: dict[str, Any], kw: dict[str, Any]) -> Any:
 def _maximize(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects(args, kw["ndim"])
     spreads = (rest["spread_azimuth"], rest["spread_elevation"])
-    settings = DescentSettings(kw["t0"], "whitened", 100, None)
+    settings = SimpleNamespace(t0=kw["t0"], scaling="whitened", max_iter=100, n_threads=None)
     return _core.maximize_closeness(table, network, spreads, rest["starts"], rest["covariances"], settings)
 
 
 def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     kw = dict(kw)
     table, network, rest = _objects(args, kw.pop("ndim"))
-    settings = InitiationSettings(
+    t0 = kw.pop("t0")
+    settings = SimpleNamespace(
         **kw,
         detection_order="membership",
         descent_scaling="whitened",
@@ -93,27 +85,40 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
         gate_pd=None,
     )
     spreads = (rest["spread_azimuth"], rest["spread_elevation"])
-    return _core.initiate(table, network, rest["pairs"], spreads, settings)
+    return _core.initiate(table, network, rest["pairs"], spreads, t0, settings)
 
 
 def _enumerate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects({**args, "time": np.zeros(len(args["sensor"]))}, kw["ndim"])
-    settings = EnumerationSettings(kw["chi2_gate"], 2, 1_000_000, None)
+    settings = SimpleNamespace(gate_sigmas=kw["gate_sigmas"], min_intensity=2, max_candidates=1_000_000, n_threads=None)
     return _core.enumerate_static(table, network, rest["pd"], rest["false_alarm_density"], settings)
 
 
 def _intensity(args: dict[str, Any], kw: dict[str, Any]) -> Any:
-    settings = IntensitySettings(0.5, True, None, None)
+    settings = SimpleNamespace(vote_fraction=0.5, valid_airspace=True, max_chains=None, n_threads=None)
     return _core.intensity_search(args["tuples"], args["positions"], args["costs"], args["sizes"], settings)
 
 
 def _assign_sd(args: dict[str, Any], kw: dict[str, Any]) -> Any:
-    settings = SdSettings("lagrangian", 200, 1e-3, 10_000_000, 10.0, "auto", "auto", False)
-    return _core.assign_sd(args["tuples"], args["costs"], args["sizes"], settings)
+    settings = _sd_settings(time_limit=10.0)
+    return _core.assign_sd(args["tuples"], args["costs"], args["sizes"], "lagrangian", settings)
+
+
+def _sd_settings(time_limit: float) -> SimpleNamespace:
+    """What the binding reads of the S-D solvers' settings."""
+    return SimpleNamespace(
+        max_iter=200,
+        gap_tol=1e-3,
+        max_nodes=10_000_000,
+        time_limit=time_limit,
+        warm_start="auto",
+        sensor_order="auto",
+        polish=False,
+    )
 
 
 def _kalman(args: dict[str, Any], kw: dict[str, Any]) -> Any:
-    settings = KalmanSettings(**kw, init="differencing", init_velocity_std=500.0, init_acceleration_std=50.0)
+    settings = SimpleNamespace(**kw, init="differencing", init_velocity_std=500.0, init_acceleration_std=50.0)
     groups = (args["indices"], args["offsets"])
     return _core.kalman_filter(
         args["times"], args["measurements"], groups, args["noise"], args["sensor_positions"], settings
@@ -131,13 +136,13 @@ def _locate_formation(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     kw = dict(kw)
     table, network, rest = _objects({**args, "time": np.zeros(len(args["sensor"]))}, 2)
     evidence = AttributeEvidence(rest["attributes"], rest["attribute_std"], kw.pop("eta"), kw.pop("combination"))
-    return _core.locate_formation(table, network, evidence, FormationSettings(**kw))
+    return _core.locate_formation(table, network, evidence, SimpleNamespace(**kw))
 
 
 def _enumerate_gated(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     table, network, rest = _objects({**args, "time": np.zeros(len(args["sensor"]))}, 2)
     evidence = AttributeEvidence(rest["attributes"], rest["attribute_std"], kw["eta"], kw["combination"])
-    settings = EnumerationSettings(6.6, 2, 1_000_000, None)
+    settings = SimpleNamespace(gate_sigmas=2.57, min_intensity=2, max_candidates=1_000_000, n_threads=None)
     return _core.enumerate_static(table, network, rest["pd"], rest["false_alarm_density"], settings, evidence)
 
 
@@ -163,7 +168,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
             eta=0.6,
             combination="simple",
             baseline_sensor=0,
-            reference=None,
+            reference="smallest",
             cluster_radius="2d",
             one_to_one=True,
             r_max=2e5,
@@ -252,7 +257,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
             "pd": np.full(3, 0.9),
             "false_alarm_density": np.full(3, 1.0),
         },
-        dict(ndim=2, chi2_gate=6.6),
+        dict(ndim=2, gate_sigmas=2.57),
     ),
     "intensity_search": (
         _intensity,
@@ -348,9 +353,9 @@ def test_fortran_ordered_arrays_are_refused_not_read_transposed() -> None:
 
 
 def test_a_huge_time_limit_is_a_value_error_not_a_panic() -> None:
-    settings = SdSettings("exact", 200, 1e-3, 10_000_000, 1e20, "auto", "auto", False)
+    settings = _sd_settings(time_limit=1e20)
     with pytest.raises(ValueError, match="time_limit"):
-        _core.assign_sd(np.array([[1, 1, 1]], I64), np.array([-5.0]), np.array([1, 1, 1], I64), settings)
+        _core.assign_sd(np.array([[1, 1, 1]], I64), np.array([-5.0]), np.array([1, 1, 1], I64), "exact", settings)
 
 
 _OOM_SCRIPT = """

@@ -1,33 +1,115 @@
 """Type stubs for the compiled core (``rust/src``). Use the typed wrappers in the package.
 
 The functions take the validated ``SensorNetwork`` / ``MeasurementTable`` objects (read by
-attribute) and, where they have several settings, one object from ``passive_assoc._settings``;
-``crlb``, ``closeness`` and ``assign_2d`` take their few scalars directly. Results are NumPy
-arrays or the frozen classes below.
+attribute) and, where they have several settings, the object that declares them, read by
+attribute: a ``FuzzyTrackInitiator``, ``StaticAssociator``, ``FormationLocator`` or
+``KalmanFilter``, a function's validated arguments (the ``_…Settings`` protocols below name
+what is read), or a derived settings object of ``passive_assoc._settings``. ``crlb``,
+``closeness`` and ``assign_2d`` take their few scalars directly. Results are NumPy arrays or
+the frozen classes below.
 """
 
 from collections.abc import Callable
-from typing import Literal, final
+from typing import Literal, Protocol, final
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ._settings import (
-    DescentSettings,
-    EnumerationSettings,
-    FitSettings,
-    InitiationSettings,
-    IntensitySettings,
-    KalmanSettings,
-    Motion,
-    SdSettings,
-    TopologySettings,
-)
+from ._settings import AttributeEvidence, CoarseGateSettings, TopologySettings
 from .data import MeasurementTable, SensorNetwork
+from .estimation.kalman import KalmanFilter
+from .formation.locator import FormationLocator
+from .fti.initiator import FuzzyTrackInitiator
+from .static_los.associator import StaticAssociator
+
+__all__ = [
+    "AssociatorState",
+    "Bias",
+    "Candidates",
+    "EnumerationStages",
+    "FormationCounts",
+    "FormationOutput",
+    "InitiationOutput",
+    "IntensityLevel",
+    "IntensityResult",
+    "ScanPairs",
+    "SdResult",
+    "StageCounts",
+    "StageSeconds",
+    "__version__",
+    "assign_2d",
+    "assign_2d_sparse",
+    "assign_sd",
+    "associate_scans",
+    "closeness",
+    "crlb",
+    "default_false_alarm_density",
+    "enumerate_static",
+    "fit_batch",
+    "initiate",
+    "intensity_search",
+    "kalman_filter",
+    "locate_formation",
+    "maximize_closeness",
+    "option_defaults",
+    "repeated_maximum",
+    "topology_vectors",
+    "wavelet_coarse_gate",
+    "wavelet_coarse_gate_coupled",
+]
 
 __version__: str
 
-Termination = Literal["optimal", "gap_reached", "max_iterations", "stalled", "node_limit", "time_limit"]
+_Termination = Literal["optimal", "gap_reached", "max_iterations", "stalled", "node_limit", "time_limit"]
+_Motion = Literal["static", "cv"]
+
+class _FitSettings(Protocol):
+    """What ``fit_batch`` reads: ``fit_ml``'s validated arguments."""
+
+    @property
+    def motion(self) -> _Motion: ...
+    @property
+    def t0(self) -> float: ...
+    @property
+    def max_iter(self) -> int: ...
+    @property
+    def xtol(self) -> float: ...
+    @property
+    def step_sigmas(self) -> float: ...
+    @property
+    def max_halvings(self) -> int: ...
+    @property
+    def n_threads(self) -> int | None: ...
+
+class _DescentSettings(Protocol):
+    """What ``maximize_closeness`` reads: its Python function's validated arguments."""
+
+    @property
+    def t0(self) -> float: ...
+    @property
+    def scaling(self) -> Literal["whitened", "diagonal"]: ...
+    @property
+    def max_iter(self) -> int: ...
+    @property
+    def n_threads(self) -> int | None: ...
+
+class _SdSettings(Protocol):
+    """What ``assign_sd`` reads: ``passive_assoc.assignment.sd.SdParameters`` or a view of it."""
+
+    @property
+    def max_iter(self) -> int: ...
+    @property
+    def gap_tol(self) -> float: ...
+    @property
+    def max_nodes(self) -> int: ...
+    @property
+    def time_limit(self) -> float | None: ...
+    @property
+    def warm_start(self) -> Literal["auto", "always", "never"]: ...
+    @property
+    def sensor_order(self) -> Literal["auto", "given"]: ...
+    @property
+    def polish(self) -> bool: ...
 
 @final
 class SdResult:
@@ -42,7 +124,7 @@ class SdResult:
     @property
     def iterations(self) -> int: ...
     @property
-    def termination(self) -> Termination: ...
+    def termination(self) -> _Termination: ...
     @property
     def optimal(self) -> bool: ...
 
@@ -169,14 +251,14 @@ def fit_batch(
     indices: NDArray[np.int64],
     offsets: NDArray[np.int64],
     initial: NDArray[np.float64] | None,
-    settings: FitSettings,
+    settings: _FitSettings,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.uint32], NDArray[np.uint8]]: ...
 def crlb(
     sensors: SensorNetwork,
     truth: NDArray[np.float64],
     sensor_index: NDArray[np.int64],
     times: NDArray[np.float64],
-    motion: Motion,
+    motion: _Motion,
     t0: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 def initiate(
@@ -184,7 +266,8 @@ def initiate(
     sensors: SensorNetwork,
     pairs: NDArray[np.int64],
     spreads: tuple[NDArray[np.float64], NDArray[np.float64]],
-    settings: InitiationSettings,
+    t0: float,
+    settings: FuzzyTrackInitiator,
     progress: Callable[[str, float], object] | None = None,
 ) -> InitiationOutput: ...
 def closeness(
@@ -201,13 +284,14 @@ def maximize_closeness(
     spreads: tuple[NDArray[np.float64], NDArray[np.float64]],
     starts: NDArray[np.float64],
     covariances: NDArray[np.float64],
-    settings: DescentSettings,
+    settings: _DescentSettings,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]: ...
 def assign_sd(
     tuples: NDArray[np.int64],
     costs: NDArray[np.float64],
     sizes: NDArray[np.int64],
-    settings: SdSettings,
+    method: Literal["lagrangian", "exact"],
+    settings: _SdSettings,
 ) -> SdResult: ...
 def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
 def associate_scans(
@@ -217,10 +301,7 @@ def associate_scans(
     offsets: NDArray[np.int64],
     pd: NDArray[np.float64],
     false_alarm_density: NDArray[np.float64] | None,
-    enumeration: EnumerationSettings,
-    method: str,
-    sd: SdSettings,
-    intensity: IntensitySettings,
+    associator: StaticAssociator,
     progress: Callable[[str, float], object] | None = None,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]: ...
 def default_false_alarm_density(
@@ -238,7 +319,7 @@ def enumerate_static(
     sensors: SensorNetwork,
     pd: NDArray[np.float64],
     false_alarm_density: NDArray[np.float64] | None,
-    settings: EnumerationSettings,
+    settings: StaticAssociator,
     attributes: AttributeEvidence | None = None,
 ) -> Candidates: ...
 def intensity_search(
@@ -246,7 +327,7 @@ def intensity_search(
     positions: NDArray[np.float64],
     costs: NDArray[np.float64],
     sizes: NDArray[np.int64],
-    settings: IntensitySettings,
+    settings: StaticAssociator,
 ) -> IntensityResult: ...
 
 @final
@@ -267,7 +348,7 @@ class Bias:
     @property
     def pairs(self) -> int: ...
 
-ScanSide = tuple[
+_ScanSide = tuple[
     NDArray[np.int64],
     NDArray[np.float64],
     NDArray[np.float64] | None,
@@ -275,13 +356,14 @@ ScanSide = tuple[
     NDArray[np.float64] | None,
 ]
 
+@final
 class AssociatorState:
-    def __init__(self, settings: TopologySettings) -> None: ...
-    def update(self, local: ScanSide, system: ScanSide) -> ScanPairs: ...
+    def __new__(cls, settings: TopologySettings) -> AssociatorState: ...
+    def update(self, local: _ScanSide, system: _ScanSide) -> ScanPairs: ...
     def bias(self) -> Bias | None: ...
     def bias_about(self, centre: tuple[float, float]) -> Bias | None: ...
 
-def topology_vectors(tracks: ScanSide, settings: TopologySettings) -> NDArray[np.float64]: ...
+def topology_vectors(tracks: _ScanSide, settings: TopologySettings) -> NDArray[np.float64]: ...
 
 def kalman_filter(
     times: NDArray[np.float64],
@@ -289,11 +371,10 @@ def kalman_filter(
     groups: tuple[NDArray[np.int64], NDArray[np.int64]],
     noise: NDArray[np.float64],
     sensor_positions: NDArray[np.float64] | None,
-    settings: KalmanSettings,
+    settings: KalmanFilter,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 
 # Radar/ESM association (METHODS §5): the coarse gate.
-from ._settings import CoarseGateSettings
 
 def wavelet_coarse_gate(
     operator: NDArray[np.float64],
@@ -313,8 +394,6 @@ def wavelet_coarse_gate_coupled(
     esm: tuple[NDArray[np.float64], NDArray[np.float64]],
     settings: CoarseGateSettings,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]: ...
-
-from ._settings import AttributeEvidence, FormationSettings
 
 @final
 class FormationCounts:
@@ -360,13 +439,13 @@ def locate_formation(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     attributes: AttributeEvidence | None,
-    settings: FormationSettings,
+    settings: FormationLocator,
 ) -> FormationOutput: ...
 
 #: A core default as Python reads it: a number, a flag, a choice, or None.
-OptionValue = bool | int | float | str | tuple[float, ...] | list[tuple[int, int]] | None
+_OptionValue = bool | int | float | str | tuple[float, ...] | list[tuple[int, int]] | None
 
-def option_defaults(paper: bool = False) -> dict[str, dict[str, OptionValue]]:
+def option_defaults(paper: bool = False) -> dict[str, dict[str, _OptionValue]]:
     """Each core options struct's ``recommended()`` values (``paper=True``: its ``paper()``),
     ``{kind: {Python parameter name: value}}``; kinds ``initiation``, ``descent``,
     ``enumeration``, ``intensity``, ``lagrangian``, ``branch_bound``, ``formation``,

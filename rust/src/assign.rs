@@ -12,10 +12,10 @@ use super::interrupt;
 use passive_assoc_core::assign::lagrangian::LagrangianOptions;
 use passive_assoc_core::assign::{branch_bound, lagrangian, lap, SdMethod, SdProblem};
 
-/// `passive_assoc._settings.SdSettings`, read by attribute.
+/// The S-D solvers' settings, read by attribute from the object that declares them
+/// (`passive_assoc.StaticAssociator`, or `assign_sd`'s validated arguments).
 #[derive(FromPyObject)]
 pub struct SdSettings {
-    pub(crate) method: String,
     max_iter: i64,
     gap_tol: f64,
     max_nodes: i64,
@@ -40,15 +40,16 @@ pub struct SdResult {
 
 /// Solve a sparse S-D assignment; see `passive_assoc.assign_sd` for the Python-level docs.
 #[pyfunction]
-#[pyo3(signature = (tuples, costs, sizes, settings))]
+#[pyo3(signature = (tuples, costs, sizes, method, settings))]
 pub fn assign_sd(
     py: Python<'_>,
     tuples: PyReadonlyArray2<'_, i64>,
     costs: PyReadonlyArray1<'_, f64>,
     sizes: PyReadonlyArray1<'_, i64>,
+    method: &str,
     settings: SdSettings,
 ) -> BindResult<SdResult> {
-    let method: SdMethod = parse("method", &settings.method)?;
+    let method: SdMethod = parse("method", method)?;
     let root = lagrangian_options(&settings)?;
     let n_sensors = tuples.shape()[1];
     let tuple_values = row_major("tuples", &tuples)?;

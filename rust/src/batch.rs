@@ -24,8 +24,8 @@ use passive_assoc_core::static_los::{associate_scans as core_associate_scans, Sc
 /// targets per scan; positions of every target, scan by scan, `(targets, dim)`). `progress`,
 /// when given, is called `("scans", fraction)` as scans finish (module `progress`).
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, rows, offsets, pd, false_alarm_density, enumeration, method, sd, intensity, progress=None))]
-#[allow(clippy::too_many_arguments)] // one scan's settings, as the one-scan calls take them
+#[pyo3(signature = (measurements, sensors, rows, offsets, pd, false_alarm_density, associator, progress=None))]
+#[allow(clippy::too_many_arguments)] // the table, its scans, the per-sensor arrays, the settings
 pub fn associate_scans<'py>(
     py: Python<'py>,
     measurements: MeasurementsArg<'py>,
@@ -34,14 +34,15 @@ pub fn associate_scans<'py>(
     offsets: PyReadonlyArray1<'py, i64>,
     pd: PyReadonlyArray1<'py, f64>,
     false_alarm_density: Option<PyReadonlyArray2<'py, f64>>,
-    enumeration: EnumerationSettings,
-    method: &str,
-    sd: SdSettings,
-    intensity: IntensitySettings,
+    associator: &Bound<'py, PyAny>,
     progress: Option<Py<PyAny>>,
 ) -> BindResult<(I64Array<'py>, I64Array<'py>, F64Array<'py>)> {
+    let enumeration: EnumerationSettings = associator.extract()?;
+    let sd: SdSettings = associator.extract()?;
+    let intensity: IntensitySettings = associator.extract()?;
+    let method: String = associator.getattr("method")?.extract()?;
     let (enumerate, n_threads) = enumeration_options(&enumeration)?;
-    let solver = match method {
+    let solver = match method.as_str() {
         "intensity" => ScanSolver::Intensity(intensity_options(&intensity)?),
         "lagrangian" => ScanSolver::Lagrangian(lagrangian_options(&sd)?),
         "exact" => ScanSolver::Exact(branch_bound_options(&sd, lagrangian_options(&sd)?)?),

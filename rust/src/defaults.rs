@@ -73,7 +73,7 @@ pub fn option_defaults(py: Python<'_>, paper: bool) -> BindResult<Bound<'_, PyDi
         EnumerateOptions::paper,
     );
     let d = kind("enumeration")?;
-    d.set_item("chi2_gate", o.chi2_gate())?;
+    d.set_item("gate_sigmas", o.gate_sigmas())?;
     d.set_item("min_intensity", o.min_intensity())?;
     d.set_item("max_candidates", o.max_candidates())?;
 

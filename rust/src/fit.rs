@@ -16,7 +16,7 @@ use passive_assoc_core::estimation::fit::batch::{
 use passive_assoc_core::estimation::fit::FitOptions;
 use passive_assoc_core::parallel::with_threads_unless_sequential;
 
-/// `passive_assoc._settings.FitSettings`, read by attribute.
+/// The fit's settings, read by attribute: `fit_ml`'s validated arguments.
 #[derive(FromPyObject)]
 pub struct FitSettings {
     motion: String,

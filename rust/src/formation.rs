@@ -49,11 +49,18 @@ impl AttributesArg<'_> {
     }
 }
 
-/// `passive_assoc._settings.FormationSettings`, read by attribute.
+/// The subset that seeds the candidates: a sensor index, or `"smallest"`.
+#[derive(FromPyObject)]
+enum ReferenceArg {
+    Sensor(i64),
+    Named(String),
+}
+
+/// The formation method's settings, read by attribute from `passive_assoc.FormationLocator`.
 #[derive(FromPyObject)]
 pub struct FormationSettings {
     baseline_sensor: i64,
-    reference: Option<i64>,
+    reference: ReferenceArg,
     cluster_radius: String,
     one_to_one: bool,
     r_max: f64,
@@ -64,9 +71,15 @@ pub struct FormationSettings {
 
 impl FormationSettings {
     fn options(&self) -> BindResult<FormationOptions> {
-        let reference = match self.reference {
-            None => Reference::Smallest,
-            Some(r) => Reference::Sensor(count("reference", r, 0)?),
+        let reference = match &self.reference {
+            ReferenceArg::Named(name) if name == "smallest" => Reference::Smallest,
+            ReferenceArg::Named(other) => {
+                return Err(value_error(
+                    "reference",
+                    format!("must be 'smallest' or a sensor index, got {other:?}"),
+                ))
+            }
+            ReferenceArg::Sensor(r) => Reference::Sensor(count("reference", *r, 0)?),
         };
         let mut options = FormationOptions::default()
             .with_baseline_sensor(count("baseline_sensor", self.baseline_sensor, 0)?)

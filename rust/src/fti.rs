@@ -23,10 +23,10 @@ use passive_assoc_core::parallel::with_threads;
 /// The membership spreads per sensor, (azimuth, elevation), radians.
 type SpreadArrays<'py> = (PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, f64>);
 
-/// `passive_assoc._settings.InitiationSettings`, read by attribute.
+/// The initiation's settings, read by attribute from `passive_assoc.FuzzyTrackInitiator`
+/// (the fields it declares).
 #[derive(FromPyObject)]
 pub struct InitiationSettings {
-    t0: f64,
     gate_sigmas: f64,
     n_detect: Option<i64>,
     ray_gate_sigmas: Option<f64>,
@@ -123,13 +123,15 @@ pub struct InitiationOutput {
 /// pair a < b; `spreads` is (azimuth, elevation), one per sensor. `progress`, when given, is
 /// called `(stage, fraction)` as the passes go (module `progress`); what it raises is raised.
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, pairs, spreads, settings, progress=None))]
+#[pyo3(signature = (measurements, sensors, pairs, spreads, t0, settings, progress=None))]
+#[allow(clippy::too_many_arguments)] // the data, the pairs and spreads, the epoch, the settings
 pub fn initiate(
     py: Python<'_>,
     measurements: MeasurementsArg<'_>,
     sensors: SensorsArg<'_>,
     pairs: PyReadonlyArray2<'_, i64>,
     spreads: SpreadArrays<'_>,
+    t0: f64,
     settings: InitiationSettings,
     progress: Option<Py<PyAny>>,
 ) -> BindResult<InitiationOutput> {
@@ -139,7 +141,6 @@ pub fn initiate(
     let spreads = spreads_of(&network, &spreads)?;
     let options = settings.options(pair_list(slice2("pairs", &pairs, 2)?)?)?;
     let n_threads = threads(settings.n_threads)?;
-    let t0 = settings.t0;
     let sink = Sink::new(progress);
     let reported = sink.progress();
     let result = interrupt::detach(py, || {
@@ -245,7 +246,7 @@ pub fn closeness<'py>(
     ))
 }
 
-/// `passive_assoc._settings.DescentSettings`, read by attribute.
+/// The descent's settings, read by attribute: `maximize_closeness`'s validated arguments.
 #[derive(FromPyObject)]
 pub struct DescentSettings {
     t0: f64,

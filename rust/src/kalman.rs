@@ -13,7 +13,7 @@ use passive_assoc_core::estimation::kalman::{
 };
 use passive_assoc_core::parallel::with_threads_unless_sequential;
 
-/// `passive_assoc._settings.KalmanSettings`, read by attribute.
+/// The filter's settings, read by attribute from `passive_assoc.KalmanFilter`.
 #[derive(FromPyObject)]
 pub struct KalmanSettings {
     motion: String,

@@ -23,10 +23,10 @@ use passive_assoc_core::static_los::{
     IntensityInput, IntensityOptions,
 };
 
-/// `passive_assoc._settings.EnumerationSettings`, read by attribute.
+/// The enumeration's settings, read by attribute from `passive_assoc.StaticAssociator`.
 #[derive(FromPyObject)]
 pub struct EnumerationSettings {
-    chi2_gate: f64,
+    gate_sigmas: f64,
     min_intensity: i64,
     max_candidates: i64,
     n_threads: Option<i64>,
@@ -179,7 +179,7 @@ fn candidates_output(py: Python<'_>, c: CoreCandidates) -> BindResult<Candidates
     })
 }
 
-/// `passive_assoc._settings.IntensitySettings`, read by attribute.
+/// The intensity search's settings, read by attribute from `passive_assoc.StaticAssociator`.
 #[derive(FromPyObject)]
 pub struct IntensitySettings {
     vote_fraction: f64,
@@ -205,7 +205,7 @@ pub fn enumeration_options(
     settings: &EnumerationSettings,
 ) -> BindResult<(EnumerateOptions, Option<usize>)> {
     let options = EnumerateOptions::default()
-        .with_chi2_gate(settings.chi2_gate)?
+        .with_gate_sigmas(settings.gate_sigmas)?
         .with_min_intensity(count("min_intensity", settings.min_intensity, 2)?)?
         .with_max_candidates(count("max_candidates", settings.max_candidates, 1)?)?;
     Ok((options, threads(settings.n_threads)?))

@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
-from typing import Literal
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
-from .._settings import SdSettings
-from .._validation import as_float_array, as_int_array, as_int_scalar
+from .._params import COUNT, POSITIVE, Boolean, Configurable, Interval, Options
+from .._validation import as_float_array, as_int_array
+from ..outcome import Outcome
 from .highs import solve_highs
 
 #: Why an S-D solver stopped (``SdAssignment.termination``).
@@ -29,11 +31,16 @@ SD_MESSAGES: dict[SdTermination, str] = {
 
 
 @dataclass(frozen=True)
-class SdAssignment:
+class SdAssignment(Outcome):
     """Result of :func:`assign_sd`.
 
     Attributes
     ----------
+    termination, success, message
+        As every result (:class:`~passive_assoc.outcome.Outcome`): why the solver stopped
+        (``optimal``, ``gap_reached``, ``max_iterations``, ``stalled``, ``node_limit`` or
+        ``time_limit``); ``success`` when it met its target, optimality proven or the gap
+        within ``gap_tol`` (as SciPy's ``OptimizeResult.success``); the reason in words.
     chosen : ndarray of int
         Indices (into the input tuples) of the chosen tuples, ascending.
     primal_cost : float
@@ -44,9 +51,6 @@ class SdAssignment:
         ``max(0, primal − dual) / max(1, |primal|)``.
     iterations : int
         Subgradient iterations (Lagrangian) or search nodes (exact).
-    termination : SdTermination
-        Why the solver stopped: ``optimal``, ``gap_reached``, ``max_iterations``,
-        ``stalled``, ``node_limit`` or ``time_limit``; :attr:`message` says it in words.
     optimal : bool
         True when optimality is proven.
     """
@@ -56,23 +60,54 @@ class SdAssignment:
     dual_bound: float
     gap: float
     iterations: int
-    termination: SdTermination
     optimal: bool
 
-    @property
-    def success(self) -> bool:
-        """True when the solver met its target: optimality proven or the gap within ``gap_tol``
-        (as SciPy's ``OptimizeResult.success``)."""
-        return self.termination in ("optimal", "gap_reached")
 
-    @property
-    def message(self) -> str:
-        """Why the solver stopped, in words."""
-        return SD_MESSAGES[self.termination]
+def sd_assignment(
+    chosen: NDArray[np.int64],
+    primal_cost: float,
+    dual_bound: float,
+    gap: float,
+    iterations: int,
+    termination: SdTermination,
+    optimal: bool,
+) -> SdAssignment:
+    """An :class:`SdAssignment`, its success and message from its termination."""
+    return SdAssignment(
+        chosen,
+        primal_cost,
+        dual_bound,
+        gap,
+        iterations,
+        optimal,
+        termination=termination,
+        success=termination in ("optimal", "gap_reached"),
+        message=SD_MESSAGES[termination],
+    )
 
 
 #: ``assign_sd``'s default branch-and-bound node cap (the static associator uses it too).
 ASSIGN_SD_MAX_NODES = 10_000_000
+
+SdMethod = Literal["lagrangian", "exact"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class SdParameters(Configurable):
+    """The S-D solvers' parameters, declared once: :func:`assign_sd` takes them as keywords
+    and :class:`~passive_assoc.StaticAssociator` inherits them (see :func:`assign_sd` for
+    what each means)."""
+
+    max_iter: Annotated[int, COUNT] = 200
+    gap_tol: Annotated[float, Interval(float, 0.0, None)] = 1e-3
+    max_nodes: Annotated[int, COUNT] = ASSIGN_SD_MAX_NODES
+    time_limit: Annotated[float | None, POSITIVE, None] = 10.0
+    warm_start: Annotated[Literal["auto", "always", "never"], Options("auto", "always", "never")] = "auto"
+    sensor_order: Annotated[Literal["auto", "given"], Options("auto", "given")] = "auto"
+    polish: Annotated[bool, Boolean()] = True
+    exact_backend: Annotated[Literal["auto", "branch_bound", "highs"], Options("auto", "branch_bound", "highs")] = (
+        "auto"
+    )
 
 
 def assign_sd(
@@ -80,15 +115,8 @@ def assign_sd(
     costs: ArrayLike,
     sizes: ArrayLike,
     *,
-    method: Literal["lagrangian", "exact"] = "lagrangian",
-    max_iter: int = 200,
-    gap_tol: float = 1e-3,
-    max_nodes: int = ASSIGN_SD_MAX_NODES,
-    time_limit: float | None = 10.0,
-    warm_start: Literal["auto", "always", "never"] = "auto",
-    sensor_order: Literal["auto", "given"] = "auto",
-    polish: bool = True,
-    exact_backend: Literal["auto", "branch_bound", "highs"] = "auto",
+    method: SdMethod = "lagrangian",
+    **parameters: Any,
 ) -> SdAssignment:
     """Sparse S-D assignment: choose candidate tuples of minimum total cost such that every
     report of every sensor is used at most once (like MATLAB's ``assignsd``, but on a sparse
@@ -106,6 +134,9 @@ def assign_sd(
         Lagrangian relaxation with subgradient updates and feasible recovery, or exact
         branch-and-bound (which returns ``optimal=False`` at ``max_nodes``/``time_limit``
         rather than running on).
+    **parameters
+        :class:`SdParameters`: ``max_iter``, ``gap_tol``, ``max_nodes``, ``time_limit``,
+        ``warm_start``, ``sensor_order``, ``polish``, ``exact_backend``, as follows.
     max_iter, gap_tol
         Lagrangian iteration cap and relative duality-gap target. MATLAB's ``assignsd`` stops
         at 100 iterations or a 1 % gap; these defaults are tighter, for answers nearer the
@@ -168,37 +199,19 @@ def assign_sd(
         raise ValueError(f"tuples: row {empty[0]} has no report (all zeros); every tuple must use at least one")
     if method not in ("lagrangian", "exact"):
         raise ValueError(f"method: must be 'lagrangian' or 'exact', got {method!r}")
-    if warm_start not in ("auto", "always", "never"):
-        raise ValueError(f"warm_start: must be 'auto', 'always' or 'never', got {warm_start!r}")
-    if sensor_order not in ("auto", "given"):
-        raise ValueError(f"sensor_order: must be 'auto' or 'given', got {sensor_order!r}")
-    if not isinstance(polish, (bool, np.bool_)):
-        raise TypeError(f"polish: must be a bool, got {type(polish).__name__}")
-    if exact_backend not in ("auto", "branch_bound", "highs"):
-        raise ValueError(f"exact_backend: must be 'auto', 'branch_bound' or 'highs', got {exact_backend!r}")
-    settings = SdSettings(
-        method=method,
-        max_iter=as_int_scalar("max_iter", max_iter, minimum=1),
-        gap_tol=float(gap_tol),
-        max_nodes=as_int_scalar("max_nodes", max_nodes, minimum=1),
-        time_limit=None if time_limit is None else float(time_limit),
-        warm_start=warm_start,
-        sensor_order=sensor_order,
-        polish=bool(polish),
-    )
-    return solve_validated(t, c, n, settings, exact_backend)
+    return solve_validated(t, c, n, method, SdParameters(**parameters))
 
 
 def solve_validated(
-    t: NDArray[np.int64], c: NDArray[np.float64], n: NDArray[np.int64], settings: SdSettings, exact_backend: str
+    t: NDArray[np.int64], c: NDArray[np.float64], n: NDArray[np.int64], method: SdMethod, settings: SdParameters
 ) -> SdAssignment:
     """:func:`assign_sd` on arrays and settings already checked: C-contiguous int64 tuples
     without an all-zero row, float64 costs, int64 sizes — the static associator's candidates,
     whose per-scan checks would otherwise cost more than a small scan's solve. The core still
     validates every index against the sizes."""
-    if settings.method == "exact" and exact_backend != "branch_bound":
-        return _exact_with_highs(t, c, n, settings, exact_backend == "auto")
-    return _from_core(_core.assign_sd(t, c, n, settings))
+    if method == "exact" and settings.exact_backend != "branch_bound":
+        return _exact_with_highs(t, c, n, settings, settings.exact_backend == "auto")
+    return _from_core(_core.assign_sd(t, c, n, method, settings))
 
 
 #: Branch-and-bound nodes the "auto" exact backend tries before HiGHS (a few milliseconds).
@@ -206,25 +219,44 @@ AUTO_BRANCH_BOUND_NODES = 50_000
 
 
 def _exact_with_highs(
-    t: NDArray[np.int64], c: NDArray[np.float64], n: NDArray[np.int64], settings: SdSettings, auto: bool
+    t: NDArray[np.int64], c: NDArray[np.float64], n: NDArray[np.int64], settings: SdParameters, auto: bool
 ) -> SdAssignment:
     """HiGHS, after a short branch-and-bound when ``auto`` (which also validates the input:
     with "highs" a one-node search does, so both backends refuse exactly the same problems)."""
     start = time.perf_counter()
     nodes = min(settings.max_nodes, AUTO_BRANCH_BOUND_NODES) if auto else 1
-    first = _from_core(_core.assign_sd(t, c, n, replace(settings, max_nodes=nodes)))
+    first = _from_core(_core.assign_sd(t, c, n, "exact", _with_nodes(settings, nodes)))
     if auto and (first.optimal or first.termination == "time_limit"):
         return first
     remaining = None if settings.time_limit is None else settings.time_limit - (time.perf_counter() - start)
     if remaining is not None and remaining <= 0:  # the search's own stop is not what ended it
-        return first if first.optimal else replace(first, termination="time_limit")
+        return first if first.optimal else _retermination(first, "time_limit")
     chosen, primal, dual, iterations, proven = solve_highs(t, c, n, remaining)
     if not proven and first.primal_cost < primal:  # HiGHS ran out of time behind the search
         chosen, primal = first.chosen, first.primal_cost
     dual = max(dual, first.dual_bound)
     gap = max(0.0, primal - dual) / max(1.0, abs(primal))
     termination: SdTermination = "optimal" if proven else "time_limit"
-    return SdAssignment(chosen, primal, dual, gap, iterations, termination, proven)
+    return sd_assignment(chosen, primal, dual, gap, iterations, termination, proven)
+
+
+def _with_nodes(settings: SdParameters, nodes: int) -> Any:
+    """``settings`` as the core reads them, with another node cap."""
+    fields = ("max_iter", "gap_tol", "time_limit", "warm_start", "sensor_order", "polish")
+    return SimpleNamespace(**{name: getattr(settings, name) for name in fields}, max_nodes=nodes)
+
+
+def _retermination(result: SdAssignment, termination: SdTermination) -> SdAssignment:
+    """``result`` with another termination (and its success and message)."""
+    return sd_assignment(
+        result.chosen,
+        result.primal_cost,
+        result.dual_bound,
+        result.gap,
+        result.iterations,
+        termination,
+        result.optimal,
+    )
 
 
 #: Declared reports (all sensors) above which the solvers size their per-report arrays by the
@@ -248,6 +280,6 @@ def _solver_sizes(t: NDArray[np.int64], n: NDArray[np.int64]) -> NDArray[np.int6
 
 
 def _from_core(out: _core.SdResult) -> SdAssignment:
-    return SdAssignment(
+    return sd_assignment(
         out.chosen, out.primal_cost, out.dual_bound, out.gap, out.iterations, out.termination, out.optimal
     )

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Annotated, Literal
 
 import numpy as np
@@ -18,7 +19,6 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._inputs import check_network, check_pair
 from .._params import POSITIVE, Epoch, Interval, Options, Threads, checked
-from .._settings import FitSettings
 from .._validation import as_float_array, as_int_array, require_state_range
 from ..data import MeasurementTable, SensorNetwork
 
@@ -177,7 +177,15 @@ def fit_ml(
     indices, offsets = _groups_to_csr(groups)
     dim = network.ndim * (2 if motion == "cv" else 1)
     start = None if initial is None else as_float_array("initial", initial, shape=(len(offsets) - 1, dim))
-    settings = FitSettings(motion, t0, max_iter, xtol, step_sigmas, MAX_HALVINGS, n_threads)
+    settings = SimpleNamespace(
+        motion=motion,
+        t0=t0,
+        max_iter=max_iter,
+        xtol=xtol,
+        step_sigmas=step_sigmas,
+        max_halvings=MAX_HALVINGS,
+        n_threads=n_threads,
+    )
     out = _core.fit_batch(table, network, indices, offsets, start, settings)
     return FitResult(*out, t0=t0)
 

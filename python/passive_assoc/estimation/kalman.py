@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._params import POSITIVE, Configurable, Interval, Options, Threads
-from .._settings import KalmanInit, KalmanMeasurement, KalmanMotion, KalmanSettings
+from .._settings import KalmanInit, KalmanMeasurement, KalmanMotion
 from .._validation import as_float_array
 from .fitting import _groups_to_csr
 
@@ -168,16 +168,7 @@ class KalmanFilter(Configurable):
                 sensors = np.tile(sensors, (len(t), 1))
             if sensors.ndim != 2:
                 raise ValueError(f"sensor_positions: expected shape (n, 2) or (2,), got {sensors.shape}")
-        settings = KalmanSettings(
-            motion=self.motion,
-            measurement=self.measurement,
-            process_noise=self.process_noise,
-            init=self.init,
-            init_velocity_std=self.init_velocity_std,
-            init_acceleration_std=self.init_acceleration_std,
-            n_threads=self.n_threads,
-        )
-        out = _core.kalman_filter(t, z, (indices, offsets), _noise(noise, *z.shape), sensors, settings)
+        out = _core.kalman_filter(t, z, (indices, offsets), _noise(noise, *z.shape), sensors, self)
         return KalmanResult(*out)
 
 

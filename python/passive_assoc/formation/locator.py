@@ -22,7 +22,6 @@ from numpy.typing import NDArray
 from .. import _core
 from .._inputs import check_pair
 from .._params import Boolean, Configurable, Interval, Options
-from .._settings import FormationSettings
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta, attribute_evidence
 from ..outcome import COMPLETED, Outcome
@@ -164,17 +163,7 @@ class FormationLocator(Configurable):
         if network.ndim != 2:
             raise ValueError("sensors: the formation method takes 2-D bearing sensors (ndim=2)")
         evidence = attribute_evidence(table, network, self.attributes, self.attribute_std, self.eta, self.combination)
-        settings = FormationSettings(
-            self.baseline_sensor,
-            None if self.reference == "smallest" else int(self.reference),
-            self.cluster_radius,
-            self.one_to_one,
-            self.r_max,
-            self.region,
-            self.in_front,
-            self.n_threads,
-        )
-        out = _core.locate_formation(table, network, evidence, settings)
+        out = _core.locate_formation(table, network, evidence, self)
         return _result(out, evidence is not None)
 
 

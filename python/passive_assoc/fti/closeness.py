@@ -7,6 +7,7 @@ the same kernels internally.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Annotated, Literal
 
 import numpy as np
@@ -15,7 +16,6 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._inputs import check_pair
 from .._params import POSITIVE, Epoch, Interval, Options, Threads, checked
-from .._settings import DescentSettings
 from .._validation import as_float_array, require_state_range
 from ..data import MeasurementTable, SensorNetwork
 
@@ -120,6 +120,6 @@ def maximize_closeness(
     x = as_float_array("starts", starts, shape=(None, d))
     require_state_range("starts", x)
     c = as_float_array("covariances", covariances, shape=(x.shape[0], d, d))
-    settings = DescentSettings(t0=_epoch(measurements, t0), scaling=scaling, max_iter=max_iter, n_threads=n_threads)
+    settings = SimpleNamespace(t0=_epoch(measurements, t0), scaling=scaling, max_iter=max_iter, n_threads=n_threads)
     out = _core.maximize_closeness(*_spreads(measurements, sensors, spread_factor), x, c, settings)
     return ClosenessOptima(*out)

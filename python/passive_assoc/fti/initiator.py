@@ -22,7 +22,6 @@ from .. import _core
 from .._inputs import check_pair
 from .._params import Boolean, Configurable, Interval, Options
 from .._progress import ProgressArg, reporting
-from .._settings import InitiationSettings
 from .._validation import as_float_scalar, as_int_array
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
@@ -300,31 +299,9 @@ class FuzzyTrackInitiator(Configurable):
         table, network = check_pair(measurements, sensors)
         epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
         spread_az, spread_el = self._spreads(sensors)
-        settings = InitiationSettings(
-            t0=epoch,
-            gate_sigmas=self.gate_sigmas,
-            n_detect=self.n_detect,
-            ray_gate_sigmas=self.ray_gate_sigmas,
-            reject_behind=self.reject_behind,
-            v_max=self.v_max,
-            chi2_gate=self.chi2_gate,
-            one_per_scan=self.one_per_scan,
-            detection_order=self.detection_order,
-            merge_tol=self.merge_tol,
-            descent_scaling=self.descent_scaling,
-            descent_max_iter=self.descent_max_iter,
-            max_candidates=self.max_candidates,
-            refine_passes=self.refine_passes,
-            candidate_scans=self.candidate_scans,
-            support_gate=self.support_gate,
-            track_test=self.track_test,
-            gate_pd=self.gate_pd,
-            search_stage=self.search_stage,
-            n_threads=self.n_threads,
-        )
         pairs, spreads = self._pairs(network.n_sensors), (spread_az, spread_el)
         with reporting(progress, "candidates") as report:
-            out = _core.initiate(table, network, pairs, spreads, settings, report)
+            out = _core.initiate(table, network, pairs, spreads, epoch, self, report)
         labels = out.labels
         tracks = [
             InitiatedTrack(

@@ -20,9 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._core import Candidates
-from .._params import Boolean, Configurable, Interval, Options
-from .._settings import EnumerationSettings, IntensitySettings, SdSettings
-from ..assignment.sd import ASSIGN_SD_MAX_NODES, _solver_sizes, solve_validated
+from .._params import Boolean, Interval, Options
+from ..assignment.sd import SdMethod, SdParameters, _solver_sizes, solve_validated
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta
 from ..outcome import COMPLETED, Outcome
@@ -94,7 +93,7 @@ class StaticAssociation(Outcome):
 
 
 @dataclass(frozen=True)
-class StaticAssociator(Configurable):
+class StaticAssociator(SdParameters):
     """Static association of one scan of passive reports across sensors (METHODS §2).
 
     Configure once, then call :meth:`associate` on each scan. One scan of bearings (2-D) or
@@ -172,16 +171,6 @@ class StaticAssociator(Configurable):
     vote_fraction: Annotated[float, Interval(float, 0.0, 1.0, closed="left")] = 0.5
     valid_airspace: Annotated[bool, Boolean()] = False
     max_chains: Annotated[int | None, Interval(int, 1, None), None] = 64
-    max_iter: Annotated[int, Interval(int, 1, None)] = 200
-    gap_tol: Annotated[float, Interval(float, 0.0, None)] = 1e-3
-    max_nodes: Annotated[int, Interval(int, 1, None)] = ASSIGN_SD_MAX_NODES
-    time_limit: Annotated[float | None, POSITIVE, None] = 10.0
-    warm_start: Annotated[Literal["auto", "always", "never"], Options("auto", "always", "never")] = "auto"
-    sensor_order: Annotated[Literal["auto", "given"], Options("auto", "given")] = "auto"
-    polish: Annotated[bool, Boolean()] = True
-    exact_backend: Annotated[Literal["auto", "branch_bound", "highs"], Options("auto", "branch_bound", "highs")] = (
-        "auto"
-    )
     max_candidates: Annotated[int, Interval(int, 1, None)] = 1_000_000
     n_threads: Annotated[int | None, Interval(int, 1, None), None] = None
     attributes: Sequence[str] | None = ()
@@ -207,26 +196,8 @@ class StaticAssociator(Configurable):
             sensors,
             pd=self.pd,
             false_alarm_density=self.false_alarm_density,
-            settings=self._enumeration_settings(),
+            settings=self,
             attributes=(self.attributes, self.attribute_std, self.eta, self.combination),
-        )
-
-    def _enumeration_settings(self) -> EnumerationSettings:
-        return EnumerationSettings(self.gate_sigmas**2, self.min_intensity, self.max_candidates, self.n_threads)
-
-    def _intensity_settings(self, n_threads: int | None) -> IntensitySettings:
-        return IntensitySettings(self.vote_fraction, self.valid_airspace, self.max_chains, n_threads)
-
-    def _sd_settings(self) -> SdSettings:
-        return SdSettings(
-            method="exact" if self.method == "exact" else "lagrangian",
-            max_iter=self.max_iter,
-            gap_tol=self.gap_tol,
-            max_nodes=self.max_nodes,
-            time_limit=self.time_limit,
-            warm_start=self.warm_start,
-            sensor_order=self.sensor_order,
-            polish=self.polish,
         )
 
     def associate(self, measurements: MeasurementTable, sensors: SensorNetwork) -> StaticAssociation:
@@ -252,15 +223,14 @@ class StaticAssociator(Configurable):
             priced_count = len(cands.costs)
         counts = (self.method, len(enumerated.costs), stage_counts(enumerated), priced_count)
         if self.method == "intensity":
-            out = _core.intensity_search(
-                cands.tuples, cands.positions, cands.costs, cands.sizes, self._intensity_settings(self.n_threads)
-            )
+            out = _core.intensity_search(cands.tuples, cands.positions, cands.costs, cands.sizes, self)
             diagnostics = StaticDiagnostics(*counts, intensity=intensity_diagnostics(out))
             outcome = {"termination": COMPLETED, "success": True, "message": "the intensity search ran to its end"}
             chosen = out.chosen
         else:
             sizes = _solver_sizes(cands.tuples, cands.sizes)
-            solved = solve_validated(cands.tuples, cands.costs, sizes, self._sd_settings(), self.exact_backend)
+            method: SdMethod = "exact" if self.method == "exact" else "lagrangian"
+            solved = solve_validated(cands.tuples, cands.costs, sizes, method, self)
             solver = SolverDiagnostics(
                 solved.primal_cost, solved.dual_bound, solved.gap, solved.iterations, solved.optimal
             )

@@ -118,10 +118,7 @@ def associate_scans(
             offsets,
             _per_sensor("pd", a.pd, n, 0.0, 1.0),
             None if density is None else np.ascontiguousarray(density),
-            a._enumeration_settings(),
-            a.method,
-            a._sd_settings(),
-            a._intensity_settings(None),
+            a,
             report,
         )
     first_target = np.concatenate([[0], np.cumsum(per_scan)]).astype(np.int64)

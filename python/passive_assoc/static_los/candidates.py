@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Annotated
+from typing import Annotated, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -15,7 +15,6 @@ from .. import _core
 from .._core import Candidates
 from .._inputs import check_pair
 from .._params import Interval, checked
-from .._settings import EnumerationSettings
 from .._validation import as_float_array
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import AttributeStd, CombinationName, attribute_evidence
@@ -72,7 +71,7 @@ def enumerate_validated(
     *,
     pd: ArrayLike,
     false_alarm_density: ArrayLike | None,
-    settings: EnumerationSettings,
+    settings: Any,
     attributes: tuple[Sequence[str] | None, AttributeStd | None, float, CombinationName],
 ) -> Candidates:
     """The candidates of one scan, the settings validated by their declaration

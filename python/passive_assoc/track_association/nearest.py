@@ -9,11 +9,10 @@ from typing import Annotated
 import numpy as np
 from numpy.typing import NDArray
 
-from .. import _core
 from .._params import COUNT, POSITIVE, Configurable, Interval, Threads
 from .._settings import TopologySettings
 from ..data import TrackTable
-from .streaming import StreamingTrackAssociator, _planar_side
+from .streaming import ScanSide, StreamingTrackAssociator, _planar_side
 
 __all__ = ["NearestNeighbourAssociator"]
 
@@ -82,7 +81,7 @@ class NearestNeighbourAssociator(StreamingTrackAssociator, Configurable):
             n_threads=self.n_threads,
         )
 
-    def _side(self, tracks: TrackTable, order: NDArray[np.int64]) -> _core.ScanSide:
+    def _side(self, tracks: TrackTable, order: NDArray[np.int64]) -> ScanSide:
         """Planar positions, and the heights of 3-D tracks; with the χ² gate, the position
         covariances (a 1-D table's padded to 2 × 2 on the empty axis, where the difference
         is 0)."""

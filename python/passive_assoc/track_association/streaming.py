@@ -17,7 +17,17 @@ from .._progress import ProgressArg, reporting
 from ..data import TrackTable
 from .result import BiasEstimate, TrackAssociation, TrackPairs, UnpairedTracks, merge, no_pairs, no_unpaired
 
-__all__ = ["StreamingTrackAssociator"]
+__all__ = ["ScanSide", "StreamingTrackAssociator"]
+
+#: One side of a scan as the core reads it: track ids, planar positions, and optionally planar
+#: velocities, heights and position covariances.
+ScanSide = tuple[
+    NDArray[np.int64],
+    NDArray[np.float64],
+    NDArray[np.float64] | None,
+    NDArray[np.float64] | None,
+    NDArray[np.float64] | None,
+]
 
 
 @dataclass(eq=False)
@@ -36,7 +46,7 @@ class StreamingTrackAssociator(ABC):
         """The core's settings object for one source's state, made at the source's first
         scan (``local``, ``system``)."""
 
-    def _side(self, tracks: TrackTable, order: NDArray[np.int64]) -> _core.ScanSide:
+    def _side(self, tracks: TrackTable, order: NDArray[np.int64]) -> ScanSide:
         """The core's view of one scan, rows in ``order``: ids, planar positions, velocities."""
         return _planar_side(tracks, order)
 
@@ -131,7 +141,7 @@ def _by_position(tracks: TrackTable) -> NDArray[np.int64]:
     return np.lexsort(keys).astype(np.int64)
 
 
-def _planar_side(tracks: TrackTable, order: NDArray[np.int64]) -> _core.ScanSide:
+def _planar_side(tracks: TrackTable, order: NDArray[np.int64]) -> ScanSide:
     """Ids, planar positions and velocities of the rows in ``order`` (1-D tables on the x axis)."""
     positions = np.zeros((len(order), 2))
     positions[:, : min(tracks.ndim, 2)] = tracks.position[order, :2]

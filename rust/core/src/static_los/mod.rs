@@ -32,7 +32,7 @@
 //! gate is not monotone when a ray is added. The survivor's final estimate is the last
 //! prefix's ML point, with the inverse Fisher information as covariance.
 //!
-//! The default gate is the 99 % point of χ²(1 dof), [`DEFAULT_GATE`] = 6.635, applied *per
+//! The default gate is 2.576σ, [`DEFAULT_GATE_SIGMAS`], whose square is the 99 % point of χ²(1 dof), 6.635, applied *per
 //! angle* (eq. 3 gates each bearing separately; for az/el both angles are gated): a true tuple
 //! then survives with probability ≈ 0.99 per angle (slightly more, because the ML fit absorbs
 //! part of the noise).
@@ -72,8 +72,8 @@ pub use cost::DetectionModel;
 pub use enumerate::{enumerate, enumerate_with_attributes, enumerates_sequentially};
 pub use intensity::{intensity_search, searches_sequentially, IntensityInput, IntensityOutcome};
 pub use options::{
-    enumeration_fit_options, EnumerateOptions, IntensityOptions, DEFAULT_GATE,
-    DEFAULT_MAX_CANDIDATES, DEFAULT_MIN_INTENSITY,
+    enumeration_fit_options, EnumerateOptions, IntensityOptions, DEFAULT_GATE_SIGMAS,
+    DEFAULT_MAX_CANDIDATES, DEFAULT_MIN_INTENSITY, MAX_GATE_SIGMAS,
 };
 
 use crate::assign::CandidateSet;

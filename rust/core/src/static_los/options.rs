@@ -6,8 +6,13 @@
 use crate::error::{CoreError, CoreResult};
 use crate::estimation::fit::FitOptions;
 
-/// χ²(1 dof) 99 % quantile: the default per-angle gate γ of eq. 3.
-pub const DEFAULT_GATE: f64 = 6.634896601021214;
+/// The default per-angle gate of eq. 3 in standard deviations: the two-sided 99 % point
+/// 2.576σ, whose square is the χ²(1 dof) 99 % quantile γ = 6.6349 exactly.
+pub const DEFAULT_GATE_SIGMAS: f64 = 2.5758293035489004;
+
+/// The largest gate accepted, in standard deviations: beyond it every ray passes and the
+/// gate's square overflows nothing but means nothing.
+pub const MAX_GATE_SIGMAS: f64 = 1e6;
 
 /// Default lowest intensity kept: two lines of sight are the fewest that fix a point.
 pub const DEFAULT_MIN_INTENSITY: usize = 2;
@@ -20,17 +25,17 @@ pub const DEFAULT_MAX_CANDIDATES: usize = 1_000_000;
 ///
 /// ```
 /// use passive_assoc_core::static_los::EnumerateOptions;
-/// let o = EnumerateOptions::default().with_chi2_gate(9.0).unwrap()
+/// let o = EnumerateOptions::default().with_gate_sigmas(3.0).unwrap()
 ///     .with_min_intensity(3).unwrap()
 ///     .with_max_candidates(10_000).unwrap();
-/// assert_eq!((o.chi2_gate(), o.min_intensity(), o.max_candidates()), (9.0, 3, 10_000));
+/// assert_eq!((o.gate_sigmas(), o.min_intensity(), o.max_candidates()), (3.0, 3, 10_000));
 /// assert!(o.use_window());
-/// assert!(EnumerateOptions::default().with_chi2_gate(f64::NAN).is_err());
+/// assert!(EnumerateOptions::default().with_gate_sigmas(f64::NAN).is_err());
 /// assert!(EnumerateOptions::default().with_min_intensity(1).is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnumerateOptions {
-    chi2_gate: f64,
+    gate_sigmas: f64,
     min_intensity: usize,
     max_candidates: usize,
     fit: FitOptions,
@@ -56,12 +61,12 @@ pub fn enumeration_fit_options() -> FitOptions {
 
 impl EnumerateOptions {
     /// The project's defaults, those of the Python package (`StaticAssociator`):
-    /// `chi2_gate = `[`DEFAULT_GATE`] (χ²(1) 99 %), `min_intensity = `[`DEFAULT_MIN_INTENSITY`],
+    /// `gate_sigmas = `[`DEFAULT_GATE_SIGMAS`] (χ²(1) 99 %), `min_intensity = `[`DEFAULT_MIN_INTENSITY`],
     /// `max_candidates = `[`DEFAULT_MAX_CANDIDATES`], `fit = `[`enumeration_fit_options`]`()`,
     /// the bearing window on.
     pub fn recommended() -> Self {
         Self {
-            chi2_gate: DEFAULT_GATE,
+            gate_sigmas: DEFAULT_GATE_SIGMAS,
             min_intensity: DEFAULT_MIN_INTENSITY,
             max_candidates: DEFAULT_MAX_CANDIDATES,
             fit: enumeration_fit_options(),
@@ -70,24 +75,26 @@ impl EnumerateOptions {
     }
 
     /// The published enumeration (METHODS §2, paper 001): the same as
-    /// [`recommended`](Self::recommended). The gate γ is the χ² 99 % point METHODS names,
+    /// [`recommended`](Self::recommended). The gate γ = `gate_sigmas`² is the χ² 99 % point
+    /// METHODS names,
     /// intensity-1 tuples are not targets, and the cap, the fit's tolerance and the exact
     /// bearing-window shortcut change no candidate the paper's enumeration would keep.
     pub fn paper() -> Self {
         Self::recommended()
     }
 
-    /// Per-angle gate γ on the normalised squared residual (eq. 3; finite, `> 0`).
-    pub fn with_chi2_gate(mut self, chi2_gate: f64) -> CoreResult<Self> {
-        if !(chi2_gate.is_finite() && chi2_gate > 0.0) {
+    /// The per-angle gate of eq. 3 in standard deviations: every angle's normalised residual
+    /// must be at most this (`> 0`, at most [`MAX_GATE_SIGMAS`]); γ of eq. 3 is its square.
+    pub fn with_gate_sigmas(mut self, gate_sigmas: f64) -> CoreResult<Self> {
+        if !(gate_sigmas > 0.0 && gate_sigmas <= MAX_GATE_SIGMAS) {
             return Err(CoreError::out_of_range(
-                "chi2_gate",
+                "gate_sigmas",
                 format!(
-                    "{chi2_gate} must be finite and > 0 (a normalised squared residual per angle)"
+                    "{gate_sigmas} must be > 0 and at most {MAX_GATE_SIGMAS:e} (standard deviations of each angle)"
                 ),
             ));
         }
-        self.chi2_gate = chi2_gate;
+        self.gate_sigmas = gate_sigmas;
         Ok(self)
     }
 
@@ -130,8 +137,13 @@ impl EnumerateOptions {
         self
     }
 
-    pub fn chi2_gate(&self) -> f64 {
-        self.chi2_gate
+    pub fn gate_sigmas(&self) -> f64 {
+        self.gate_sigmas
+    }
+
+    /// γ of eq. 3: the gate on each angle's normalised squared residual, `gate_sigmas`².
+    pub fn chi2_per_angle(&self) -> f64 {
+        self.gate_sigmas * self.gate_sigmas
     }
 
     pub fn min_intensity(&self) -> usize {

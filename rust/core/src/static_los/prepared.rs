@@ -70,7 +70,7 @@ impl<'a> Prepared<'a> {
         }
         let space = sensors.space();
         let layout = StateLayout::new(space, Motion::Static);
-        let root_gate = options.chi2_gate().sqrt();
+        let root_gate = options.gate_sigmas();
         let half_width: Vec<f64> = (0..n_sensors)
             .map(|s| root_gate * sensors.sigma(s)[0] * (1.0 + 1e-9) + 1e-12)
             .collect();
@@ -163,7 +163,7 @@ impl<'a> Prepared<'a> {
             let rows = residual_rows(&self.layout, &point[..dim], o)?;
             for r in &rows.residual[..rows.count] {
                 let r2 = r * r;
-                if r2.is_nan() || r2 > self.options.chi2_gate() {
+                if r2.is_nan() || r2 > self.options.chi2_per_angle() {
                     return None;
                 }
                 chi2 += r2;

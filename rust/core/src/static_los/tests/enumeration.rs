@@ -203,8 +203,8 @@ fn cap_and_bad_input_are_errors() {
     // Value-only settings are rejected by their setters.
     let defaults = EnumerateOptions::default;
     for (built, arg) in [
-        (defaults().with_chi2_gate(0.0), "chi2_gate"),
-        (defaults().with_chi2_gate(f64::NAN), "chi2_gate"),
+        (defaults().with_gate_sigmas(0.0), "gate_sigmas"),
+        (defaults().with_gate_sigmas(f64::NAN), "gate_sigmas"),
         (defaults().with_min_intensity(1), "min_intensity"),
         (defaults().with_max_candidates(0), "max_candidates"),
     ] {
@@ -323,11 +323,11 @@ fn enumeration_equals_brute_force_with_sensors_among_targets() {
             targets: vec![],
             truth: vec![],
         };
-        let gate = rng.random_range(1.0..30.0);
+        let gate: f64 = rng.random_range(1.0..30.0);
         total += assert_matches_brute_force(
             &s,
             &EnumerateOptions::default()
-                .with_chi2_gate(gate)
+                .with_gate_sigmas(gate.sqrt())
                 .expect("valid"),
         );
     }
