@@ -45,7 +45,7 @@ def test_every_exported_name_resolves_to_its_subpackages_object(name: str) -> No
 
 def test_subpackages_are_attributes_and_unknown_names_are_not() -> None:
     assert pa.simulation.static_scan is not None and pa.evidence is not None
-    assert {"simulation", "StaticAssociator", "Track"} <= set(dir(pa))
+    assert {"simulation", "StaticAssociator", "InitiatedTrack"} <= set(dir(pa))
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
         _ = pa.nope  # type: ignore[attr-defined]
 

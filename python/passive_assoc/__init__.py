@@ -69,9 +69,8 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "track_methods": ("associate_tracks",),
 }
 _HOME = {name: module for module, names in _EXPORTS.items() for name in names}
-#: Other names: the fuzzy initiator's track under its pre-subpackage name
-#: (``passive_assoc.fti.InitiatedTrack``).
-_ALIASES = {"Track": ("fti", "InitiatedTrack")}
+#: Other names a program may use for a re-exported one (none at present).
+_ALIASES: dict[str, tuple[str, str]] = {}
 #: Subpackages and modules reachable as attributes (``pa.simulation.static_scan``) without
 #: importing them first, as when this namespace imported them all.
 _SUBMODULES = frozenset({*_EXPORTS, "evidence", "evaluation"})
@@ -131,7 +130,6 @@ if TYPE_CHECKING:  # what the names are, for type checkers and readers
     from .track_association import NearestNeighbourAssociator, TrackAssociation
     from .track_methods import associate_tracks
 
-    Track = InitiatedTrack
 
 __all__ = [
     "FormationLocator",
@@ -155,7 +153,6 @@ __all__ = [
     "associate_tracks",
     "InitiationResult",
     "InitiatedTrack",
-    "Track",
     "SdAssignment",
     "assign_sd",
     "linear_assignment",

@@ -55,8 +55,7 @@ def associate_tracks(
     """Associate every scan of ``local`` with the system picture by ``method``:
     ``track_associator(method, **settings).associate(local=local, system=system)``.
 
-    ``progress`` as :meth:`TopologyAssociator.associate`'s, for the methods that take it
-    (topology, nearest, wavelet).
+    ``progress`` as :meth:`TopologyAssociator.associate`'s.
 
     >>> import numpy as np, passive_assoc as pa
     >>> p = np.array([[0.0, 0.0], [10e3, 0.0], [0.0, 15e3]])
@@ -66,9 +65,6 @@ def associate_tracks(
     >>> out.termination, bool((out.pairs.local_track == out.pairs.system_track).all()), len(out.pairs)
     ('completed', True, 3)
     """
-    associator = track_associator(method, **settings)
-    if method == "chi2":
-        return associator.associate(local=local, system=system)
-    run: Any = associator
+    run: Any = track_associator(method, **settings)
     out: TrackAssociation = run.associate(local=local, system=system, progress=progress)
     return out

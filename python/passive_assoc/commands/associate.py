@@ -118,8 +118,12 @@ def main(args: argparse.Namespace) -> int:
     associator = StaticAssociator(**given_parameters(args, args.parameter_names))
     target = np.full(len(table), -1, dtype=np.int64)
     targets: list[dict[str, Any]] = []
+    outcomes: list[dict[str, Any]] = []
     for k, rows in enumerate(tqdm(groups, desc="associate", unit="scan", file=sys.stderr, disable=None, leave=False)):
         found = associator.associate(table.select(rows), sensors)
+        outcomes.append(
+            {"scan": k, "termination": found.termination, "success": found.success, "message": found.message}
+        )
         for t in range(len(found.positions)):
             used = found.rows[t] >= 0
             targets.append(
@@ -139,7 +143,13 @@ def main(args: argparse.Namespace) -> int:
         args,
         files,
         row_columns(table, target, label_name="target", scan=scan),
-        {"method": associator.method, "scans": len(groups), "targets": targets},
+        {
+            "method": associator.method,
+            "success": all(o["success"] for o in outcomes),
+            "scans": len(groups),
+            "scan_outcomes": outcomes,
+            "targets": targets,
+        },
         f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms",
     )
     if args.plot:

@@ -90,6 +90,9 @@ def main(args: argparse.Namespace) -> int:
 
 def track_summary(result: InitiationResult) -> dict[str, Any]:
     return {
+        "termination": result.termination,
+        "success": result.success,
+        "message": result.message,
         "t0": result.t0,
         "tracks": [
             {

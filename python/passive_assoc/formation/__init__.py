@@ -3,6 +3,6 @@ the modified baseline least-distance method with a Dempster-Shafer attribute gat
 
 from __future__ import annotations
 
-from .locator import FormationLocator, FormationResult, locate_formation
+from .locator import FormationDiagnostics, FormationLocator, FormationResult, locate_formation
 
-__all__ = ["FormationLocator", "FormationResult", "locate_formation"]
+__all__ = ["FormationDiagnostics", "FormationLocator", "FormationResult", "locate_formation"]

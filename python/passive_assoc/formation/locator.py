@@ -60,6 +60,8 @@ class FormationResult(Outcome):
         Chosen table row per sensor (the baseline report itself in the baseline column), −1
         where the report has no association.
     associated : ndarray of bool, shape (B,)
+        Whether each baseline report found a set of partners (its row of :attr:`rows` is
+        then filled, and its position finite).
     positions, covariances : ndarray, shapes (B, 2) and (B, 2, 2)
         ML triangulation of each chosen set (NaN where none).
     radius : ndarray, shape (B,)
@@ -67,6 +69,9 @@ class FormationResult(Outcome):
     support : ndarray, shape (B, S)
         Dempster ``m(assoc)`` of the baseline report with each chosen report (NaN at the
         baseline and where none; 1 without attributes).
+    chi2 : ndarray, shape (B,)
+        Sum of the squared normalised bearing residuals of the ML triangulation of each
+        chosen set (NaN where none).
     labels : ndarray of int, shape (N,)
         The group (baseline index) every input row ends in, or −1: the clutter set. In
         the independent mode a report chosen by several baselines belongs to the one whose set

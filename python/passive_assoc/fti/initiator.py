@@ -65,12 +65,22 @@ class InitiatedTrack:
 @dataclass(frozen=True)
 class InitiationDiagnostics:
     """How the pipeline got there: candidates left after each stage, descent iterations and
-    seconds per stage.
+    seconds per stage, summed over the passes (``candidate_scans`` > 1 runs a second pass).
 
-    In ``stage_counts``, ``"supported"`` counts the candidates the support gate kept and
-    ``"optima"`` the descents run: the same number unless a pass searched in stages
-    (``search_stage``), which searches fewer. The re-gating between stages is timed under
-    ``"support"``.
+    Attributes
+    ----------
+    stage_counts : dict of str to int
+        In pipeline order: ``raw`` (4-tuples of the outer scans), ``ray_gate``, ``behind``,
+        ``v_max`` (left after each pruning rule), ``fitted`` (fits with a finite estimate),
+        ``chi2_gate``, ``supported`` (kept by the support gate), ``optima`` (descents run: as
+        ``supported`` unless a pass searched in stages, ``search_stage``), ``merged`` (optima
+        after merging) and ``detected`` (targets detection accepted; the final tests may
+        dissolve some, so ``len(tracks)`` can be smaller).
+    descent_iterations : ndarray of int
+        Iterations of each descent, in candidate order.
+    stage_seconds : dict of str to float
+        Wall-clock seconds of ``candidates``, ``fit``, ``support`` (the re-gating between
+        stages included), ``descent``, ``detection`` and ``final`` (the final fits and tests).
     """
 
     stage_counts: dict[str, int]

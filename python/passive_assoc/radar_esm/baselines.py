@@ -21,7 +21,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.stats import chi2
 
-from .._params import Configurable, Interval
+from .._params import Configurable, Interval, Threads
+from .._progress import ProgressArg, reporting
 from ..data import TrackTable
 from ..track_association import TrackPairs
 from .decision import repeated_maximum
@@ -106,18 +107,27 @@ class Chi2TrackAssociator(Configurable):
     gate_probability : float
         The test's probability: pairs with a statistic above ``χ²(dof, gate_probability)``
         are never made.
+    n_threads : int, optional
+        Threads of the decision; results are identical for any value.
     """
 
     gate_probability: Probability = 0.99
+    n_threads: Threads = None
 
-    def associate(self, *, local: TrackTable, system: TrackTable) -> RadarEsmAssociation:
+    def associate(self, *, local: TrackTable, system: TrackTable, progress: ProgressArg = None) -> RadarEsmAssociation:
         """Associate every scan (``local``: the ESM's tracks, ``system``: the radar's); the
-        score of a pair is minus its statistic."""
+        score of a pair is minus its statistic. ``progress`` as
+        :meth:`WaveletFuzzyAssociator.associate`'s (stages ``"statistic"`` and ``"decision"``)."""
         times, r, e = align(system, local, needs=("covariance",))
         blocks = _blocks(system, local)
         if (trivial := all_unpaired(times, r, e)) is not None:
             return trivial
-        statistic = chi2_statistic(r, e, blocks)
-        allowed = statistic <= chi2.ppf(self.gate_probability, r.ndim * blocks)
-        pairs = repeated_maximum(-statistic, allowed, -np.inf, position_distance(r, e))
+        with reporting(progress) as report:
+            statistic = chi2_statistic(r, e, blocks)
+            allowed = statistic <= chi2.ppf(self.gate_probability, r.ndim * blocks)
+            if report is not None:
+                report("statistic", 1.0)
+            pairs = repeated_maximum(-statistic, allowed, -np.inf, position_distance(r, e), self.n_threads)
+            if report is not None:
+                report("decision", 1.0)
         return association(times, r, e, pairs, -statistic, candidates=allowed)

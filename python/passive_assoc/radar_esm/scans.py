@@ -2,7 +2,7 @@
 associator returns.
 
 The radar's tracks are the *system* picture and the ESM's the *local* one, in the terms of
-:class:`~passive_assoc.assignment.TrackAssociation`: a pair row says that, at ``time``, ESM
+:class:`~passive_assoc.TrackAssociation`: a pair row says that, at ``time``, ESM
 track ``local_track`` (of the ESM's ``source``) is radar track ``system_track``.
 
 Tracks are laid out densely, ``(n_tracks, n_scans, ...)`` with NaN where a track has no
@@ -66,7 +66,7 @@ class AlignedTracks:
 
 @dataclass(frozen=True)
 class RadarEsmAssociation(TrackAssociation):
-    """A :class:`~passive_assoc.assignment.TrackAssociation` (radar = system, ESM = local)
+    """A :class:`~passive_assoc.TrackAssociation` (radar = system, ESM = local)
     plus :attr:`candidates`: every (ESM, radar) pair of every scan that passed the method's
     gate, with its score (for the wavelet-fuzzy method: the combined similarity f)."""
 

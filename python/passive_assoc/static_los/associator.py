@@ -25,7 +25,7 @@ from ..assignment.sd import SdMethod, SdParameters, _solver_sizes, solve_validat
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta
 from ..outcome import COMPLETED, Outcome
-from .candidates import DEFAULT_GATE_SIGMAS, enumerate_validated
+from .candidates import DEFAULT_GATE_SIGMAS, _per_sensor, enumerate_validated
 from .diagnostics import SolverDiagnostics, StaticDiagnostics, intensity_diagnostics, stage_counts
 from .prior import PricedCandidates, check_region, priced
 
@@ -182,6 +182,11 @@ class StaticAssociator(SdParameters):
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        # Per-sensor arrays are checked against the network at associate(); a scalar now.
+        if np.ndim(self.pd) == 0:
+            _per_sensor("pd", self.pd, 1, 0.0, 1.0)
+        if self.false_alarm_density is not None and np.ndim(self.false_alarm_density) == 0:
+            _per_sensor("false_alarm_density", self.false_alarm_density, 1, 0.0, np.inf)
         if self.region is not None:
             if self.target_density is None:
                 raise ValueError("target_density: needed with region (expected targets per m² or m³ in it)")

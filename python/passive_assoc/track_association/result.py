@@ -53,11 +53,13 @@ class UnpairedTracks:
 
 @dataclass(frozen=True)
 class BiasEstimate:
-    """A source's picture relative to the system's: ``p ≈ R(rotation)·q + translation``.
+    """A local source's picture relative to the system's: ``p ≈ R(rotation)·q + translation``,
+    ``p`` a local track's position and ``q`` its system partner's (so
+    :func:`~passive_assoc.topology.unbias` turns ``p`` back as ``R(−rotation)(p − translation)``).
 
     ``rotation`` is the relative azimuth bias in radians (counter-clockwise), with its
-    standard deviation; ``translation`` in metres (zero for a rotation-only fit); ``pairs`` is
-    how many associated pairs it was fitted to.
+    standard deviation; ``translation`` in metres; ``pairs`` is how many associated pairs it
+    was fitted to (a rigid fit of every pair so far).
     """
 
     rotation: float
