@@ -137,14 +137,21 @@ def assign_sd(
     **parameters
         :class:`SdParameters`: ``max_iter``, ``gap_tol``, ``max_nodes``, ``time_limit``,
         ``warm_start``, ``sensor_order``, ``polish``, ``exact_backend``, as follows.
-    max_iter, gap_tol
-        Lagrangian iteration cap and relative duality-gap target. MATLAB's ``assignsd`` stops
+
+    Other Parameters
+    ----------------
+    max_iter : int
+        Lagrangian iteration cap (default 200).
+    gap_tol : float
+        Lagrangian relative duality-gap target (default 1e-3). MATLAB's ``assignsd`` stops
         at 100 iterations or a 1 % gap; these defaults are tighter, for answers nearer the
         optimum at more time (``max_iter=100, gap_tol=0.01`` gives MATLAB's limits).
-    max_nodes, time_limit
-        Branch-and-bound node cap; wall-clock limit in seconds of either method
-        (``time_limit=None``: none). A Lagrangian solve that reaches it returns its best
-        feasible solution with ``termination="time_limit"``.
+    max_nodes : int
+        Branch-and-bound node cap.
+    time_limit : float or None
+        Wall-clock limit in seconds of either method (``time_limit=None``: none). A
+        Lagrangian solve that reaches it returns its best feasible solution with
+        ``termination="time_limit"``.
     warm_start : {"auto", "always", "never"}
         Whether each Lagrangian iteration's inner 2-D assignment starts from the previous
         one's solution. It is exact either way, so only speed differs (and, between equally
@@ -167,7 +174,6 @@ def assign_sd(
         both in docs/performance.md). ``polish=False`` for speed. It runs only
         when the solve ended on ``max_iter`` or a stalled step, and ``time_limit`` does not
         bound it.
-
     exact_backend : {"auto", "branch_bound", "highs"}
         The exact method's solver: the core's depth-first branch-and-bound, HiGHS's MILP
         solver (:func:`scipy.optimize.milp`, whose LP bounds prove in seconds what the
