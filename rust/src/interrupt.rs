@@ -1,10 +1,10 @@
 //! Ctrl-C during a compiled call. Python's SIGINT handler only marks the signal; the
 //! interpreter raises `KeyboardInterrupt` when it next runs bytecode, which a long call into
-//! the core used to delay until the call returned. A second handler, chained in front of
+//! the core would delay until the call returned. A second handler, chained in front of
 //! Python's, sets the core's stop flag (`parallel::request_interrupt`, one atomic store): the
 //! long loops poll it and end early, and [`detach`] then raises `KeyboardInterrupt` instead of
 //! returning a partial result. If a program replaces the SIGINT handler with
-//! `signal.signal`, the chain is gone and calls run to their end, as before.
+//! `signal.signal`, the chain is gone and calls run to their end.
 
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::marker::Ungil;

@@ -28,7 +28,7 @@ use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 
 /// Largest magnitude of a finite cost any solver accepts. The solvers add and subtract costs
 /// (dual potentials, path lengths, bounds): within ±1e150 every such sum of up to 1e150 terms
-/// stays finite, where ±1e308 once overflowed to −inf and was reported optimal. Results are
+/// stays finite, where ±1e308 can overflow to −inf and be reported optimal. Results are
 /// optimal to within floating-point rounding, about n · max|c| · 2⁻⁵², so costs spanning many
 /// orders of magnitude lose their small terms (scale them first).
 pub const MAX_ABS_COST: f64 = 1e150;

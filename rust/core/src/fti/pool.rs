@@ -1,9 +1,9 @@
 //! The supported candidates of one pass, as stored until the search takes them.
 //!
 //! A fitted candidate is about 0.45 kB (its estimate, scales, covariance factor and scores).
-//! Past the cap the support gate keeps millions of them (5 sensors × 64 targets: 3.3 M, most
-//! of the run's 1.56 GB peak, docs/performance.md), while the search in stages (module
-//! `stages`) descends only a few thousand. So past `search_stage` candidates, with the
+//! Past the cap the support gate keeps millions of them (5 sensors × 100 targets: 23.9 M,
+//! about 11 GB kept whole; docs/performance.md, *Initiation at scale*), while the search in
+//! stages (module `stages`) descends only a few thousand. So past `search_stage` candidates, with the
 //! support gate on (each then has the score the stages order by), the pool keeps only each
 //! candidate's four rows and score, and the search refits the ones it takes. A refit is the
 //! same computation on the same rows (`fit_candidate` from the same ray pairs), so it gives

@@ -1,4 +1,4 @@
-//! The default false-alarm density of a scan (a project extension, issue 16 §3; documented in
+//! The default false-alarm density of a scan (a project extension, documented in
 //! docs/methods.md §2): false alarms per radian (per rad² with elevations) for each sensor, when
 //! the caller gives none.
 //!
@@ -8,9 +8,10 @@
 //! misses). They are spread over the azimuth (× elevation) span of the sensor's reports, each
 //! span at least 10⁻³ rad; a sensor without reports gets π. The density is at least 10⁻¹².
 //!
-//! This was NumPy until the per-call overhead of its ten array operations (about 20 µs) came
-//! to a quarter of a tiny scan's time; the arithmetic is the same, operation for operation, so
-//! the densities are the same to the bit (a pytest compares them with the NumPy expressions).
+//! It is computed here, not in NumPy, because the per-call overhead of ten array operations
+//! (about 20 µs) would be a quarter of a tiny scan's time. The arithmetic is the NumPy
+//! expressions', operation for operation, so the densities are the same to the bit (a pytest
+//! compares them with those expressions).
 
 use crate::data::Measurements;
 use crate::error::{CoreError, CoreResult};
