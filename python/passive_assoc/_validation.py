@@ -227,7 +227,7 @@ def require_nonnegative(name: str, arr: NDArray[Any]) -> None:
 
 
 #: Largest magnitude accepted for a state component (metres, m/s): beyond it the angle
-#: arithmetic keeps no digits of a sensor's offset (closeness gradients were NaN at 1e300).
+#: arithmetic keeps no digits of a sensor's offset (at 1e300 the closeness gradients are NaN).
 MAX_STATE_MAGNITUDE = 1e12
 
 

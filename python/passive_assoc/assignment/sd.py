@@ -162,7 +162,7 @@ def assign_sd(
         Which sensors the Lagrangian relaxation keeps as its 2-D problem (the rest have their
         constraints relaxed). "given": sensors 0 and 1, the textbook layout. "auto": for
         S = 3, the two with the fewest reports, relaxing the largest; on paper scans its dual
-        bound came much nearer the LP bound it converges to, in less time
+        bound comes much nearer the LP bound it converges to, in less time
         (``python benches/bench_sensor_order.py``); other S as given. Either way the bound is
         valid; the solution found may differ.
     polish : bool
@@ -274,7 +274,7 @@ def _solver_sizes(t: NDArray[np.int64], n: NDArray[np.int64]) -> NDArray[np.int6
     """``sizes``, or — when they declare more than :data:`MAX_DECLARED_REPORTS` reports — each
     sensor's largest report the tuples use. A report no tuple uses cannot change the answer,
     but the solvers allocate per declared report: S = 40 sensors declaring 10⁷ reports each
-    once took gigabytes for a handful of tuples. Below the threshold nothing changes (the
+    would take gigabytes for a handful of tuples. Below the threshold nothing changes (the
     S = 3 sensor order and the 2-D problems' sizes depend on the declared sizes)."""
     # A list sum: on the few sensors of a scan it takes a tenth of np.clip(...).sum()'s time.
     if sum(size for size in n.tolist() if size > 0) <= MAX_DECLARED_REPORTS:

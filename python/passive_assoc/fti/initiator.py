@@ -215,7 +215,7 @@ class FuzzyTrackInitiator(Configurable):
         measurements detection has left. Scenes that reach tens of thousands of candidates
         (many sensors and targets) then search little more than one stage of them. None:
         every candidate is searched first, as in the paper. Default 8192, above the candidates
-        of the paper's scene and of the 2-D scenes the defaults were measured on, so their
+        of the paper's scene and of the 2-D scenes the defaults are tuned on, so their
         results are those of the paper's order (docs/performance.md, *Initiation at scale*).
     track_test : float or None
         Dissolve a final track whose ML refit χ² is above the χ²(dof) quantile at this tail

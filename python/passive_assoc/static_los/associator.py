@@ -134,7 +134,7 @@ class StaticAssociator(SdParameters):
         with the most exclusive rays). Default 64. None is the paper's rule, one chain per
         point of H: where ghosts are dense every point has 0 exclusive rays, H is the whole
         level, and the vote grows quadratically in the number of candidates (minutes at a few
-        hundred targets, issue 17). ``reproduce intensity`` runs the paper's rule up to M = 18
+        hundred targets). ``reproduce intensity`` runs the paper's rule up to M = 18
         and 64 beyond (docs/experiments.md).
     max_iter, gap_tol, max_nodes, time_limit, warm_start, sensor_order, polish, exact_backend
         Solver settings, as in :func:`passive_assoc.assign_sd`.
