@@ -75,7 +75,7 @@ def test_highs_refuses_what_the_core_refuses() -> None:
 
 
 def test_the_lagrangian_honours_time_limit() -> None:
-    """It used to ignore it; now a solve that reaches it returns its best feasible answer."""
+    """A solve that reaches it returns its best feasible answer."""
     tuples, costs, sizes = _random_problem(3, 5, 10, 0.01)
     unlimited = pa.assign_sd(tuples, costs, sizes, gap_tol=0.0, time_limit=None)
     assert unlimited.iterations > 1

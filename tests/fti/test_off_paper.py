@@ -1,4 +1,4 @@
-"""The initiator off the paper's scene (issue 16): missed detections in the outer scans, more
+"""The initiator off the paper's scene: missed detections in the outer scans, more
 sensors, few scans, and input that cannot give a track. Each test asserts the number of tracks
 and that each track is one target's."""
 
@@ -65,8 +65,8 @@ def test_rows_a_poor_first_pass_track_took_go_back_to_the_second_pass() -> None:
 
 
 def test_issue_16s_eight_target_2d_scene_gives_one_track_per_target() -> None:
-    """``bearing_only_2d_scenario(3, n_targets=8, n_sensors=3, clutter_ratio=2)`` split two
-    targets between two tracks each (10 tracks) until split tracks were joined."""
+    """``bearing_only_2d_scenario(3, n_targets=8, n_sensors=3, clutter_ratio=2)``: without the
+    join of split tracks, two targets are split between two tracks each (10 tracks)."""
     scenario = pa.bearing_only_2d_scenario(3, n_targets=8, n_sensors=3, clutter_ratio=2)
     result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
     assert targets_tracked(result, scenario) == list(range(8))

@@ -1,9 +1,9 @@
-"""The default false-alarm density on a scan the paper's numbers were not tuned on (issue 16
-§3): three well-separated targets seen by the paper's three sensors, and one false alarm.
+"""The default false-alarm density on a scan the paper's numbers are not tuned on: three
+well-separated targets seen by the paper's three sensors, and one false alarm.
 
-With ``p_false · n / span`` alone the density was 0.23 per radian here (0.05 x 4 reports over
-the sector they span), so eq. 2 priced the false alarm as a target: Lagrangian and exact
-returned a ghost at it and split a true target. The default now also counts a sensor's
+With ``p_false · n / span`` alone the density would be 0.23 per radian here (0.05 x 4 reports
+over the sector they span), so eq. 2 would price the false alarm as a target: Lagrangian and
+exact would return a ghost at it and split a true target. The default also counts a sensor's
 reports beyond the median sensor's as false alarms (docs/methods.md §2)."""
 
 from __future__ import annotations
@@ -66,9 +66,9 @@ def test_the_default_density_counts_the_excess_report() -> None:
 
 
 def numpy_reference(sensor: np.ndarray, angles: list[np.ndarray], n_sensors: int, p_false: float) -> np.ndarray:
-    """The rule as the library computed it in NumPy until session 17 (6df669d's
-    ``default_false_alarm_density``, ``expected_false_alarms``, ``_median_last_axis`` and
-    ``_spans``, inlined): the core must give the same densities to the bit."""
+    """The rule written in NumPy (the expressions of a NumPy ``default_false_alarm_density``,
+    ``expected_false_alarms``, ``_median_last_axis`` and ``_spans``, inlined): the core must
+    give the same densities to the bit."""
 
     def spans(sensor: np.ndarray, values: np.ndarray, counts: np.ndarray) -> np.ndarray:
         order = np.lexsort((values, sensor))

@@ -50,7 +50,7 @@ def test_system_tracks_are_kept_where_a_source_has_no_track(
     method: type[pa.TopologyAssociator] | type[pa.NearestNeighbourAssociator],
 ) -> None:
     """A source with no track at one scan, and a scan only the system table has: every system
-    track there is unpaired for each source (they used to vanish from the result)."""
+    track there is unpaired for each source, none left out of the result."""
     local, system, _ = measured_tracks(7, 1.0)
     times = system.scan_times()
     sources = local.sources
