@@ -3,8 +3,8 @@
 //! A fitted candidate is about 0.45 kB (its estimate, scales, covariance factor and scores).
 //! Past the cap the support gate keeps millions of them (5 sensors × 100 targets: 23.9 M,
 //! about 11 GB kept whole; docs/performance.md, *Initiation at scale*), while the search in
-//! stages (module `stages`) descends only a few thousand. So past `search_stage` candidates, with the
-//! support gate on (each then has the score the stages order by), the pool keeps only each
+//! stages (module `stages`) descends only a few thousand. So past `search_stage` candidates,
+//! with the support gate on (each then has the score the stages order by), the pool keeps only each
 //! candidate's four rows and score, and the search refits the ones it takes. A refit is the
 //! same computation on the same rows (`fit_candidate` from the same ray pairs), so it gives
 //! the same candidate bit for bit (a test checks it), and nothing else about the search

@@ -21,8 +21,9 @@
 //! starts from the candidate's own fit: the gate only decides whether it runs.
 //!
 //! **Score.** Where clutter is dense a count is weak evidence: in the cluttered 2-D scenes of
-//! `benches/bench_initiation_2d.py` most gates hold a row by chance, and most candidates that reach more than Nd scans are
-//! clutter. So the walk also sums, over the rows it takes, the log-likelihood ratio of each
+//! `benches/bench_initiation_2d.py` most gates hold a row by chance, and most candidates that
+//! reach more than Nd scans are clutter.
+//! So the walk also sums, over the rows it takes, the log-likelihood ratio of each
 //! row under the candidate (the predictive Gaussian: innovation variance `σ² + ∇h·P·∇hᵀ`
 //! per angle) against clutter at the scan's local density (rows per radian, per rad² in 3-D,
 //! in a box of ±[`DENSITY_WIDTH`] predicted standard deviations, the scored row left out and
