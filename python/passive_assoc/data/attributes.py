@@ -80,10 +80,16 @@ def attribute_arrays(
         Column names; None takes every attribute column of the table except ``*_std`` ones.
         An empty sequence (or a table without attributes) gives ``K = 0``.
     attribute_std : sequence, mapping or array, optional
-        ``K`` stds in name order, or a mapping name -> std or name -> one std per sensor;
+        ``K`` stds in name order, or a mapping name -> std or name -> one std per sensor
+        (every key an attribute column of the table: a key that names none is refused);
         None reads per-report stds from ``<name>_std`` columns.
     """
     names = _names(measurements, attributes)
+    if isinstance(attribute_std, Mapping):
+        unknown = [key for key in attribute_std if key not in measurements.attributes]
+        if unknown:  # a typo would otherwise leave its attribute ungated or a std unread
+            columns = list(measurements.attributes)
+            raise ValueError(f"attribute_std: {unknown[0]!r} names no attribute column; the table has {columns}")
     n = len(measurements)
     if not names:
         return names, np.empty((0, n)), np.empty((0, 1))

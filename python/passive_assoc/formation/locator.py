@@ -112,7 +112,8 @@ class FormationLocator(Configurable):
         (azimuth-only association, the paper's Table 2).
     attribute_std : sequence, mapping or array, optional
         Attribute noise stds: one per attribute in name order, or a mapping name -> std or
-        name -> one std per sensor. None reads per-report stds from ``<name>_std`` columns.
+        name -> one std per sensor (a key that names no attribute column of the table is
+        refused). None reads per-report stds from ``<name>_std`` columns.
     eta : float
         Attribute gate: meetings whose ``m(assoc)`` is below η are dropped (paper 0.6).
     combination : {"simple", "two_outcome"}
