@@ -80,3 +80,20 @@ fn options_reject_out_of_range_values() {
         })
     ));
 }
+
+/// A time limit between ≈ 2⁶³ s and `Duration::MAX` (1.8e19 s) passed validation, then
+/// panicked adding itself to the clock; it is a limit that never binds.
+#[test]
+fn a_time_limit_past_the_clock_never_binds() {
+    let p = random_problem(5, 4, 8, 8, 300);
+    for seconds in [2f64.powi(63), 1e19, 1.8e19] {
+        let limit = Duration::from_secs_f64(seconds);
+        let s = solve(
+            &p,
+            &BranchBoundOptions::default()
+                .with_time_limit(limit)
+                .unwrap(),
+        );
+        assert_eq!(s.termination, Termination::Optimal, "{seconds}");
+    }
+}
