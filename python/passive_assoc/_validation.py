@@ -26,6 +26,7 @@ __all__ = [
     "require_finite",
     "require_positive",
     "require_nonnegative",
+    "require_time_range",
     "readonly",
 ]
 
@@ -240,6 +241,24 @@ def require_state_range(name: str, arr: NDArray[Any]) -> None:
         raise ValueError(
             f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; state components must lie within "
             f"±{MAX_STATE_MAGNITUDE:g} (m, m/s), where the angle arithmetic stays exact enough"
+        )
+
+
+#: Largest magnitude accepted for a time, seconds (32 000 years): the bound of every epoch
+#: ``t0`` (``_params.Epoch``) and of the Kalman filter's times. Beyond it a time step keeps
+#: no digits of the times it separates.
+MAX_TIME_MAGNITUDE = 1e12
+
+
+def require_time_range(name: str, arr: NDArray[Any]) -> None:
+    """Raise ValueError naming the first element that is not finite or beyond
+    ±:data:`MAX_TIME_MAGNITUDE` seconds."""
+    require_finite(name, arr)
+    bad = np.abs(arr) > MAX_TIME_MAGNITUDE
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; times must lie within ±{MAX_TIME_MAGNITUDE:g} s"
         )
 
 
