@@ -169,3 +169,25 @@ def test_per_sensor_and_per_report_stds_equal_the_per_attribute_ones() -> None:
     wider = {**per_sensor, "rf": [std["rf"], 1e4, std["rf"]]}
     changed = pa.locate_formation(m, s, attribute_std=wider)
     assert not np.array_equal(changed.support[:, 1], reference.support[:, 1], equal_nan=True)
+
+
+@pytest.mark.parametrize("one_to_one", [False, True])
+def test_an_absurd_azimuth_leaves_its_report_unassociated(one_to_one: bool) -> None:
+    """An azimuth of 1e300 rad (only a UserWarning at the table) keeps no digits of its angle:
+    the set holding it once came back ``associated`` with a NaN position and covariance. An
+    associated report now always has a finite position; the others are as without the bad
+    report, and every row ends in exactly one group or the clutter."""
+    scene = paper_formation_scene(0, sigma_deg=0.0)
+    columns = scene.measurements.to_arrays()
+    columns["azimuth"] = columns["azimuth"].copy()
+    columns["azimuth"][0] = 1e300  # the baseline sensor's first report
+    with pytest.warns(UserWarning, match="beyond ±2π"):
+        table = pa.MeasurementTable.from_columns(columns)
+    result = pa.locate_formation(table, scene.sensors, attribute_std=scene.attribute_std, one_to_one=one_to_one)
+    assert not result.associated[0]
+    assert result.associated[1:].all()
+    assert np.isfinite(result.positions[result.associated]).all()
+    assert np.isfinite(result.covariances[result.associated]).all()
+    assert np.isnan(result.positions[~result.associated]).all()
+    assert len(result.clutter) + int((result.labels >= 0).sum()) == len(table)
+    assert result.labels[0] == -1

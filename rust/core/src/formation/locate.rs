@@ -30,7 +30,8 @@ pub struct FormationOutput {
     pub support: Vec<f64>,
     /// `B`: eq. 6 cluster radius of the chosen set (NaN when none).
     pub radius: Vec<f64>,
-    /// `B × 2`: ML position of the chosen set (NaN when none or when the fit failed).
+    /// `B × 2`: ML position of the chosen set (NaN when none; a set whose fit failed is
+    /// not reported, as if none had been chosen).
     pub positions: Vec<f64>,
     /// `B × 4`: its covariance, row-major 2 × 2.
     pub covariances: Vec<f64>,
@@ -242,7 +243,9 @@ fn assemble(scene: &Scene<'_>, choices: &[Option<Choice>], counts: PruneCounts) 
     let baseline = scene.options.baseline_sensor();
     for (b, (choice, fit)) in choices.iter().zip(&fitted).enumerate() {
         match (choice, fit) {
-            (Some(c), Some(f)) => {
+            // A set whose ML fit fails (an azimuth of 1e300 rad keeps no digits of its
+            // angle) is no association: its report stays unassociated, its lines clutter.
+            (Some(c), Some(f)) if f.is_finite() => {
                 out.rows.extend(scene.rows_of(c).iter().map(|&r| r as i64));
                 out.support.extend_from_slice(&c.support);
                 out.radius.push(c.radius);
@@ -275,8 +278,17 @@ struct Fitted {
     chi2: f64,
 }
 
+impl Fitted {
+    fn is_finite(&self) -> bool {
+        (self.position.iter().chain(&self.covariance))
+            .chain([&self.chi2])
+            .all(|v| v.is_finite())
+    }
+}
+
 /// ML position of the chosen lines (the project's addition to the paper), started from the
-/// mean of their pairwise intersections; NaN where the fit fails (parallel lines).
+/// mean of their pairwise intersections; NaN where the fit fails (parallel lines, absurd
+/// angles), and the set is then left unassociated.
 fn triangulate(scene: &Scene<'_>, choice: &Choice) -> Fitted {
     let observations: Vec<Observation> = choice
         .lines
