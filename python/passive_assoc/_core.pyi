@@ -310,6 +310,7 @@ def default_false_alarm_density(
     elevation: NDArray[np.float64] | None,
     n_sensors: int,
     p_false: float,
+    sigma: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]: ...
 def assign_2d_sparse(
     shape: tuple[int, int], indptr: NDArray[np.int64], indices: NDArray[np.int64], data: NDArray[np.float64]

@@ -17,7 +17,6 @@ use crate::assign::lagrangian::{self, LagrangianOptions};
 use crate::assign::{CandidateSet, SdProblem};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
-use crate::geometry::model::Space;
 use crate::progress::{Progress, Tally};
 
 /// The solver each scan's candidates go to.
@@ -82,7 +81,6 @@ pub fn associate_scans(
             format!("row {bad} is beyond the table's {} rows", table.len()),
         ));
     }
-    let spatial = sensors.space() == Space::Spatial;
     let tally = Tally::new(progress, "scans", n_scans as u64);
     let results = (0..n_scans)
         .into_par_iter()
@@ -93,7 +91,7 @@ pub fn associate_scans(
             let rows = &scans.rows[scans.offsets[k]..scans.offsets[k + 1]];
             let density = match false_alarm_density {
                 Some(given) => Cow::Borrowed(&given[k * s..(k + 1) * s]),
-                None => Cow::Owned(table_density(table, rows.iter().copied(), s, spatial)),
+                None => Cow::Owned(table_density(table, rows.iter().copied(), sensors)),
             };
             let result = one_scan(sensors, table, rows, (pd, &density), enumerate, solver);
             tally.advance(1);
