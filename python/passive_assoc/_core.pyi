@@ -303,7 +303,7 @@ def associate_scans(
     false_alarm_density: NDArray[np.float64] | None,
     associator: StaticAssociator,
     progress: Callable[[str, float], object] | None = None,
-) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]: ...
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], list[bool]]: ...
 def default_false_alarm_density(
     sensor: NDArray[np.int64],
     azimuth: NDArray[np.float64],

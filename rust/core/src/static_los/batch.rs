@@ -14,7 +14,7 @@ use super::{
 };
 use crate::assign::branch_bound::{self, BranchBoundOptions};
 use crate::assign::lagrangian::{self, LagrangianOptions};
-use crate::assign::{CandidateSet, SdProblem};
+use crate::assign::{CandidateSet, Limit, SdProblem, Termination};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
 use crate::progress::{Progress, Tally};
@@ -43,6 +43,10 @@ pub struct ScanResult {
     pub labels: Vec<i64>,
     pub positions: Vec<f64>,
     pub targets: usize,
+    /// The branch-and-bound stopped at its node cap without proving its answer optimal (only
+    /// with [`ScanSolver::Exact`]): a caller whose one-scan path hands such a problem to
+    /// another solver (the Python layer's HiGHS) re-solves this scan that way.
+    pub node_limited: bool,
 }
 
 /// Associates every scan. `false_alarm_density` holds one value per scan and sensor
@@ -122,7 +126,7 @@ fn one_scan(
     let scan = Measurements::new(sensors, &sensor, &time, &azimuth, &elevation)?;
     let detection = DetectionModel::new(sensors, pd, density)?;
     let candidates = enumerate_with_attributes(sensors, &scan, &detection, enumerate, None)?;
-    let chosen = solve(&candidates, solver)?;
+    let (chosen, node_limited) = solve(&candidates, solver)?;
     let mut labels = vec![-1; rows.len()];
     let (s, dim) = (candidates.n_sensors, candidates.dim);
     let mut positions = Vec::with_capacity(chosen.len() * dim);
@@ -138,25 +142,29 @@ fn one_scan(
         labels,
         positions,
         targets: chosen.len(),
+        node_limited,
     })
 }
 
-/// The chosen candidate indices, ascending, as the one-scan solvers return them.
-fn solve(c: &Candidates, solver: &ScanSolver) -> CoreResult<Vec<usize>> {
+/// The chosen candidate indices, ascending, as the one-scan solvers return them, and whether
+/// the branch-and-bound stopped at its node cap.
+fn solve(c: &Candidates, solver: &ScanSolver) -> CoreResult<(Vec<usize>, bool)> {
     let tuples: Vec<usize> = c.tuples.iter().map(|&v| v as usize).collect();
     let chosen = match solver {
         ScanSolver::Intensity(options) => {
             let set = CandidateSet::new(tuples, c.n_sensors, c.costs.clone(), c.sizes.clone())?;
             let input = IntensityInput::new(set, c.positions.clone(), c.dim)?;
-            intensity_search(&input, options)?.chosen
+            (intensity_search(&input, options)?.chosen, false)
         }
         ScanSolver::Lagrangian(options) => {
             let problem = SdProblem::new(tuples, c.n_sensors, c.costs.clone(), c.sizes.clone())?;
-            lagrangian::solve(&problem, options).chosen
+            (lagrangian::solve(&problem, options).chosen, false)
         }
         ScanSolver::Exact(options) => {
             let problem = SdProblem::new(tuples, c.n_sensors, c.costs.clone(), c.sizes.clone())?;
-            branch_bound::solve(&problem, options).chosen
+            let solved = branch_bound::solve(&problem, options);
+            let capped = solved.termination == Termination::NotProven(Limit::Nodes);
+            (solved.chosen, capped)
         }
     };
     Ok(chosen)
