@@ -48,6 +48,7 @@ __all__ = [
     "Options",
     "Threads",
     "checked",
+    "constraints_of",
     "declared",
     "validate",
 ]
@@ -212,6 +213,19 @@ def validate(values: Mapping[str, Any], constraints: Mapping[str, Sequence[Const
 
 
 Table = dict[str, list[Constraint]]
+
+
+def constraints_of(hint: Any) -> list[Constraint]:
+    """The constraints an ``Annotated`` declaration carries, for a :func:`validate` table:
+    ``constraints_of(Threads)`` checks ``n_threads`` as every entry point does.
+
+    >>> constraints_of(Threads)
+    [Interval(kind=<class 'int'>, low=1, high=None, closed='both'), None]
+    """
+    found = _constraints_in(hint)
+    if found is None:
+        raise TypeError(f"{hint!r} declares no constraints")
+    return found
 
 
 def _constraints_in(hint: Any) -> list[Constraint] | None:

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from .. import _core
 from .._inputs import check_pair
-from .._params import Boolean, Configurable, Interval, Options
+from .._params import Boolean, Configurable, Interval, Options, Threads
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta, attribute_evidence
 from ..outcome import COMPLETED, Outcome
@@ -149,7 +149,7 @@ class FormationLocator(Configurable):
     r_max: Annotated[float, Interval(float, 0.0, None, closed="neither")] = 200e3
     region: tuple[float, float, float, float] | None = None
     in_front: Annotated[bool, Boolean()] = False
-    n_threads: Annotated[int | None, Interval(int, 1, None), None] = None
+    n_threads: Threads = None
 
     def __post_init__(self) -> None:
         super().__post_init__()

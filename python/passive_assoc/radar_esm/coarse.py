@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.stats import chi2
 
 from .. import _core
-from .._params import Boolean, Constraint, Interval, Options, validate
+from .._params import Boolean, Constraint, Interval, Options, Threads, constraints_of, validate
 from .._settings import CoarseGateSettings
 from .._validation import as_float_array, readonly, require_finite, require_nonnegative
 from .window import coefficient_covariance
@@ -50,7 +50,7 @@ _GATE_CONSTRAINTS: dict[str, list[Constraint]] = {
     "mode": [Options(*MODES)],
     "gate_probability": [Interval(float, 0.0, 1.0, closed="neither")],
     "whitened": [Boolean()],
-    "n_threads": [Interval(int, 1, None), None],
+    "n_threads": constraints_of(Threads),
 }
 
 
