@@ -441,6 +441,7 @@ def locate_formation(
     sensors: SensorNetwork,
     attributes: AttributeEvidence | None,
     settings: FormationLocator,
+    progress: Callable[[str, float], object] | None = None,
 ) -> FormationOutput: ...
 
 #: A core default as Python reads it: a number, a flag, a choice, or None.
