@@ -76,8 +76,15 @@ impl Associator {
         let gates = (self.decision.gate(), self.decision.chi2_gate());
         let pairs = gated_pairs(local, system, gates, cap)?;
         let mut scores = self.scores(local, system, &pairs)?;
-        self.history
-            .average_in_place(local.ids(), system.ids(), &pairs, &mut scores);
+        if crate::parallel::interrupted() {
+            return Err(CoreError::Interrupted); // the scores may be partial: decide nothing
+        }
+        if !(self.history).average_in_place(local.ids(), system.ids(), &pairs, &mut scores) {
+            // Stopped part-way: a history holding part of this scan would bias every later
+            // average, so the window starts afresh (the bias estimate is kept).
+            self.history = ScoreHistory::new(self.decision.window());
+            return Err(CoreError::Interrupted);
+        }
         let threshold = match (self.scoring, self.decision.gate()) {
             // Distances without a gate in metres: every allowed pair is worth more than any
             // sum of distances, so the decision makes the most pairs, then the least total
