@@ -121,3 +121,17 @@ def test_an_attribute_std_key_naming_no_column_is_refused(method: str) -> None:
             _locate(attribute_std=std)
         else:
             pa.associate_static(SCENE.measurements, SCENE.sensors, method, attributes=None, attribute_std=std)
+
+
+@pytest.mark.parametrize("std", [1j, np.array([1.0 + 2j]), True])
+def test_a_complex_or_boolean_std_is_a_type_error(std: object) -> None:
+    """A complex std was cast to its real part with only NumPy's ComplexWarning (found by
+    the fuzz test); True was read as 1."""
+    with pytest.raises(TypeError, match=r"^attribute_std: std of 'rf' is not numeric"):
+        _locate(attribute_std={**STD, "rf": std})
+
+
+def test_an_integer_std_beyond_int64_is_a_number() -> None:
+    assert _locate(attribute_std={**STD, "rf": 2**70}).success
+    with pytest.raises(ValueError, match=r"^attribute_std = an integer of 401 digits is beyond the range of a float"):
+        _locate(attribute_std={**STD, "rf": 10**400})

@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._params import Interval, Options
 from .._settings import AttributeEvidence
+from .._validation import as_float_array
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
 
@@ -159,7 +160,7 @@ def _std_column(
 
 
 def _as_float_array(value: ArrayLike | float, name: str) -> NDArray[np.float64]:
-    try:
-        return np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as err:
+    try:  # a complex std would lose its imaginary part silently; 2**70 is a real number
+        return as_float_array("attribute_std", value)
+    except TypeError as err:
         raise TypeError(f"attribute_std: std of {name!r} is not numeric: {value!r}") from err
