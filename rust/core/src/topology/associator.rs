@@ -80,10 +80,7 @@ impl Associator {
             return Err(CoreError::Interrupted); // the scores may be partial: decide nothing
         }
         if !(self.history).average_in_place(local.ids(), system.ids(), &pairs, &mut scores) {
-            // Stopped part-way: a history holding part of this scan would bias every later
-            // average, so the window starts afresh (the bias estimate is kept).
-            self.history = ScoreHistory::new(self.decision.window());
-            return Err(CoreError::Interrupted);
+            return Err(self.stopped());
         }
         let threshold = match (self.scoring, self.decision.gate()) {
             // Distances without a gate in metres: every allowed pair is worth more than any
@@ -92,13 +89,16 @@ impl Associator {
             (Scoring::Distance, None) => -(1.0 + 2.0 * scores.iter().map(|s| s.abs()).sum::<f64>()),
             _ => self.decision.threshold(),
         };
-        let decided = decide(
+        let decided = match decide(
             &pairs,
             &scores,
             (local.len(), system.len()),
             threshold,
             self.decision.decision(),
-        )?;
+        ) {
+            Err(CoreError::Interrupted) => return Err(self.stopped()),
+            decided => decided?,
+        };
         for &(i, j) in &decided {
             self.bias.add(local.position(i), system.position(j));
         }
@@ -110,6 +110,14 @@ impl Associator {
             pairs: decided,
             scores: kept,
         })
+    }
+
+    /// A scan stopped once its scores entered the window: a history holding (part of) a
+    /// scan that decided nothing would bias every later average, so the window starts afresh
+    /// (the bias estimate, which only decided pairs feed, is kept).
+    fn stopped(&mut self) -> CoreError {
+        self.history = ScoreHistory::new(self.decision.window());
+        CoreError::Interrupted
     }
 
     /// The rigid bias estimate from every pair decided so far.
