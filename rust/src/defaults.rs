@@ -128,6 +128,7 @@ pub fn option_defaults(py: Python<'_>, paper: bool) -> BindResult<Bound<'_, PyDi
         o.region().map(|r| (r.x[0], r.x[1], r.y[0], r.y[1])),
     )?;
     d.set_item("in_front", o.in_front())?;
+    d.set_item("max_pairs", o.max_pairs())?;
 
     let o = pick(paper, TopologyOptions::recommended, TopologyOptions::paper);
     let d = kind("topology")?;

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from .associator import WaveletFuzzyAssociator
 from .baselines import Chi2TrackAssociator, position_gate_pairs
-from .coarse import CoarseGate, approximation_operator, coarse_gate, coefficients
+from .coarse import MAX_WINDOW, CoarseGate, approximation_operator, coarse_gate, coefficients
 from .scan_gate import WINDOW_CAP
 from .scans import RadarEsmAssociation
 from .tracks import filter_reports
@@ -16,6 +16,7 @@ __all__ = [
     "coarse_gate",
     "coefficients",
     "WINDOW_CAP",
+    "MAX_WINDOW",
     "WaveletFuzzyAssociator",
     "Chi2TrackAssociator",
     "position_gate_pairs",

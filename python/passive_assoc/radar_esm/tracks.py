@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._params import Threads, checked
 from .._validation import as_float_array
 from ..data import TrackTable
 from ..estimation import KalmanFilter
@@ -14,12 +15,13 @@ from ..estimation import KalmanFilter
 __all__ = ["filter_reports"]
 
 
+@checked
 def filter_reports(
     reports: TrackTable,
     process_noise: float,
     *,
     noise: ArrayLike | None = None,
-    n_threads: int | None = None,
+    n_threads: Threads = None,
 ) -> TrackTable:
     """Filter every track of a table of position reports with ``KalmanFilter(motion="ca",
     measurement="position")``.

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._core import Candidates
-from .._params import Boolean, Interval, Options
+from .._params import Boolean, Interval, Options, Threads
 from ..assignment.sd import SdMethod, SdParameters, _solver_sizes, solve_validated
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta
@@ -172,7 +172,7 @@ class StaticAssociator(SdParameters):
     valid_airspace: Annotated[bool, Boolean()] = False
     max_chains: Annotated[int | None, Interval(int, 1, None), None] = 64
     max_candidates: Annotated[int, Interval(int, 1, None)] = 1_000_000
-    n_threads: Annotated[int | None, Interval(int, 1, None), None] = None
+    n_threads: Threads = None
     attributes: Sequence[str] | None = ()
     attribute_std: AttributeStd | None = None
     eta: Eta = DEFAULT_ETA

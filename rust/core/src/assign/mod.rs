@@ -155,6 +155,13 @@ pub(crate) fn closes_gap(primal: f64, dual: f64) -> bool {
     primal - dual <= OPTIMAL_RTOL * primal.abs().max(1.0)
 }
 
+/// When a solve that starts now and may run `limit` must stop; `None` without a limit, and for
+/// a limit past what the clock can represent (an `Instant` holds at most 2⁶³ s on Linux, a
+/// `Duration` up to 1.8e19 s): such a limit never binds, and adding it panicked.
+pub(crate) fn deadline(limit: Option<std::time::Duration>) -> Option<std::time::Instant> {
+    limit.and_then(|limit| std::time::Instant::now().checked_add(limit))
+}
+
 /// Random instances and an independent exhaustive solver, shared by the solver tests.
 #[cfg(test)]
 pub(crate) mod test_support {

@@ -3,7 +3,7 @@
 //! pairs, and pool the pairs' positions for the bias estimate.
 
 use super::bias::{BiasAccumulator, BiasEstimate};
-use super::candidates::{candidate_pairs, chi2_gated, pair_distances, Candidates};
+use super::candidates::{gated_pairs, pair_distances, Candidates};
 use super::closeness::pair_closeness;
 use super::decision::decide;
 use super::history::ScoreHistory;
@@ -29,10 +29,19 @@ pub struct ScanPairs {
     pub scores: Vec<f64>,
 }
 
-/// Candidate pairs scored at most in one scan: 8 bytes of pair and 8 of score each, so this
-/// bounds a scan's working memory near 1 GB; beyond it a position gate is needed. With a
-/// window longer than one scan the same number bounds the pairs remembered.
-pub const MAX_PAIRS: usize = 64_000_000;
+/// Candidate pairs scored at most in one scan, with or without a position or χ² gate: a
+/// larger picture needs a position gate that keeps fewer pairs. A pair takes 8 bytes of pair
+/// and 8 of score, and about 50 more in the decision when every pair may be made (the
+/// nearest-neighbour scoring without a gate): at the cap, 4 000 × 4 000 tracks, that peaked
+/// at 1.07 GB. It was 64 million, and only without a gate: a wide gate listed every pair
+/// (5 000 × 5 000 tracks took 1.8 GB).
+pub const MAX_PAIRS: usize = 16_000_000;
+
+/// [`MAX_PAIRS`] with a window longer than one scan, where every scored pair is remembered
+/// for the window's average (about 250 bytes each: 2 000 × 2 000 tracks at a window of 6
+/// peaked at 1.08 GB, 8 million pairs at 2.04 GB). The pairs remembered are those of the
+/// last `window` scans: as many again for every scan whose track ids are new.
+pub const MAX_REMEMBERED_PAIRS: usize = 4_000_000;
 
 /// One local source's association with the system picture, scan after scan.
 #[derive(Debug, Clone)]
@@ -59,28 +68,20 @@ impl Associator {
         local: &ScanTracks<'_>,
         system: &ScanTracks<'_>,
     ) -> CoreResult<ScanPairs> {
-        let all = local.len().saturating_mul(system.len());
         let cap = if self.decision.window() > 1 {
-            MAX_PAIRS / 8
+            MAX_REMEMBERED_PAIRS
         } else {
             MAX_PAIRS
         };
-        if self.decision.gate().is_none() && all > cap {
-            return Err(CoreError::CapExceeded {
-                what: "track pairs in one scan",
-                count: all,
-                cap,
-                hint:
-                    "give a position gate (only pairs within it are scored) for pictures this large",
-            });
-        }
-        let mut pairs = candidate_pairs(local, system, self.decision.gate());
-        if let Some(threshold) = self.decision.chi2_gate() {
-            pairs = chi2_gated(local, system, &pairs, threshold)?;
-        }
+        let gates = (self.decision.gate(), self.decision.chi2_gate());
+        let pairs = gated_pairs(local, system, gates, cap)?;
         let mut scores = self.scores(local, system, &pairs)?;
-        self.history
-            .average_in_place(local.ids(), system.ids(), &pairs, &mut scores);
+        if crate::parallel::interrupted() {
+            return Err(CoreError::Interrupted); // the scores may be partial: decide nothing
+        }
+        if !(self.history).average_in_place(local.ids(), system.ids(), &pairs, &mut scores) {
+            return Err(self.stopped());
+        }
         let threshold = match (self.scoring, self.decision.gate()) {
             // Distances without a gate in metres: every allowed pair is worth more than any
             // sum of distances, so the decision makes the most pairs, then the least total
@@ -88,13 +89,16 @@ impl Associator {
             (Scoring::Distance, None) => -(1.0 + 2.0 * scores.iter().map(|s| s.abs()).sum::<f64>()),
             _ => self.decision.threshold(),
         };
-        let decided = decide(
+        let decided = match decide(
             &pairs,
             &scores,
             (local.len(), system.len()),
             threshold,
             self.decision.decision(),
-        )?;
+        ) {
+            Err(CoreError::Interrupted) => return Err(self.stopped()),
+            decided => decided?,
+        };
         for &(i, j) in &decided {
             self.bias.add(local.position(i), system.position(j));
         }
@@ -106,6 +110,14 @@ impl Associator {
             pairs: decided,
             scores: kept,
         })
+    }
+
+    /// A scan stopped once its scores entered the window: a history holding (part of) a
+    /// scan that decided nothing would bias every later average, so the window starts afresh
+    /// (the bias estimate, which only decided pairs feed, is kept).
+    fn stopped(&mut self) -> CoreError {
+        self.history = ScoreHistory::new(self.decision.window());
+        CoreError::Interrupted
     }
 
     /// The rigid bias estimate from every pair decided so far.

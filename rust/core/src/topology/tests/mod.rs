@@ -5,6 +5,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 mod bias;
+mod caps;
 
 use super::*;
 use crate::parallel::with_threads;
