@@ -3,7 +3,15 @@
 from __future__ import annotations
 
 from .closeness import ClosenessOptima, closeness, maximize_closeness
-from .initiator import FuzzyTrackInitiator, InitiatedTrack, InitiationDiagnostics, InitiationResult, initiate_tracks
+from .initiator import (
+    FuzzyTrackInitiator,
+    InitiatedTrack,
+    InitiationDiagnostics,
+    InitiationResult,
+    LimitWarning,
+    initiate_tracks,
+)
+from .score import track_scores
 
 __all__ = [
     "ClosenessOptima",
@@ -11,7 +19,9 @@ __all__ = [
     "InitiatedTrack",
     "InitiationDiagnostics",
     "InitiationResult",
+    "LimitWarning",
     "closeness",
     "initiate_tracks",
     "maximize_closeness",
+    "track_scores",
 ]

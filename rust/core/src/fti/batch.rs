@@ -93,6 +93,11 @@ impl<'a> Batch<'a> {
         self.gate.is_some()
     }
 
+    /// The support gate (none when off).
+    pub(super) fn support(&self) -> Option<&'a Gate<'a>> {
+        self.gate
+    }
+
     /// Starts a scan pair whose 4-tuples will follow; its handle for [`push`](Self::push).
     pub(super) fn begin(
         &mut self,

@@ -29,6 +29,9 @@ pub struct CandidateSet {
     pub seconds_enumerate: f64,
     pub seconds_fit: f64,
     pub seconds_support: f64,
+    /// The limit that ended the formation early, as the error it would have been
+    /// (`stop_at_limit`); `None` when every slot was formed.
+    pub limit: Option<String>,
 }
 
 /// A candidate as kept past the limit: what refits it, and its support-gate score.
