@@ -4,11 +4,13 @@ force, the "auto" hand-over, limits, and validation identical to the core's."""
 from __future__ import annotations
 
 import itertools
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import passive_assoc as pa
 import pytest
 from numpy.typing import NDArray
+from passive_assoc.assignment.sd import SdParameters
 
 
 def _random_problem(
@@ -116,3 +118,25 @@ def test_what_highs_prints_to_standard_output_is_dropped(
     out = capfd.readouterr().out
     assert out == "before\nanother thread's line\nafter\n"
     assert solved.optimal
+
+
+def test_the_default_stop_is_the_node_cap_and_gives_the_same_answer_under_load() -> None:
+    # Two threads solve the same hard problem while two more load the machine: with the
+    # default (no time limit) the search stops on its node cap, and every backend gives one
+    # and the same answer alone and under load (HiGHS proves these at its root).
+    tuples, costs, sizes = _random_problem(1, 3, 14, 0.15)
+    assert SdParameters().time_limit is None
+    load = pa.assign_sd(*_random_problem(2, 3, 14, 0.15), method="exact")
+    for backend, nodes in (("branch_bound", 20_000), ("auto", 1), ("highs", 1)):
+
+        def solve(backend: str = backend, nodes: int = nodes) -> tuple[list[int], float, str]:
+            r = pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend=backend, max_nodes=nodes)
+            return r.chosen.tolist(), r.primal_cost, r.termination
+
+        alone = solve()
+        assert alone[2] == ("node_limit" if backend == "branch_bound" else "optimal"), (backend, alone[2])
+        with ThreadPoolExecutor(4) as pool:
+            busy = [pool.submit(pa.assign_sd, *_random_problem(2, 3, 14, 0.15), method="exact") for _ in range(2)]
+            loaded = [pool.submit(solve) for _ in range(2)]
+            assert all(f.result() == alone for f in loaded), backend
+            assert all(f.result().primal_cost == load.primal_cost for f in busy)

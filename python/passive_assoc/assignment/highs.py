@@ -36,8 +36,10 @@ def solve_highs(
     costs: NDArray[np.float64],
     sizes: NDArray[np.int64],
     time_limit: float | None,
+    max_nodes: int | None = None,
 ) -> HighsSolution:
-    """Solve the validated S-D problem exactly, within ``time_limit`` seconds (None: none).
+    """Solve the validated S-D problem exactly, within ``max_nodes`` branch-and-bound nodes
+    (a deterministic stop) and ``time_limit`` seconds (None: none).
 
     Returns the chosen tuple indices (ascending), their total cost, HiGHS's dual bound, its
     branch-and-bound node count and whether optimality is proven.
@@ -48,6 +50,8 @@ def solve_highs(
     options: dict[str, Any] = {"disp": False}
     if time_limit is not None:
         options["time_limit"] = float(time_limit)
+    if max_nodes is not None:
+        options["node_limit"] = int(max_nodes)
     with solver_output_silenced():
         result = milp(
             costs,

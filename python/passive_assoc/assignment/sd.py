@@ -101,7 +101,7 @@ class SdParameters(Configurable):
     max_iter: Annotated[int, COUNT] = 200
     gap_tol: Annotated[float, Interval(float, 0.0, None)] = 1e-3
     max_nodes: Annotated[int, COUNT] = ASSIGN_SD_MAX_NODES
-    time_limit: Annotated[float | None, POSITIVE, None] = 10.0
+    time_limit: Annotated[float | None, POSITIVE, None] = None
     warm_start: Annotated[Literal["auto", "always", "never"], Options("auto", "always", "never")] = "auto"
     sensor_order: Annotated[Literal["auto", "given"], Options("auto", "given")] = "auto"
     polish: Annotated[bool, Boolean()] = True
@@ -147,11 +147,14 @@ def assign_sd(
         at 100 iterations or a 1 % gap; these defaults are tighter, for answers nearer the
         optimum at more time (``max_iter=100, gap_tol=0.01`` gives MATLAB's limits).
     max_nodes : int
-        Branch-and-bound node cap.
+        The exact method's node cap (default 10⁷): of the core's branch-and-bound, and of
+        HiGHS's search (``exact_backend`` "highs" or "auto"). With ``max_iter`` it is the
+        default stop, a deterministic one: the same problem gets the same answer however
+        loaded the machine is.
     time_limit : float or None
-        Wall-clock limit in seconds of either method (``time_limit=None``: none). A
-        Lagrangian solve that reaches it returns its best feasible solution with
-        ``termination="time_limit"``.
+        Optional wall-clock limit in seconds of either method (default None: none). A solve
+        that reaches it returns its best feasible solution with ``termination="time_limit"``;
+        where it binds, the answer depends on the machine's load.
     warm_start : {"auto", "always", "never"}
         Whether each Lagrangian iteration's inner 2-D assignment starts from the previous
         one's solution. It is exact either way, so only speed differs (and, between equally
@@ -179,7 +182,8 @@ def assign_sd(
         solver (:func:`scipy.optimize.milp`, whose LP bounds prove in seconds what the
         branch-and-bound does not prove in minutes on problems of a thousand tuples and more),
         or "auto": branch-and-bound for up to 50 000 nodes (it proves small problems faster
-        than HiGHS starts), then HiGHS for the rest of ``time_limit``
+        than HiGHS starts), then HiGHS up to ``max_nodes`` nodes and the rest of
+        ``time_limit``
         (``python benches/bench_exact_sd.py``). ``iterations`` counts the nodes of the solver
         that answered.
 
@@ -237,12 +241,15 @@ def _exact_with_highs(
     remaining = None if settings.time_limit is None else settings.time_limit - (time.perf_counter() - start)
     if remaining is not None and remaining <= 0:  # the search's own stop is not what ended it
         return first if first.optimal else _retermination(first, "time_limit")
-    chosen, primal, dual, iterations, proven = solve_highs(t, c, n, remaining)
-    if not proven and first.primal_cost < primal:  # HiGHS ran out of time behind the search
+    chosen, primal, dual, iterations, proven = solve_highs(t, c, n, remaining, settings.max_nodes)
+    if not proven and first.primal_cost < primal:  # HiGHS stopped behind the search
         chosen, primal = first.chosen, first.primal_cost
     dual = max(dual, first.dual_bound)
     gap = max(0.0, primal - dual) / max(1.0, abs(primal))
-    termination: SdTermination = "optimal" if proven else "time_limit"
+    termination: SdTermination = "optimal"
+    if not proven:  # the clock if it ran out, otherwise the node cap
+        out_of_time = settings.time_limit is not None and time.perf_counter() - start >= settings.time_limit
+        termination = "time_limit" if out_of_time else "node_limit"
     return sd_assignment(chosen, primal, dual, gap, iterations, termination, proven)
 
 

@@ -104,7 +104,7 @@ class StaticAssociator(SdParameters):
     ----------
     method : {"intensity", "lagrangian", "exact"}
         The paper's intensity-ordered search with its vote, S-D assignment by Lagrangian
-        relaxation, or exact branch-and-bound (small problems; ``time_limit``). Default
+        relaxation, or exact branch-and-bound (small problems; ``max_nodes``, optionally ``time_limit``). Default
         :data:`DEFAULT_METHOD`, ``"lagrangian"``: it finds about twice as many targets right
         as the intensity search, the paper's method.
     pd : float or array_like

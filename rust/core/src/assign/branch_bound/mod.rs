@@ -42,11 +42,14 @@ impl Default for BranchBoundOptions {
 
 impl BranchBoundOptions {
     /// The project's defaults, those of the Python package (`assign_sd(method="exact")`):
-    /// 10 million nodes, 10 s, and the recommended Lagrangian options at the root.
+    /// 10 million nodes, no time limit, and the recommended Lagrangian options at the root.
+    /// The node cap is a deterministic stop: the same problem gives the same answer however
+    /// loaded the machine is. A wall-clock cap ([`with_time_limit`](Self::with_time_limit))
+    /// is an option, whose answers then depend on the load.
     pub fn recommended() -> Self {
         Self {
             max_nodes: 10_000_000,
-            time_limit: Some(Duration::from_secs(10)),
+            time_limit: None,
             root: LagrangianOptions::recommended(),
         }
     }

@@ -98,3 +98,22 @@ fn a_time_limit_past_the_clock_never_binds() {
         assert_eq!(s.termination, Termination::Optimal, "{seconds}");
     }
 }
+
+#[test]
+fn the_default_stop_is_the_node_cap_and_repeats_exactly() {
+    // No wall clock by default: a search cut by its node cap gives the same answer every time,
+    // on any thread, however loaded the machine.
+    assert_eq!(BranchBoundOptions::default().time_limit(), None);
+    assert_eq!(LagrangianOptions::default().time_limit(), None);
+    let p = dense_problem(7, 4, 8, 400);
+    let options = weak_root().with_max_nodes(5_000).unwrap();
+    let first = solve(&p, &options);
+    assert_eq!(first.termination, Termination::NotProven(Limit::Nodes));
+    let again: Vec<SdSolution> = std::thread::scope(|scope| {
+        let runs: Vec<_> = (0..3)
+            .map(|_| scope.spawn(|| solve(&p, &options)))
+            .collect();
+        runs.into_iter().map(|r| r.join().unwrap()).collect()
+    });
+    assert!(again.iter().all(|s| *s == first));
+}

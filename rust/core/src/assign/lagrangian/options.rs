@@ -81,7 +81,8 @@ impl LagrangianOptions {
     /// recovered solution is usually the optimum, see the tests), `step_scale = 1`,
     /// `stall_iters = 10`, automatic warm start and sensor order, the end-of-solve polish on
     /// (on random problems it brings the answer markedly nearer the optimum for little time,
-    /// docs/performance.md) and a 10 s time limit.
+    /// docs/performance.md) and no time limit: the iteration cap is the stop, so the answer
+    /// does not depend on the machine's load (a wall-clock limit is an option).
     pub fn recommended() -> Self {
         Self {
             max_iter: 200,
@@ -91,7 +92,7 @@ impl LagrangianOptions {
             warm_start: WarmStart::Auto,
             sensor_order: SensorOrder::Auto,
             polish: true,
-            time_limit: Some(Duration::from_secs(10)),
+            time_limit: None,
         }
     }
 
