@@ -13,7 +13,7 @@
 
 use std::hint::black_box;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use passive_assoc_core::topology::{
     candidate_pairs, decide, pair_closeness, topology_vectors, Associator, Decision,
     DecisionOptions, ScanTracks, Scoring, TopologyOptions,
@@ -133,5 +133,40 @@ fn bench_stages(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_scan, bench_stages);
+/// The window's cost: one ungated 2 000 × 2 000 scan at the default λ with a window of 1 and
+/// of 6, first as a fresh associator's first scan, then as the sixth scan of a window of 6
+/// (the same pictures each scan, so every pair has five earlier scores to average).
+fn bench_window(c: &mut Criterion) {
+    let mut group = c.benchmark_group("topology/window_2000");
+    group.sample_size(10);
+    let (system, local) = pictures(2000, 2000e3, 7);
+    let ids: Vec<i64> = (0..2000).collect();
+    let sys = ScanTracks::new("system", &ids, &system, None).expect("valid");
+    let loc = ScanTracks::new("local", &ids, &local, None).expect("valid");
+    let fresh = |window: usize| {
+        let decision = DecisionOptions::default()
+            .with_window(window)
+            .unwrap_or_default();
+        Associator::new(Scoring::Topology(TopologyOptions::default()), decision)
+    };
+    for window in [1, 6] {
+        group.bench_function(format!("first_scan_window_{window}"), |b| {
+            b.iter(|| fresh(window).update(&loc, &sys).expect("runs").pairs.len())
+        });
+    }
+    let mut warmed = fresh(6);
+    for _ in 0..5 {
+        warmed.update(&loc, &sys).expect("runs");
+    }
+    group.bench_function("sixth_scan_window_6", |b| {
+        b.iter_batched(
+            || warmed.clone(),
+            |mut a| a.update(&loc, &sys).expect("runs").pairs.len(),
+            BatchSize::LargeInput,
+        )
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_scan, bench_stages, bench_window);
 criterion_main!(benches);

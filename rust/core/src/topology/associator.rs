@@ -38,9 +38,10 @@ pub struct ScanPairs {
 pub const MAX_PAIRS: usize = 16_000_000;
 
 /// [`MAX_PAIRS`] with a window longer than one scan, where every scored pair is remembered
-/// for the window's average (about 250 bytes each: 2 000 × 2 000 tracks at a window of 6
-/// peaked at 1.08 GB, 8 million pairs at 2.04 GB). The pairs remembered are those of the
-/// last `window` scans: as many again for every scan whose track ids are new.
+/// for the window's average: each of the last `window − 1` scans keeps its raw scores (8
+/// bytes a pair) and, with a gate, its pair list (8 more). The cap was set when each pair
+/// took a hashed ring of about 250 bytes (2 000 × 2 000 tracks at a window of 6 then peaked
+/// at 1.08 GB); it is kept.
 pub const MAX_REMEMBERED_PAIRS: usize = 4_000_000;
 
 /// One local source's association with the system picture, scan after scan.

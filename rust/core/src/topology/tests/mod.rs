@@ -6,6 +6,7 @@ use rand_chacha::ChaCha8Rng;
 
 mod bias;
 mod caps;
+mod history;
 
 use super::*;
 use crate::parallel::with_threads;
