@@ -98,7 +98,7 @@ class SdParameters(Configurable):
     and :class:`~passive_assoc.StaticAssociator` inherits them (see :func:`assign_sd` for
     what each means)."""
 
-    max_iter: Annotated[int, COUNT] = 200
+    max_iter: Annotated[int, COUNT] = 150
     gap_tol: Annotated[float, Interval(float, 0.0, None)] = 1e-3
     max_nodes: Annotated[int, COUNT] = ASSIGN_SD_MAX_NODES
     time_limit: Annotated[float | None, POSITIVE, None] = None
@@ -141,7 +141,8 @@ def assign_sd(
     Other Parameters
     ----------------
     max_iter : int
-        Lagrangian iteration cap (default 200).
+        Lagrangian iteration cap (default 150; with the deflected subgradient steps it
+        gives, on S = 3, M = 20 scans, answers as good as 200 plain steps did).
     gap_tol : float
         Lagrangian relative duality-gap target (default 1e-3). MATLAB's ``assignsd`` stops
         at 100 iterations or a 1 % gap; these defaults are tighter, for answers nearer the

@@ -28,7 +28,7 @@ mod relaxation;
 pub use options::{LagrangianOptions, WarmStart, WARM_MIN_SIZE};
 pub use order::SensorOrder;
 
-use options::MIN_STEP_SCALE;
+use options::{DEFLECTION, MIN_STEP_SCALE};
 use recovery::Recovery;
 use relaxation::Relaxation;
 
@@ -71,9 +71,10 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
     let (mut iterations, mut termination) = (0, Termination::MaxIterations);
     let deadline = crate::assign::deadline(options.time_limit());
-    // Per-iteration buffers, allocated once: the relaxed solution and the subgradient.
+    // Per-iteration buffers, allocated once: the relaxed solution and the step direction (the
+    // deflected subgradient, which keeps the previous direction).
     let mut relaxed = Vec::new();
-    let mut gradient: Vec<Vec<f64>> = mult.iter().map(|m| vec![0.0; m.len()]).collect();
+    let mut direction: Vec<Vec<f64>> = mult.iter().map(|m| vec![0.0; m.len()]).collect();
     while iterations < options.max_iter() && !crate::parallel::interrupted() {
         if deadline.is_some_and(|d| Instant::now() >= d) {
             termination = Termination::NotProven(Limit::Time);
@@ -104,7 +105,8 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
             (alpha, since) = (alpha / 2.0, 0);
         }
         let numerator = alpha * (best.1 - dual);
-        if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, numerator, &mut gradient) {
+        if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, numerator, &mut direction)
+        {
             termination = Termination::Stalled;
             break;
         }
@@ -154,28 +156,32 @@ fn finish(
     }
 }
 
-/// One projected subgradient step `u ← min(0, u + t·g / |g|²)` with `g_s[i] = 1 − uses`;
-/// `numerator` is `α·(best primal − L(u))`; `g` is the caller's buffer, shaped as `mult`.
-/// Returns false when `g` vanishes (nothing to do).
+/// One projected, deflected subgradient step `u ← min(0, u + t·d / |d|²)` with the
+/// subgradient `g_s[i] = 1 − uses` and the direction `d = g + β·d_prev` ([`DEFLECTION`]),
+/// projected; `numerator` is `α·(best primal − L(u))`; `d` is the caller's buffer, shaped as
+/// `mult`, holding the previous direction on entry (zeros at first) and this one on return.
+/// Returns false when `d` vanishes (nothing to do).
 fn step(
     problem: &SdProblem,
     mult: &mut [Vec<f64>],
     relaxed: &[usize],
     numerator: f64,
-    g: &mut [Vec<f64>],
+    d: &mut [Vec<f64>],
 ) -> bool {
-    for row in g.iter_mut() {
-        row.fill(1.0);
+    for row in d.iter_mut().skip(2) {
+        for di in row.iter_mut() {
+            *di = 1.0 + DEFLECTION * *di;
+        }
     }
     for &k in relaxed {
         for (s, &i) in problem.tuple(k).iter().enumerate().skip(2) {
-            g[s][i] -= 1.0;
+            d[s][i] -= 1.0;
         }
     }
     let mut norm2 = 0.0;
     for s in 2..mult.len() {
-        g[s][0] = 0.0;
-        for (gi, ui) in g[s].iter_mut().zip(&mult[s]) {
+        d[s][0] = 0.0;
+        for (gi, ui) in d[s].iter_mut().zip(&mult[s]) {
             // Projected: a zero multiplier cannot rise, so that component does not count.
             if *ui >= 0.0 && *gi > 0.0 {
                 *gi = 0.0;
@@ -188,7 +194,7 @@ fn step(
     }
     let t = numerator / norm2;
     for s in 2..mult.len() {
-        for (ui, gi) in mult[s].iter_mut().zip(&g[s]) {
+        for (ui, gi) in mult[s].iter_mut().zip(&d[s]) {
             *ui = (*ui + t * gi).min(0.0);
         }
     }
