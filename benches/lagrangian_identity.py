@@ -77,10 +77,10 @@ def main() -> None:
     if todo:
         # spawn: a forked child of a process whose thread pool is running can deadlock.
         with ProcessPoolExecutor(args.workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-            for seed, best in zip(
+            for seed, found in zip(
                 todo, pool.map(optimum, todo, [shape[0]] * len(todo), [shape[1]] * len(todo)), strict=True
             ):
-                cache[(*shape, seed)] = best
+                cache[(*shape, seed)] = found
         with open(args.optimum_cache, "wb") as f:
             pickle.dump(cache, f)
     n_opt = min(args.optimum_scans, args.scans)

@@ -3,7 +3,9 @@
 
 use std::time::Duration;
 
-use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use super::convert::{count, owned, parse, row_major, slice1, to_numpy, to_usize, I64Array};
@@ -87,9 +89,21 @@ pub fn assign_2d<'py>(
 ) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
     let (n_rows, n_cols) = (costs.shape()[0], costs.shape()[1]);
     let values = row_major("costs", &costs)?;
-    let solved = py.detach(|| lap::solve_dense(n_rows, n_cols, values))?;
+    // A small matrix is solved in place, holding the GIL (faster than releasing it, and no
+    // Python code can write to the array meanwhile); a larger one is copied first and solved
+    // without the GIL, so another thread writing to the caller's array cannot reach the solve.
+    let solved = if values.len() <= SMALL_DENSE {
+        lap::solve_dense(n_rows, n_cols, values)?
+    } else {
+        let owned = values.to_vec();
+        py.detach(move || lap::solve_dense(n_rows, n_cols, &owned))?
+    };
     pairs_output(py, &solved)
 }
+
+/// Entries of a dense matrix up to which `assign_2d` keeps the GIL: a 16 × 16 solve takes a
+/// few microseconds, about what releasing and retaking the thread state costs.
+const SMALL_DENSE: usize = 256;
 
 /// `(row_ind, col_ind, total)` of an assignment, as `scipy.optimize.linear_sum_assignment`
 /// gives the pairs, by increasing row.
@@ -103,10 +117,11 @@ fn pairs_output<'py>(
         .enumerate()
         .filter_map(|(r, c)| c.map(|c| (r as i64, c as i64)))
         .unzip();
-    let n = rows.len();
+    // Copied into arrays NumPy allocates: cheaper than handing NumPy the vectors (one owner
+    // object each), which shows in a small call; the copy is O(n) beside an O(n³) solve.
     Ok((
-        to_numpy(py, rows, &[n])?,
-        to_numpy(py, cols, &[n])?,
+        PyArray1::from_slice(py, &rows).to_dyn().clone(),
+        PyArray1::from_slice(py, &cols).to_dyn().clone(),
         solved.cost,
     ))
 }

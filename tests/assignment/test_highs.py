@@ -122,8 +122,8 @@ def test_what_highs_prints_to_standard_output_is_dropped(
 
 def test_the_default_stop_is_the_node_cap_and_gives_the_same_answer_under_load() -> None:
     # Two threads solve the same hard problem while two more load the machine: with the
-    # default (no time limit) the search stops on its node cap, and every backend gives one
-    # and the same answer alone and under load (HiGHS proves these at its root).
+    # default (no time limit) the search stops on its node cap with one and the same answer,
+    # alone and under load; HiGHS, which proves these at its root, gives the same optimum.
     tuples, costs, sizes = _random_problem(1, 3, 14, 0.15)
     assert SdParameters().time_limit is None
     load = pa.assign_sd(*_random_problem(2, 3, 14, 0.15), method="exact")
@@ -137,6 +137,9 @@ def test_the_default_stop_is_the_node_cap_and_gives_the_same_answer_under_load()
         assert alone[2] == ("node_limit" if backend == "branch_bound" else "optimal"), (backend, alone[2])
         with ThreadPoolExecutor(4) as pool:
             busy = [pool.submit(pa.assign_sd, *_random_problem(2, 3, 14, 0.15), method="exact") for _ in range(2)]
-            loaded = [pool.submit(solve) for _ in range(2)]
-            assert all(f.result() == alone for f in loaded), backend
-            assert all(f.result().primal_cost == load.primal_cost for f in busy)
+            loaded = [f.result() for f in [pool.submit(solve) for _ in range(2)]]
+            if backend == "branch_bound":
+                assert all(answer == alone for answer in loaded)
+            else:  # an equal-cost optimum may be another set, summed in another order
+                assert all(a[1] == pytest.approx(alone[1], abs=1e-9) and a[2] == alone[2] for a in loaded)
+            assert all(f.result().primal_cost == pytest.approx(load.primal_cost, abs=1e-9) for f in busy)

@@ -38,6 +38,23 @@ def test_linear_assignment_bad_input(call, exc, message) -> None:  # type: ignor
         call()
 
 
+@pytest.mark.parametrize("n", [3, 16, 17, 40])  # solved holding the GIL up to 16 × 16, copied beyond
+def test_every_dense_input_path_gives_the_same_answer(n: int) -> None:
+    # A C-ordered float64 array goes straight to the core; lists, other dtypes and Fortran
+    # order through the general conversion: all the same answer, the caller's array untouched.
+    c = np.round(np.random.default_rng(n).uniform(0, 10, (n, n)))  # ties
+    kept = c.copy()
+    direct = pa.linear_assignment(c)
+    for other in (c.tolist(), np.asfortranarray(c), c.astype(np.float32).astype(np.int64), c[:, ::1]):
+        got = pa.linear_assignment(other)
+        assert np.array_equal(got[0], direct[0]) and np.array_equal(got[1], direct[1]) and got[2] == direct[2]
+    assert np.array_equal(c, kept)
+    bad = c.copy()
+    bad[1, 2] = np.nan
+    with pytest.raises(ValueError, match="costs"):
+        pa.linear_assignment(bad)
+
+
 @pytest.mark.parametrize("shape", [(1, 1), (6, 6), (8, 3), (3, 8), (40, 40), (90, 70), (70, 90)])
 def test_sparse_and_gated_dense_match_scipy(shape: tuple[int, int]) -> None:
     """A SciPy sparse matrix (absent = forbidden) and the same matrix dense with +inf (which
