@@ -8,7 +8,7 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
-use super::convert::{count, owned, parse, row_major, slice1, to_numpy, to_usize, I64Array};
+use super::convert::{count, owned, parse, row_major, slice1, to_usize, I64Array};
 use super::errors::{value_error, BindError, BindResult};
 use super::interrupt;
 use passive_assoc_core::assign::lagrangian::LagrangianOptions;
