@@ -5,6 +5,7 @@ mod candidates;
 mod missed;
 mod progress;
 mod reference;
+mod rounds;
 pub(super) mod sim;
 
 use super::candidate::Candidate;
