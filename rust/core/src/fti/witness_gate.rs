@@ -47,6 +47,11 @@ impl<'t> Witnesses<'t> {
         }
     }
 
+    /// Whether there is a witness scan to ask.
+    pub(super) fn asks(&self) -> bool {
+        self.need > 0
+    }
+
     /// Whether enough witness scans see the candidate of `first` and `last` (meetings
     /// `located`: points and covariances). Passes when there is no witness to ask or the
     /// candidate has no trajectory to predict with (the fit decides those).
