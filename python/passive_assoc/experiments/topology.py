@@ -42,7 +42,8 @@ GROSS_BIAS_DEG = 1.0
 
 def local_tracks(scenario: RadarScenario, rng: np.random.Generator, process_noise: float = PROCESS_NOISE) -> TrackTable:
     """Every radar's tracks: a CV EKF per (radar, target) on its own range/azimuth reports,
-    positions in the radar's own biased frame, ids shuffled per radar. (The radar's own
+    positions in the radar's own biased frame (with the filter's covariance), ids shuffled per
+    radar. (The radar's own
     report-to-track assignment is taken as given: it is not the method under test.)"""
     m = scenario.measurements
     groups, track_ids = [], []
@@ -68,6 +69,7 @@ def local_tracks(scenario: RadarScenario, rng: np.random.Generator, process_nois
         m.time[rows],
         out.states[rows, :2],
         velocity=out.states[rows, 2:4],
+        covariance=out.covariances[rows],
         truth=m.truth[rows],
         sort=True,
     )
