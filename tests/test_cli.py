@@ -109,11 +109,23 @@ def test_reproduce_topology_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[
     for coverage in record.values():
         assert [row["bias_deg"] for row in coverage["rows"]] == [0.0, 5.0]
         for row in coverage["rows"]:
-            for method in ("topology", "nearest"):
+            for method in ("paper rule", "topology", "fused", "nearest"):
                 assert 0.0 <= row[method]["f1"] <= 100.0
     full = record["full"]["rows"]
     assert full[1]["topology"]["f1"] > full[1]["nearest"]["f1"], "at ±5° topology beats nearest neighbour"
+    assert full[1]["fused"]["bias_within_3_std"] >= 0.9
     assert out_png.stat().st_size > 10_000
+
+
+def test_reproduce_topology_ring_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json = tmp_path / "ring.json"
+    args = ["reproduce", "topology", "--scenario", "ring", "--runs", "1", "--bias", "5", "--scans", "20"]
+    assert cli_main([*args, "--json", str(out_json)]) == 0
+    text = capsys.readouterr().out
+    assert "28 radar pairs" in text and "topology (default)" in text and "nearest (default)" in text
+    level = json.loads(out_json.read_text())["levels"]["5.0"]
+    assert level["topology (default)"]["pair"]["f1"] > level["topology, assignment"]["pair"]["f1"] - 0.05
+    assert level["topology (default)"]["bias"]["estimates"] > 20
 
 
 def test_reproduce_wavelet_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
