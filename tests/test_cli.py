@@ -137,13 +137,14 @@ def test_reproduce_wavelet_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[s
     record = json.loads(out_json.read_text())
     assert set(record) == {"settings", "paper", "levels", "passive_2d"}
     assert set(record["levels"]) == {"0", "2"}
-    ablations = ("wavelet_per_scan", "wavelet_literal")
+    ablations = ("wavelet_paper", "wavelet_per_scan", "wavelet_literal")
     assert not set(ablations) & set(record["levels"]["2"]), "the ablations run without false tracks only"
     for summary in [*record["levels"].values(), record["passive_2d"]]:
-        for method in ("wavelet", "nearest", "chi2", *(ablations if summary is not record["levels"]["2"] else ())):
+        compared = ("wavelet", "nearest", "chi2", "combined")
+        for method in (*compared, *(ablations if summary is not record["levels"]["2"] else ())):
             cell = summary[method]
-            assert len(cell["per_scan"]) == 30 and cell["per_scan"][:2] == [None, None]  # no track before scan 3
-            values = [*cell["per_scan"][2:], cell["mean_6_30"], cell["min_15_30"], cell["gate_keeps_true_6_30"]]
+            assert len(cell["per_scan"]) == 30  # the trackers start from a prior: a track from scan 1
+            values = [*cell["per_scan"], cell["mean_6_30"], cell["min_15_30"], cell["gate_keeps_true_6_30"]]
             assert all(0.0 <= v <= 1.0 for v in values)
     assert out_png.stat().st_size > 10_000
 

@@ -18,9 +18,16 @@ import numpy as np
 from numpy.typing import NDArray
 from tqdm import tqdm
 
+from .._settings import KalmanInit
 from ..data import TrackTable
 from ..distributed import current_client
-from ..radar_esm import Chi2TrackAssociator, RadarEsmAssociation, WaveletFuzzyAssociator, filter_reports
+from ..radar_esm import (
+    Chi2TrackAssociator,
+    RadarEsmAssociation,
+    WaveletChi2Associator,
+    WaveletFuzzyAssociator,
+    filter_reports,
+)
 from ..radar_esm.baselines import position_gate_pairs
 from ..simulation.radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, paper_wavelet_scenario
 from ..track_association import NearestNeighbourAssociator, TrackAssociation
@@ -36,6 +43,8 @@ METHODS = {
     "wavelet": "wavelet-fuzzy",
     "nearest": "nearest nb.",
     "chi2": "χ² test",
+    "combined": "combined",
+    "wavelet_paper": "τ = 0.5",
     "wavelet_per_scan": "per-scan Σ",
     "wavelet_literal": "literal stat.",
 }
@@ -63,12 +72,14 @@ class Associator(Protocol):
 
 @dataclass(frozen=True)
 class Settings:
-    """What a run needs besides its seed and clutter level."""
+    """What a run needs besides its seed and clutter level: the trackers' q and start, the
+    coarse window and gate probability, and whether the ablations run."""
 
     process_noise: float = PROCESS_NOISE
     window: int | None = None
     gate_probability: float = 0.99
     ablations: bool = True
+    init: KalmanInit = "single_point"
 
 
 #: The nearest-neighbour baseline's position χ² gate.
@@ -76,27 +87,28 @@ NEAREST_GATE_PROBABILITY = 0.99
 
 
 def methods(settings: Settings) -> dict[str, Associator]:
-    """The associators compared, one thread each (runs are parallel instead). The
-    wavelet-fuzzy method is given the trackers' q, so that its window covariance includes the
-    filtered errors' scan-to-scan correlation; the two ablations are without it: Σ diagonal in
-    time (whitened), and the paper's literal scalar statistic."""
+    """The associators compared, one thread each (runs are parallel instead), all with their
+    defaults but the coarse window and gate probability: the wavelet-fuzzy method reads its
+    process noise back from the tracks (the trackers' q, so that its window covariance includes
+    the filtered errors' scan-to-scan correlation); the combined decision (the project's
+    extension); ``τ = 0.5`` the wavelet-fuzzy method with METHODS' reading of τ
+    (:meth:`WaveletFuzzyAssociator.paper`); the two gate ablations: Σ diagonal in time
+    (whitened), and the paper's literal scalar statistic."""
 
-    def wavelet(whitened: bool, process_noise: float | None) -> WaveletFuzzyAssociator:
+    def wavelet(**changes: object) -> WaveletFuzzyAssociator:
         return WaveletFuzzyAssociator(
-            window=settings.window,
-            gate_probability=settings.gate_probability,
-            whitened=whitened,
-            process_noise=process_noise,
-            n_threads=1,
+            **{"window": settings.window, "gate_probability": settings.gate_probability, "n_threads": 1, **changes}  # type: ignore[arg-type]
         )
 
     compared: dict[str, Associator] = {
-        "wavelet": wavelet(whitened=True, process_noise=settings.process_noise),
+        "wavelet": wavelet(),
         "nearest": NearestNeighbourAssociator(gate_probability=NEAREST_GATE_PROBABILITY, n_threads=1),
         "chi2": Chi2TrackAssociator(),
+        "combined": WaveletChi2Associator(window=settings.window, n_threads=1),
     }
     if settings.ablations:
-        compared["wavelet_per_scan"] = wavelet(whitened=True, process_noise=None)
+        compared["wavelet_paper"] = wavelet(tau=0.5)
+        compared["wavelet_per_scan"] = wavelet(process_noise=None)
         compared["wavelet_literal"] = wavelet(whitened=False, process_noise=None)
     return compared
 
@@ -157,7 +169,7 @@ def score(
 
 def run_once(seed: np.random.SeedSequence, n_clutter: int, settings: Settings) -> RunScores:
     scenario = paper_wavelet_scenario(np.random.default_rng(seed), n_clutter=n_clutter)
-    tracks = filter_reports(scenario.measurements, settings.process_noise, n_threads=1)
+    tracks = filter_reports(scenario.measurements, settings.process_noise, init=settings.init, n_threads=1)
     radar, esm = tracks.of(0), tracks.of(1)
     correct, keeps, above = {}, {}, None
     for name, method in methods(settings).items():
