@@ -137,7 +137,7 @@ def test_reproduce_wavelet_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[s
     record = json.loads(out_json.read_text())
     assert set(record) == {"settings", "paper", "levels", "passive_2d"}
     assert set(record["levels"]) == {"0", "2"}
-    ablations = ("wavelet_paper", "wavelet_per_scan", "wavelet_literal")
+    ablations = ("wavelet_paper", "wavelet_per_scan", "wavelet_literal", "wavelet_raw", "combined_raw")
     assert not set(ablations) & set(record["levels"]["2"]), "the ablations run without false tracks only"
     for summary in [*record["levels"].values(), record["passive_2d"]]:
         compared = ("wavelet", "nearest", "chi2", "combined")

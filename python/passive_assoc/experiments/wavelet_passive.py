@@ -24,7 +24,7 @@ from ..data import MeasurementTable, SensorNetwork, TrackTable
 from ..radar_esm import bearing_fixes, filter_reports
 from ..simulation.radar_esm import RadarEsmScenario, paper_wavelet_scenario
 from .common import print_rows, run_seeds
-from .wavelet_runs import METHODS, RunScores, Settings, map_seeds, methods, score, summarise
+from .wavelet_runs import METHODS, RAW, RunScores, Settings, map_seeds, methods, score, summarise
 
 #: The three ESM sites (m): a triangle about 50 km around the targets' [0, 20] km square.
 ESM_SITES = np.array([[-40e3, -30e3], [60e3, -30e3], [10e3, 60e3]])
@@ -75,8 +75,10 @@ def demo_run(seed: np.random.SeedSequence, settings: Settings) -> tuple[RunScore
     scenario, radar, fixes, passive = demo_tracks(seed, settings.process_noise, settings.init)
     correct, keeps = {}, {}
     for name, method in methods(settings).items():
+        # The raw-input methods take the radar's reports and the fixes as they are.
+        sides = (scenario.measurements.of(0), fixes) if name in RAW else (radar, passive)
         correct[name], keeps[name] = score(
-            method.associate(local=passive, system=radar), radar, passive, scenario.scan_times
+            method.associate(local=sides[1], system=sides[0]), sides[0], sides[1], scenario.scan_times
         )
     return RunScores(correct, keeps), _fix_rms(scenario, fixes)
 

@@ -59,6 +59,7 @@ def print_summary(levels: dict[int, Any], runs: int) -> None:
     print("'τ = 0.5': wavelet-fuzzy with METHODS' reading of τ (WaveletFuzzyAssociator.paper())")
     print("'per-scan Σ': wavelet-fuzzy with Σ diagonal in time (no cross-time covariance; ablation)")
     print("'literal stat.': wavelet-fuzzy with the paper's unwhitened coarse statistic (ablation)")
+    print("'reports': wavelet-fuzzy and the combined decision given the raw reports, filtered inside")
 
 
 def print_losses(levels: dict[int, Any]) -> None:

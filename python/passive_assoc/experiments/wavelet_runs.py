@@ -36,8 +36,8 @@ from .common import map_runs
 #: The paper's correct-association probabilities (its §5), as ranges over scans.
 PAPER = {"wavelet": (0.88, 0.93), "nearest": (0.72, 0.85)}
 #: The ablations: run on the scenes without false tracks (and in the 2-D demo) only, where the
-#: acceptance reads them; the clutter sweep compares the three methods.
-ABLATIONS = ("wavelet_per_scan", "wavelet_literal")
+#: acceptance reads them; the clutter sweep compares the four methods.
+ABLATIONS = ("wavelet_paper", "wavelet_per_scan", "wavelet_literal", "wavelet_raw", "combined_raw")
 #: Methods in print order, with their column titles.
 METHODS = {
     "wavelet": "wavelet-fuzzy",
@@ -47,7 +47,12 @@ METHODS = {
     "wavelet_paper": "τ = 0.5",
     "wavelet_per_scan": "per-scan Σ",
     "wavelet_literal": "literal stat.",
+    "wavelet_raw": "w.-f., reports",
+    "combined_raw": "comb., reports",
 }
+#: The methods given the sensors' raw reports instead of the filtered tracks (they filter them
+#: themselves, and their coarse gate reads the reports).
+RAW = ("wavelet_raw", "combined_raw")
 N_TARGETS = len(PAPER_WAVELET_TARGETS)
 #: Scans 6–30 (1-based): the mean the paper's range is compared with.
 SCORED = slice(5, None)
@@ -93,7 +98,8 @@ def methods(settings: Settings) -> dict[str, Associator]:
     the filtered errors' scan-to-scan correlation); the combined decision (the project's
     extension); ``τ = 0.5`` the wavelet-fuzzy method with METHODS' reading of τ
     (:meth:`WaveletFuzzyAssociator.paper`); the two gate ablations: Σ diagonal in time
-    (whitened), and the paper's literal scalar statistic."""
+    (whitened), and the paper's literal scalar statistic; and the wavelet-fuzzy method and the
+    combined decision given the raw reports (filtered inside with the trackers' q)."""
 
     def wavelet(**changes: object) -> WaveletFuzzyAssociator:
         return WaveletFuzzyAssociator(
@@ -110,6 +116,10 @@ def methods(settings: Settings) -> dict[str, Associator]:
         compared["wavelet_paper"] = wavelet(tau=0.5)
         compared["wavelet_per_scan"] = wavelet(process_noise=None)
         compared["wavelet_literal"] = wavelet(whitened=False, process_noise=None)
+        compared["wavelet_raw"] = wavelet(process_noise=settings.process_noise)
+        compared["combined_raw"] = WaveletChi2Associator(
+            window=settings.window, process_noise=settings.process_noise, n_threads=1
+        )
     return compared
 
 
@@ -173,6 +183,11 @@ def run_once(seed: np.random.SeedSequence, n_clutter: int, settings: Settings) -
     radar, esm = tracks.of(0), tracks.of(1)
     correct, keeps, above = {}, {}, None
     for name, method in methods(settings).items():
+        if name in RAW:
+            raw_radar, raw_esm = scenario.measurements.of(0), scenario.measurements.of(1)
+            result = method.associate(local=raw_esm, system=raw_radar)
+            correct[name], keeps[name] = score(result, raw_radar, raw_esm, scenario.scan_times)
+            continue
         result = method.associate(local=esm, system=radar)
         correct[name], keeps[name] = score(result, radar, esm, scenario.scan_times)
         if name == "wavelet":
