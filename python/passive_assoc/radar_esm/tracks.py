@@ -113,6 +113,9 @@ REPORT_PROCESS_NOISE = 250.0
 #: How far apart (relative) the process noise of one table's filter steps may be, for
 #: :func:`process_noise_of` to read them as one filter's.
 CONSISTENT = 0.01
+#: Filter steps :func:`process_noise_of` reads at most (evenly spread over the table), and the
+#: bisections per step: 50 halvings of the 24 decades searched leave 2e-14 of a decade.
+MAX_STEPS, BISECTIONS = 64, 50
 
 
 def process_noise_of(tracks: TrackTable) -> float | None:
@@ -134,7 +137,7 @@ def process_noise_of(tracks: TrackTable) -> float | None:
     step = np.flatnonzero(same)
     if len(step) == 0:
         return None
-    step = step[:: max(1, len(step) // 400)]  # a few hundred steps say it as well as all
+    step = step[:: max(1, len(step) // MAX_STEPS)]  # a few dozen steps say it as well as all
     dt = tracks.time[step + 1] - tracks.time[step]
     before, after = tracks.covariance[step], tracks.covariance[step + 1]
     transition, unit = _ca_model(dt, d)
@@ -152,7 +155,7 @@ def process_noise_of(tracks: TrackTable) -> float | None:
     try:
         if not (np.all(moments(low) >= target) and np.all(moments(high) <= target)):
             return None
-        for _ in range(80):
+        for _ in range(BISECTIONS):
             middle = (low + high) / 2
             above = moments(middle) > target
             low, high = np.where(above, middle, low), np.where(above, high, middle)
