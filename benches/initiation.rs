@@ -18,7 +18,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use passive_assoc_core::data::{Measurements, Sensors};
 use passive_assoc_core::fti::{
     closeness_and_gradient, descend, generate_candidates, initiate, resolve_pairs,
-    InitiationOptions, Precomputed, Problem, Scans, Spreads,
+    InitiationOptions, Precomputed, Problem, Scans, Slot, Spreads,
 };
 use passive_assoc_core::geometry::model::{predict, Motion, Space, StateLayout};
 use passive_assoc_core::parallel::with_threads;
@@ -198,9 +198,10 @@ fn bench_descent(c: &mut Criterion) {
     };
     let scans = Scans::new(&rows, 2);
     let pairs = resolve_pairs(None, &scans).expect("two sensors with scans");
-    let outer: Vec<[usize; 4]> = pairs
+    let outer: Vec<Slot> = pairs
         .iter()
         .flat_map(|&p| scans.scan_slots(p, 1, false))
+        .map(Slot::untested)
         .collect();
     let set =
         generate_candidates(&problem, &scans, &outer, None, &options, None).expect("candidates");

@@ -158,21 +158,21 @@ def _two_dense_sensors(n: int) -> tuple[pa.MeasurementTable, pa.SensorNetwork]:
 
 PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
     (
-        # the gradient came back NaN
+        # unchecked, the gradient would be NaN
         "closeness at a 1e300 state",
         lambda: pa.closeness(TABLE, SENSORS, np.full((1, 6), 1e300)),
         ValueError,
         "state components must lie within",
     ),
     (
-        # the fit came back singular and NaN instead of refusing
+        # unchecked, the fit would be singular and NaN instead of refused
         "fit_ml t0 = 2**70",
         lambda: pa.fit_ml(TABLE, SENSORS, [np.arange(len(TABLE))], t0=2**70),
         ValueError,
         "t0",
     ),
     (
-        # accepted, and the covariances came back NaN
+        # accepted, the covariances would be NaN
         "SensorNetwork sigma 1e-300",
         lambda: pa.SensorNetwork.planar(np.array([[0.0, 0.0], [1e4, 0.0]]), 1e-300),
         ValueError,
@@ -185,14 +185,14 @@ PUBLIC_CASES: list[tuple[str, Callable[[], Any], type[Exception], str]] = [
         "an angle std must lie in",
     ),
     (
-        # returned 8.403 where the optimum is 0: 1e300 − 1e300 is lost to rounding
+        # accepted, the answer would cost 8.403 where the optimum is 0: 1e300 − 1e300 is lost to rounding
         "linear_assignment cost beyond ±1e150",
         lambda: pa.linear_assignment([[1e300, 11.07], [-2.667, -1e300]]),
         ValueError,
         "costs: entry 0 is 1e300; finite costs must lie within ±1e150",
     ),
     (
-        # overflowed to −inf and was reported optimal
+        # accepted, the sum would overflow to −inf and be reported optimal
         "assign_sd cost beyond ±1e150",
         lambda: pa.assign_sd([[1, 1, 0], [0, 1, 1]], [-1e308, -1e308], [1, 1, 1], method="exact"),
         ValueError,

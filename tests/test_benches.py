@@ -12,7 +12,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCHES = sorted((ROOT / "benches").glob("*.py"))
-#: "issue 16", "Issue #13": the tracker's numbers are history, which belongs in CHANGELOG.md.
+#: The word "issue" followed by a number (with or without "#"): the tracker's numbers are
+#: history, which belongs in CHANGELOG.md.
 ISSUE = re.compile(r"\bissue\s*#?\s*\d+", re.IGNORECASE)
 
 

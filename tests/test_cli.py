@@ -228,8 +228,8 @@ def test_a_missing_extra_is_one_line_before_any_work(
     what: str,
 ) -> None:
     """The extra is named with the checkout's install command, exit status 2, and nothing ran
-    (nothing printed on standard output, nothing written): `--plot` used to fail after the
-    whole run, with a 25-line traceback and status 1."""
+    (nothing printed on standard output, nothing written): a missing extra is found before
+    the run, not after it with a traceback and status 1."""
     (tmp_path / "m.parquet").write_bytes(b"")  # only its name matters: the check comes first
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == module else real(name, *a))
@@ -267,7 +267,7 @@ def _run(*argv: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str
 
 def test_a_library_warning_is_one_line() -> None:
     """The sensors and measurements swapped: the reader's warning, then the error, one line each
-    (the warning used to print its source file and line and the code line under it)."""
+    (the warning without its source file and line or the code line under it)."""
     sensors, meas = str(EXAMPLES / "associate_sensors.csv"), str(EXAMPLES / "associate_measurements.csv")
     done = _run("associate", sensors, "--sensors", meas, "--out", "never")
     assert done.returncode == 2
@@ -334,8 +334,9 @@ def test_a_file_that_cannot_be_written_is_one_line_and_status_1(
 def test_a_plot_without_a_figure_format_is_refused_before_any_work(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str]
 ) -> None:
-    """It used to fail after the run with "Format 'bc3b8f16' is not supported" (matplotlib read
-    the temporary file's random part as the format) or "Format 'txt'", the outputs written."""
+    """Refused before the run, not after it with "Format 'bc3b8f16' is not supported"
+    (matplotlib reading the temporary file's random part as the format) or "Format 'txt'",
+    the outputs written."""
     with pytest.raises(SystemExit) as stop:
         cli_main([a.format(tmp=tmp_path) for a in argv])
     out, err = capsys.readouterr()

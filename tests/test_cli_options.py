@@ -72,7 +72,7 @@ def test_the_walk_finds_the_options() -> None:
 
 def test_every_method_parameter_option_says_what_it_is() -> None:
     """The file commands' parameter options carry the first sentence of the parameter's
-    docstring entry before the values they take and their default (they had only the latter)."""
+    docstring entry before the values they take and their default."""
 
     def walk(parser: argparse.ArgumentParser) -> Iterator[tuple[str, argparse.Action]]:
         for group in parser._action_groups:

@@ -222,7 +222,7 @@ def test_an_output_that_would_overwrite_an_input_is_refused_before_any_work(
 @pytest.mark.parametrize("umask", [0o022, 0o027, 0o077, 0o002])
 def test_outputs_get_the_mode_the_umask_gives_a_new_file(tmp_path: Path, umask: int) -> None:
     """Written through a temporary file and a rename, the outputs still get 0666 less the
-    umask, as open() gives a new file (they were 0600 whatever the umask)."""
+    umask, as open() gives a new file (not the temporary file's 0600 whatever the umask)."""
     meas, sensors = EXAMPLES / "associate_measurements.csv", str(EXAMPLES / "associate_sensors.csv")
     previous = os.umask(umask)
     try:

@@ -174,6 +174,7 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
             r_max=2e5,
             region=(-1e5, 1e5, -1e5, 1e5),
             in_front=False,
+            max_pairs=1000,
             n_threads=None,
         ),
     ),

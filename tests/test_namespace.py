@@ -1,5 +1,5 @@
-"""The public namespace: the top level keeps every name it exported before the subpackages
-existed, each subpackage's ``__all__`` resolves, and imports between the parts point one way
+"""The public namespace: the top level keeps every name it promises its users, each
+subpackage's ``__all__`` resolves, and imports between the parts point one way
 (so there can be no cycle)."""
 
 from __future__ import annotations
@@ -11,8 +11,7 @@ from pathlib import Path
 import passive_assoc as pa
 import pytest
 
-#: ``passive_assoc.__all__`` before the subpackage restructure (the compatibility promise),
-#: then the names added since.
+#: Top-level names the package keeps for its users (the compatibility promise).
 TOP_LEVEL_NAMES = [
     "StaticAssociation",
     "associate_static",

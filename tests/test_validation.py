@@ -56,3 +56,42 @@ def test_require_finite_and_positive_name_the_element() -> None:
     with pytest.raises(TypeError, match=r"^t: expected a scalar"):
         as_float_scalar("t", [1.0])
     assert as_float_scalar("t", np.float32(2.5)) == 2.5
+
+
+@pytest.mark.parametrize("big", [2**70, -(2**70)])
+def test_an_integer_beyond_int64_is_a_real_number(big: int) -> None:
+    """``np.asarray(2**70)`` is an object array: it was refused as "expected real numbers, got
+    an array of dtype object", though 2**70 is a real number."""
+    assert as_float_array("x", big).item() == float(big)
+    assert as_float_array("x", [1, big]).tolist() == [1.0, float(big)]
+    assert as_float_scalar("x", big) == float(big)
+    with pytest.raises(ValueError, match=r"^s\[1\] = -?1180591620717411303424 is out of the 64-bit integer range"):
+        as_int_array("s", [0, big])
+    with pytest.raises(ValueError, match=r"^x\[1\] = an integer of 401 digits is beyond the range of a float"):
+        as_float_array("x", [0, 10**400])
+
+
+def test_huge_integer_settings_are_refused_or_accepted_by_their_range() -> None:
+    """``t0``, ``spread_factor``, ``false_alarm_density`` and ``pd`` given 2**70 (and
+    10**400): each is checked against its range like any number, never by its Python type."""
+    import passive_assoc as pa
+    from passive_assoc.simulation import static_scan
+
+    scan, fti = static_scan(1, n_targets=3), pa.paper_fti_scenario(1)
+    state = fti.true_states[:1]
+    assert pa.associate_static(scan.measurements, scan.sensors, false_alarm_density=2**70).success
+    assert pa.associate_scans(scan.measurements, scan.sensors, false_alarm_density=2**70).success
+    with pytest.raises(ValueError, match=r"^pd: sensor 0 has 1\.18\d*e\+21, must be in \(0\.0, 1\.0\)"):
+        pa.associate_static(scan.measurements, scan.sensors, pd=2**70)
+    with pytest.raises(ValueError, match=r"^false_alarm_density = an integer of 401 digits is beyond the range"):
+        pa.associate_static(scan.measurements, scan.sensors, false_alarm_density=10**400)
+    assert pa.closeness(fti.measurements, fti.sensors, state, spread_factor=2**70)[0].shape == (1,)
+    with pytest.raises(ValueError, match=r"^spread_factor: an integer of 401 digits"):
+        pa.closeness(fti.measurements, fti.sensors, state, spread_factor=10**400)
+    for t0 in (2**70, 1e300, 10**400):
+        with pytest.raises(ValueError, match=r"^t0: "):
+            pa.closeness(fti.measurements, fti.sensors, state, t0=t0)
+        with pytest.raises(ValueError, match=r"^t0: "):
+            pa.maximize_closeness(fti.measurements, fti.sensors, state, np.eye(6)[None], t0=t0)
+        with pytest.raises(ValueError, match=r"^t0: "):
+            pa.fit_ml(fti.measurements, fti.sensors, fti.true_groups(), t0=t0)

@@ -43,6 +43,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "FuzzyTrackInitiator",
         "InitiatedTrack",
         "InitiationResult",
+        "LimitWarning",
         "closeness",
         "initiate_tracks",
         "maximize_closeness",
@@ -54,6 +55,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "Scenario",
         "bearing_only_2d_scenario",
         "paper_fti_scenario",
+        "ring_scenario",
         "simulate",
     ),
     "static_los": (
@@ -105,6 +107,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers and readers
         FuzzyTrackInitiator,
         InitiatedTrack,
         InitiationResult,
+        LimitWarning,
         initiate_tracks,
         maximize_closeness,
     )
@@ -116,6 +119,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers and readers
         Scenario,
         bearing_only_2d_scenario,
         paper_fti_scenario,
+        ring_scenario,
         simulate,
     )
     from .static_los import (
@@ -154,6 +158,7 @@ __all__ = [
     "associate_tracks",
     "InitiationResult",
     "InitiatedTrack",
+    "LimitWarning",
     "SdAssignment",
     "assign_sd",
     "linear_assignment",
@@ -173,6 +178,7 @@ __all__ = [
     "Scenario",
     "bearing_only_2d_scenario",
     "paper_fti_scenario",
+    "ring_scenario",
     "simulate",
     "associate_scans",
     "ScanAssociation",

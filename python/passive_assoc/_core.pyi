@@ -169,6 +169,10 @@ class StageSeconds:
 @final
 class InitiationOutput:
     @property
+    def formation(self) -> Literal["paper", "rounds"]: ...
+    @property
+    def limit(self) -> str | None: ...
+    @property
     def estimates(self) -> NDArray[np.float64]: ...
     @property
     def covariances(self) -> NDArray[np.float64]: ...
@@ -303,13 +307,14 @@ def associate_scans(
     false_alarm_density: NDArray[np.float64] | None,
     associator: StaticAssociator,
     progress: Callable[[str, float], object] | None = None,
-) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]: ...
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], list[bool]]: ...
 def default_false_alarm_density(
     sensor: NDArray[np.int64],
     azimuth: NDArray[np.float64],
     elevation: NDArray[np.float64] | None,
     n_sensors: int,
     p_false: float,
+    sigma: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]: ...
 def assign_2d_sparse(
     shape: tuple[int, int], indptr: NDArray[np.int64], indices: NDArray[np.int64], data: NDArray[np.float64]
@@ -444,6 +449,7 @@ def locate_formation(
     sensors: SensorNetwork,
     attributes: AttributeEvidence | None,
     settings: FormationLocator,
+    progress: Callable[[str, float], object] | None = None,
 ) -> FormationOutput: ...
 
 #: A core default as Python reads it: a number, a flag, a choice, or None.

@@ -48,6 +48,7 @@ __all__ = [
     "Options",
     "Threads",
     "checked",
+    "constraints_of",
     "declared",
     "validate",
 ]
@@ -56,6 +57,8 @@ Closed = Literal["both", "left", "right", "neither"]
 
 #: Largest integer the compiled core accepts.
 INT64_MAX = 2**63 - 1
+#: The largest finite float, as an exact integer: a larger int has no float (OverflowError).
+_FLOAT_MAX = int(np.finfo(np.float64).max)
 
 
 @dataclass(frozen=True)
@@ -155,6 +158,9 @@ def _check(name: str, value: Any, constraints: Sequence[Constraint]) -> Any:
             if constraint.kind is int and abs(int(value)) > INT64_MAX:
                 # The core takes 64-bit integers: say so rather than let an OverflowError out.
                 raise ValueError(f"{name}: {value} is out of the 64-bit integer range")
+            if constraint.kind is float and isinstance(value, numbers.Integral) and abs(int(value)) > _FLOAT_MAX:
+                digits = len(str(abs(int(value))))
+                raise ValueError(f"{name}: an integer of {digits} digits is beyond the range of a float")
             if constraint.contains(float(value) if constraint.kind is float else int(value)):
                 return constraint.normalise(value)
         elif isinstance(constraint, Options) and isinstance(value, str):
@@ -212,6 +218,19 @@ def validate(values: Mapping[str, Any], constraints: Mapping[str, Sequence[Const
 
 
 Table = dict[str, list[Constraint]]
+
+
+def constraints_of(hint: Any) -> list[Constraint]:
+    """The constraints an ``Annotated`` declaration carries, for a :func:`validate` table:
+    ``constraints_of(Threads)`` checks ``n_threads`` as every entry point does.
+
+    >>> constraints_of(Threads)
+    [Interval(kind=<class 'int'>, low=1, high=None, closed='both'), None]
+    """
+    found = _constraints_in(hint)
+    if found is None:
+        raise TypeError(f"{hint!r} declares no constraints")
+    return found
 
 
 def _constraints_in(hint: Any) -> list[Constraint] | None:

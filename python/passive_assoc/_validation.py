@@ -26,6 +26,7 @@ __all__ = [
     "require_finite",
     "require_positive",
     "require_nonnegative",
+    "require_time_range",
     "readonly",
 ]
 
@@ -49,6 +50,36 @@ def _to_array(name: str, value: ArrayLike) -> NDArray[Any]:
         return np.asarray(value)
     except (ValueError, TypeError) as exc:  # ragged nested lists in NumPy >= 1.24
         raise ValueError(f"{name}: cannot be converted to an array ({exc})") from None
+
+
+def _big_integers(name: str, arr: NDArray[Any], kind: str) -> NDArray[Any]:
+    """An object array of Python integers beyond int64 (``np.asarray(2**70)``) as float64
+    (``kind`` "f"), or a ValueError naming the first element int64 cannot hold (``kind`` "i");
+    any other array unchanged. They are real numbers, not objects of another kind."""
+    if arr.dtype != object or arr.size == 0:
+        return arr
+    flat = arr.ravel()
+    if not all(type(v) is int or isinstance(v, np.integer) for v in flat):
+        return arr
+    if kind == "i":
+        i = next(k for k, v in enumerate(flat) if not -(2**63) <= int(v) < 2**63)
+        raise ValueError(f"{_where(name, arr, i)} = {integer_text(int(flat[i]))} is out of the 64-bit integer range")
+    beyond = next((k for k, v in enumerate(flat) if abs(int(v)) > _FLOAT_MAX), None)
+    if beyond is not None:
+        text = integer_text(int(flat[beyond]))
+        raise ValueError(f"{_where(name, arr, beyond)} = {text} is beyond the range of a float")
+    return np.array([float(v) for v in flat], dtype=np.float64).reshape(arr.shape)
+
+
+#: The largest finite float64, as an exact integer (comparing a huge int with a float would
+#: convert the int and overflow).
+_FLOAT_MAX = int(np.finfo(np.float64).max)
+
+
+def integer_text(value: int) -> str:
+    """An integer for an error message: its digits, or their count past 30 of them."""
+    digits = str(value)
+    return digits if len(digits) <= 30 else f"an integer of {len(digits.lstrip('-'))} digits"
 
 
 def _check_kind(name: str, arr: NDArray[Any], allowed: str, what: str) -> None:
@@ -104,7 +135,7 @@ def as_float_array(
     ValueError
         If the shape is wrong or the input is ragged.
     """
-    arr = _to_array(name, value)
+    arr = _big_integers(name, _to_array(name, value), "f")
     _check_kind(name, arr, "iuf", "real numbers")
     _check_shape(name, arr, ndim, shape)
     return np.array(arr, dtype=np.float64, order="C", copy=True)
@@ -145,7 +176,7 @@ def as_int_array(
     ValueError
         If the shape is wrong or a float element is not an exact integer.
     """
-    arr = _to_array(name, value)
+    arr = _big_integers(name, _to_array(name, value), "i")
     _check_kind(name, arr, "iuf", "integers")
     _check_shape(name, arr, ndim, shape)
     if arr.dtype.kind == "f":
@@ -172,7 +203,7 @@ def as_float_scalar(name: str, value: Any, *, finite: bool = False) -> float:
     ValueError
         If ``finite`` is set and the value is NaN or infinite.
     """
-    arr = _to_array(name, value)
+    arr = _big_integers(name, _to_array(name, value), "f")
     if arr.ndim != 0:
         raise TypeError(f"{name}: expected a scalar, got an array of shape {arr.shape}")
     _check_kind(name, arr, "iuf", "a real number")
@@ -227,7 +258,7 @@ def require_nonnegative(name: str, arr: NDArray[Any]) -> None:
 
 
 #: Largest magnitude accepted for a state component (metres, m/s): beyond it the angle
-#: arithmetic keeps no digits of a sensor's offset (closeness gradients were NaN at 1e300).
+#: arithmetic keeps no digits of a sensor's offset (at 1e300 the closeness gradients are NaN).
 MAX_STATE_MAGNITUDE = 1e12
 
 
@@ -240,6 +271,24 @@ def require_state_range(name: str, arr: NDArray[Any]) -> None:
         raise ValueError(
             f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; state components must lie within "
             f"±{MAX_STATE_MAGNITUDE:g} (m, m/s), where the angle arithmetic stays exact enough"
+        )
+
+
+#: Largest magnitude accepted for a time, seconds (32 000 years): the bound of every epoch
+#: ``t0`` (``_params.Epoch``) and of the Kalman filter's times. Beyond it a time step keeps
+#: no digits of the times it separates.
+MAX_TIME_MAGNITUDE = 1e12
+
+
+def require_time_range(name: str, arr: NDArray[Any]) -> None:
+    """Raise ValueError naming the first element that is not finite or beyond
+    ±:data:`MAX_TIME_MAGNITUDE` seconds."""
+    require_finite(name, arr)
+    bad = np.abs(arr) > MAX_TIME_MAGNITUDE
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"{_where(name, arr, i)} = {arr.flat[i].item()!r}; times must lie within ±{MAX_TIME_MAGNITUDE:g} s"
         )
 
 

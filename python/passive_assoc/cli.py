@@ -1,10 +1,11 @@
 """The ``passive-assoc`` command line.
 
 ``passive-assoc demo`` simulates the paper-000 scenario and prints, per target, the ML
-estimate with perfect association beside the truth and the CRLB; ``initiate`` and
-``associate`` run a method on the user's own files; ``reproduce`` runs a paper's experiment.
-``passive-assoc --help`` lists every command. A command's modules are imported only when it
-runs (or its help is asked for), so that the top-level help answers at once.
+estimate with perfect association beside the truth and the CRLB; ``initiate``,
+``associate``, ``locate`` and ``associate-tracks`` run a method on the user's own files;
+``reproduce`` runs a paper's experiment. ``passive-assoc --help`` lists every command. A
+command's modules are imported only when it runs (or its help is asked for), so that the
+top-level help answers at once.
 """
 
 from __future__ import annotations

@@ -21,8 +21,9 @@ use passive_assoc_core::static_los::{associate_scans as core_associate_scans, Sc
 /// scans), `pd` per sensor, `false_alarm_density` per scan and sensor (`None`: each scan's
 /// default). `method` picks the solver ("intensity", "lagrangian", or "exact": the
 /// branch-and-bound). Returns (labels per entry of `rows`: target index within its scan or −1;
-/// targets per scan; positions of every target, scan by scan, `(targets, dim)`). `progress`,
-/// when given, is called `("scans", fraction)` as scans finish (module `progress`).
+/// targets per scan; positions of every target, scan by scan, `(targets, dim)`; per scan,
+/// whether the branch-and-bound stopped at `max_nodes` unproven). `progress`, when given, is
+/// called `("scans", fraction)` as scans finish (module `progress`).
 #[pyfunction]
 #[pyo3(signature = (measurements, sensors, rows, offsets, pd, false_alarm_density, associator, progress=None))]
 #[allow(clippy::too_many_arguments)] // the table, its scans, the per-sensor arrays, the settings
@@ -36,7 +37,7 @@ pub fn associate_scans<'py>(
     false_alarm_density: Option<PyReadonlyArray2<'py, f64>>,
     associator: &Bound<'py, PyAny>,
     progress: Option<Py<PyAny>>,
-) -> BindResult<(I64Array<'py>, I64Array<'py>, F64Array<'py>)> {
+) -> BindResult<(I64Array<'py>, I64Array<'py>, F64Array<'py>, Vec<bool>)> {
     let enumeration: EnumerationSettings = associator.extract()?;
     let sd: SdSettings = associator.extract()?;
     let intensity: IntensitySettings = associator.extract()?;
@@ -88,10 +89,12 @@ pub fn associate_scans<'py>(
         .iter()
         .flat_map(|r| r.positions.iter().copied())
         .collect();
+    let node_limited: Vec<bool> = results.iter().map(|r| r.node_limited).collect();
     let (n_labels, n_scans, n_targets) = (labels.len(), targets.len(), positions.len() / dim);
     Ok((
         to_numpy(py, labels, &[n_labels])?,
         to_numpy(py, targets, &[n_scans])?,
         to_numpy(py, positions, &[n_targets, dim])?,
+        node_limited,
     ))
 }

@@ -42,6 +42,9 @@ pub fn option_defaults(py: Python<'_>, paper: bool) -> BindResult<Bound<'_, PyDi
     let d = kind("initiation")?;
     let pairs: Option<Vec<(usize, usize)>> =
         o.pairs().map(|p| p.iter().map(|&[a, b]| (a, b)).collect());
+    d.set_item("candidates", o.candidates().name())?;
+    d.set_item("prefit_gates", o.prefit_gates())?;
+    d.set_item("on_limit", if o.stop_at_limit() { "warn" } else { "raise" })?;
     d.set_item("pairs", pairs)?;
     d.set_item("gate_sigmas", o.gate_sigmas())?;
     d.set_item("n_detect", o.n_detect())?;
@@ -128,6 +131,7 @@ pub fn option_defaults(py: Python<'_>, paper: bool) -> BindResult<Bound<'_, PyDi
         o.region().map(|r| (r.x[0], r.x[1], r.y[0], r.y[1])),
     )?;
     d.set_item("in_front", o.in_front())?;
+    d.set_item("max_pairs", o.max_pairs())?;
 
     let o = pick(paper, TopologyOptions::recommended, TopologyOptions::paper);
     let d = kind("topology")?;

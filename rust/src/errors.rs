@@ -1,7 +1,7 @@
-//! The one place where core errors become Python exceptions. Every core variant but one
+//! The one place where core errors become Python exceptions. Every core variant but two
 //! describes a bad argument value and maps to `ValueError`; `OutOfMemory` maps to
-//! `MemoryError`. Wrong types are rejected by PyO3's own extraction as `TypeError` before the
-//! core is reached.
+//! `MemoryError` and `Interrupted` to `KeyboardInterrupt`. Wrong types are rejected by PyO3's
+//! own extraction as `TypeError` before the core is reached.
 //!
 //! The orphan rule forbids `impl From<CoreError> for PyErr` outside the core, so the bindings
 //! return [`BindResult`], whose error holds either side and converts to `PyErr` at the edge.

@@ -10,8 +10,11 @@ use super::convert::{
 };
 use super::errors::{value_error, BindResult};
 use super::interrupt;
+use super::progress::Sink;
 use passive_assoc_core::evidence::{AttributeGate, AttributeTable};
-use passive_assoc_core::formation::{locate, FormationOptions, FormationOutput, Reference};
+use passive_assoc_core::formation::{
+    locate_reporting, FormationOptions, FormationOutput, Reference,
+};
 use passive_assoc_core::parallel::with_threads;
 
 /// `passive_assoc._settings.AttributeEvidence`, read by attribute: the attribute columns
@@ -66,6 +69,7 @@ pub struct FormationSettings {
     r_max: f64,
     region: Option<[f64; 4]>,
     in_front: bool,
+    max_pairs: i64,
     n_threads: Option<i64>,
 }
 
@@ -87,7 +91,8 @@ impl FormationSettings {
             .with_cluster_radius(parse("cluster_radius", &self.cluster_radius)?)
             .with_one_to_one(self.one_to_one)
             .with_r_max(self.r_max)?
-            .with_in_front(self.in_front);
+            .with_in_front(self.in_front)
+            .with_max_pairs(count("max_pairs", self.max_pairs, 1)?)?;
         if let Some(region) = self.region {
             options = options.with_region(region)?;
         }
@@ -133,14 +138,17 @@ pub struct FormationOutputPy {
 
 /// The modified baseline least-distance method on one snapshot of 2-D bearings, with the
 /// attribute gate when `attributes` is given. Identical results for any thread count.
+/// `progress`, when given, is called `(stage, fraction)` as baseline reports are decided
+/// (module `progress`).
 #[pyfunction]
-#[pyo3(signature = (measurements, sensors, attributes, settings))]
+#[pyo3(signature = (measurements, sensors, attributes, settings, progress=None))]
 pub fn locate_formation(
     py: Python<'_>,
     measurements: MeasurementsArg<'_>,
     sensors: SensorsArg<'_>,
     attributes: Option<AttributesArg<'_>>,
     settings: FormationSettings,
+    progress: Option<Py<PyAny>>,
 ) -> BindResult<FormationOutputPy> {
     let options = settings.options()?;
     let n_threads = threads(settings.n_threads)?;
@@ -153,10 +161,14 @@ pub fn locate_formation(
         Some(a) => Some(a.gate(table.len())?),
         None => None,
     };
+    let sink = Sink::new(progress);
+    let reported = sink.progress();
     let out = interrupt::detach(py, || {
-        with_threads(n_threads, || locate(&network, &table, gate, &options))
-    })???;
-    output(py, out)
+        with_threads(n_threads, || {
+            locate_reporting(&network, &table, gate, &options, reported)
+        })
+    })??;
+    output(py, sink.settle(out)?)
 }
 
 fn output(py: Python<'_>, out: FormationOutput) -> BindResult<FormationOutputPy> {

@@ -27,6 +27,9 @@ type SpreadArrays<'py> = (PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, f64>
 /// (the fields it declares).
 #[derive(FromPyObject)]
 pub struct InitiationSettings {
+    candidates: String,
+    prefit_gates: bool,
+    on_limit: String,
     gate_sigmas: f64,
     n_detect: Option<i64>,
     ray_gate_sigmas: Option<f64>,
@@ -54,6 +57,9 @@ impl InitiationSettings {
             .with_max_iter(count("descent_max_iter", self.descent_max_iter, 0)?)
             .with_scaling(parse("descent_scaling", &self.descent_scaling)?);
         Ok(InitiationOptions::default()
+            .with_candidates(parse("candidates", &self.candidates)?)
+            .with_prefit_gates(self.prefit_gates)
+            .with_stop_at_limit(stop_at_limit(&self.on_limit)?)
             .with_pairs(pairs)
             .with_gate_sigmas(self.gate_sigmas)?
             .with_n_detect(self.n_detect.map(|n| count("n_detect", n, 1)).transpose()?)?
@@ -76,6 +82,19 @@ impl InitiationSettings {
                     .map(|n| count("search_stage", n, 1))
                     .transpose()?,
             )?)
+    }
+}
+
+/// `on_limit`'s spelling: `"warn"` goes on with the tracks found (the Python package warns),
+/// `"raise"` fails.
+fn stop_at_limit(on_limit: &str) -> BindResult<bool> {
+    match on_limit {
+        "warn" => Ok(true),
+        "raise" => Ok(false),
+        other => Err(value_error(
+            "on_limit",
+            format!("expected 'warn' or 'raise', got {other:?}"),
+        )),
     }
 }
 
@@ -117,6 +136,10 @@ pub struct InitiationOutput {
     descent_iterations: Py<PyArrayDyn<i64>>,
     stage_counts: Py<StageCounts>,
     stage_seconds: Py<StageSeconds>,
+    /// The formation that ran, `"paper"` or `"rounds"`.
+    formation: &'static str,
+    /// The limit that ended the formation early, or `None`.
+    limit: Option<String>,
 }
 
 /// Fuzzy track initiation. `pairs` is (K, 2) sensor indices; an empty (0, 2) array means every
@@ -185,6 +208,8 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
         final_fit,
     } = result.stage_seconds;
     Ok(InitiationOutput {
+        formation: result.formation.name(),
+        limit: result.limit,
         estimates: to_numpy(py, estimates, &[t, d])?.unbind(),
         covariances: to_numpy(py, covariances, &[t, d, d])?.unbind(),
         closeness: owned(py, result.tracks.iter().map(|r| r.closeness).collect())?,

@@ -23,7 +23,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    interrupt::install();
+    interrupt::install(m.py())?;
     m.add_function(wrap_pyfunction!(fit::fit_batch, m)?)?;
     m.add_function(wrap_pyfunction!(fit::crlb, m)?)?;
     m.add_function(wrap_pyfunction!(assign::assign_sd, m)?)?;

@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 
 use super::convert::{row_major, slice2, threads, to_numpy, F64Array, I64Array};
 use super::errors::{value_error, BindResult};
+use super::interrupt;
 use passive_assoc_core::parallel::with_threads_unless_sequential;
 use passive_assoc_core::radar_esm::{
     coarse_gate, coarse_gate_coupled, repeated_maximum as repeated_maximum_core, runs_sequentially,
@@ -100,11 +101,11 @@ pub fn wavelet_coarse_gate<'py>(
     let radar = side(Side::Radar, &RADAR, &radar, &operator)?;
     let esm = side(Side::Esm, &ESM, &esm, &operator)?;
     let sequential = runs_sequentially(radar.len(), esm.len());
-    let gate = py.detach(|| {
+    let gate = interrupt::detach(py, || {
         with_threads_unless_sequential(sequential, n_threads, || {
             coarse_gate(&operator, &radar, &esm, &options)
         })
-    })??;
+    })???;
     let shape = [gate.radar, gate.esm];
     Ok((
         to_numpy(py, gate.statistic, &shape)?,
@@ -157,11 +158,11 @@ pub fn wavelet_coarse_gate_coupled<'py>(
     )?;
     let esm = coupled(Side::Esm, ("esm_coefficients", "esm_covariances"), &esm)?;
     let sequential = runs_sequentially(radar.len(), esm.len());
-    let gate = py.detach(|| {
+    let gate = interrupt::detach(py, || {
         with_threads_unless_sequential(sequential, n_threads, || {
             coarse_gate_coupled(&radar, &esm, &options)
         })
-    })??;
+    })???;
     let shape = [gate.radar, gate.esm];
     Ok((
         to_numpy(py, gate.statistic, &shape)?,
@@ -200,11 +201,11 @@ pub fn repeated_maximum<'py>(
     let dims = (shape[0], shape[1], shape[2]);
     // Per scan the work is a sort of its candidates: worth the pool only for many of them.
     let sequential = dims.0.saturating_mul(dims.1).saturating_mul(dims.2) < 1 << 16;
-    let picks = py.detach(|| {
+    let picks = interrupt::detach(py, || {
         with_threads_unless_sequential(sequential, n_threads, || {
             repeated_maximum_core(score, allowed, tie, dims, threshold)
         })
-    })??;
+    })???;
     let column = |f: fn(&(usize, usize, usize)) -> usize| -> BindResult<I64Array<'py>> {
         let values = picks.iter().map(|p| f(p) as i64).collect();
         to_numpy(py, values, &[picks.len()])

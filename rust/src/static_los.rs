@@ -14,9 +14,10 @@ use super::errors::{value_error, BindResult};
 use super::formation::AttributesArg;
 use super::interrupt;
 use passive_assoc_core::assign::CandidateSet;
-use passive_assoc_core::geometry::model::Space;
 use passive_assoc_core::parallel::with_threads_unless_sequential;
-use passive_assoc_core::static_los::false_alarms::{check, scan_density, table_density};
+use passive_assoc_core::static_los::false_alarms::{
+    check, gate_width, scan_density, table_density, MIN_SPAN,
+};
 use passive_assoc_core::static_los::{
     enumerate_with_attributes, enumerates_sequentially, intensity_search as core_intensity_search,
     searches_sequentially, Candidates as CoreCandidates, DetectionModel, EnumerateOptions,
@@ -63,9 +64,11 @@ pub struct Candidates {
 
 /// The default false-alarm density of one scan's reports (module `false_alarms` of the
 /// core), one value per sensor `0..n_sensors`; rows of other sensors are not counted. The
-/// elevations are read when given (3-D).
+/// elevations are read when given (3-D). `sigma`, `(n_sensors, 2)` angle stds `[σβ, σε]`,
+/// sets each span's floor (the default gate's width) as the solvers' default does; without
+/// it the floor is 10⁻³ rad.
 #[pyfunction]
-#[pyo3(signature = (sensor, azimuth, elevation, n_sensors, p_false))]
+#[pyo3(signature = (sensor, azimuth, elevation, n_sensors, p_false, sigma=None))]
 pub fn default_false_alarm_density<'py>(
     py: Python<'py>,
     sensor: PyReadonlyArray1<'py, i64>,
@@ -73,8 +76,31 @@ pub fn default_false_alarm_density<'py>(
     elevation: Option<PyReadonlyArray1<'py, f64>>,
     n_sensors: usize,
     p_false: f64,
+    sigma: Option<PyReadonlyArray2<'py, f64>>,
 ) -> BindResult<Bound<'py, PyArrayDyn<f64>>> {
     check(n_sensors, p_false)?;
+    let floors: Vec<[f64; 2]> = match &sigma {
+        None => vec![[MIN_SPAN; 2]; n_sensors],
+        Some(given) => {
+            let values = row_major("sigma", given)?;
+            if given.shape() != [n_sensors, 2] {
+                return Err(value_error(
+                    "sigma",
+                    format!("expected shape ({n_sensors}, 2), got {:?}", given.shape()),
+                ));
+            }
+            if let Some(k) = values.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+                return Err(value_error(
+                    "sigma",
+                    format!("entry {k} is {}; stds must be finite and > 0", values[k]),
+                ));
+            }
+            values
+                .chunks_exact(2)
+                .map(|pair| [gate_width(pair[0]), gate_width(pair[1])])
+                .collect()
+        }
+    };
     let (sensor, azimuth) = (slice1("sensor", &sensor)?, slice1("azimuth", &azimuth)?);
     let elevation = match &elevation {
         Some(e) => Some(slice1("elevation", e)?),
@@ -104,7 +130,7 @@ pub fn default_false_alarm_density<'py>(
         let j = usize::try_from(sensor[m]).unwrap_or(usize::MAX);
         (j, azimuth[m], elevation.map_or(0.0, |e| e[m]))
     });
-    let density = scan_density(reports, n_sensors, elevation.is_some(), p_false);
+    let density = scan_density(reports, &floors, elevation.is_some(), p_false);
     to_numpy(py, density, &[n_sensors])
 }
 
@@ -129,12 +155,7 @@ pub fn enumerate_static(
     let table = columns.view_with_time(&network, &time)?;
     let density = match &false_alarm_density {
         Some(given) => Cow::Borrowed(slice1("false_alarm_density", given)?),
-        None => Cow::Owned(table_density(
-            &table,
-            0..table.len(),
-            network.len(),
-            network.space() == Space::Spatial,
-        )),
+        None => Cow::Owned(table_density(&table, 0..table.len(), &network)),
     };
     let detection = DetectionModel::new(&network, slice1("pd", &pd)?, &density)?;
     let gate = match &attributes {

@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 
 use super::convert::{count, owned, parse, row_major, slice1, slice2, threads, to_numpy, F64Array};
 use super::errors::{value_error, BindResult};
+use super::interrupt;
 use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::topology::{
     topology_vectors as core_vectors, Associator, BiasEstimate, DecisionOptions, Gate, ScanTracks,
@@ -187,7 +188,9 @@ impl AssociatorState {
             scan_tracks("system", &system)?,
         );
         let (inner, n_threads) = (&mut self.inner, self.n_threads);
-        let out = py.detach(|| with_threads(n_threads, || inner.update(&local, &system)))??;
+        let out = interrupt::detach(py, || {
+            with_threads(n_threads, || inner.update(&local, &system))
+        })???;
         let k = out.pairs.len();
         let flat = out
             .pairs

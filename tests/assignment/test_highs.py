@@ -75,7 +75,7 @@ def test_highs_refuses_what_the_core_refuses() -> None:
 
 
 def test_the_lagrangian_honours_time_limit() -> None:
-    """It used to ignore it; now a solve that reaches it returns its best feasible answer."""
+    """A solve that reaches it returns its best feasible answer."""
     tuples, costs, sizes = _random_problem(3, 5, 10, 0.01)
     unlimited = pa.assign_sd(tuples, costs, sizes, gap_tol=0.0, time_limit=None)
     assert unlimited.iterations > 1
@@ -88,3 +88,31 @@ def test_the_lagrangian_honours_time_limit() -> None:
     assert all(len(set(col[col > 0])) == (col > 0).sum() for col in used.T)
     with pytest.raises(ValueError, match="time_limit"):
         pa.assign_sd(tuples, costs, sizes, time_limit=0.0)
+
+
+def test_what_highs_prints_to_standard_output_is_dropped(
+    monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """HiGHS writes some messages ("HighsMipSolverData::…") to file descriptor 1 whatever
+    ``disp`` says, into library calls' and ``passive-assoc associate --method exact``'s
+    output. A stand-in solver writes such a line, and a line of someone else's, straight to
+    descriptor 1: HiGHS's is dropped, the other passed on, and the answer is unchanged."""
+    import os
+
+    from passive_assoc.assignment import highs
+
+    real = highs.milp
+
+    def chatty(*args: object, **kwargs: object) -> object:
+        os.write(1, b"HighsMipSolverData::transformNewIntegerFeasibleSolution tmpSolver.run();\n")
+        os.write(1, b"another thread's line\n")
+        return real(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(highs, "milp", chatty)
+    tuples, costs, sizes = _random_problem(1, 3, 4, 0.3)
+    print("before", flush=True)
+    solved = pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend="highs")
+    print("after")
+    out = capfd.readouterr().out
+    assert out == "before\nanother thread's line\nafter\n"
+    assert solved.optimal

@@ -159,3 +159,19 @@ def test_lagrangian_dual_stays_below_the_lp_bound_on_paper_scans(sensor_order: L
 def test_sd_assignment_bad_input(call, exc, message) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(exc, match=message):
         call()
+
+
+@pytest.mark.parametrize("time_limit", [2.0**63, 1e19, 1.8e19])
+def test_a_time_limit_past_the_clock_is_no_limit(time_limit: float) -> None:
+    """Between ≈ 2⁶³ s and 1.8e19 s a time limit passed validation, then panicked ("overflow
+    when adding duration to instant") in both solvers; it now binds nothing."""
+    for method in ("lagrangian", "exact"):
+        solved = pa.assign_sd([[1, 1, 1], [1, 2, 0]], [-5.0, -3.0], [1, 2, 1], method=method, time_limit=time_limit)
+        assert solved.chosen.tolist() == [0] and solved.optimal
+    scan = static_scan(1, n_targets=4)
+    for method in ("lagrangian", "exact"):
+        expected = pa.associate_static(scan.measurements, scan.sensors, method, time_limit=None).labels
+        got = pa.associate_static(scan.measurements, scan.sensors, method, time_limit=time_limit).labels
+        assert got.tolist() == expected.tolist()
+        batch = pa.associate_scans(scan.measurements, scan.sensors, method=method, time_limit=time_limit)
+        assert batch.labels.tolist() == expected.tolist()

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from passive_assoc.data import MeasurementTable, SensorNetwork
+from passive_assoc.data import MeasurementTable, SensorNetwork, TrackTable
 
 
 def _table(n: int = 5, truth: bool = True, elevation: bool = True) -> MeasurementTable:
@@ -251,3 +251,24 @@ def test_angles_beyond_their_range_warn_of_degrees() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         MeasurementTable.from_arrays([0, 1], [0.0, 0.0], [-np.pi, 2 * np.pi], [np.pi / 2, -0.1])
+
+
+@pytest.mark.parametrize(
+    ("reader", "text", "column"),
+    [
+        ("sensors", "sensor,x,y,sigma_azimuth\n0,0,0,0.01\n{big},1,1,0.01\n", "sensor"),
+        ("measurements", "sensor,time,azimuth\n0,0,0.1\n{big},0,0.2\n", "sensor"),
+        ("tracks", "source,track,time,x,y\n0,0,0.0,1.0,2.0\n0,{big},0.0,1.0,2.0\n", "track"),
+    ],
+)
+@pytest.mark.parametrize("big", [str(2**63), str(-(2**63) - 1), str(10**30)])
+def test_an_integer_cell_beyond_int64_names_file_column_and_line(
+    tmp_path: Path, reader: str, text: str, column: str, big: str
+) -> None:
+    """An integer cell beyond int64 raised a bare OverflowError from NumPy's cast: it is a bad
+    cell like any other, named by column, line and file."""
+    path = tmp_path / f"{reader}.csv"
+    path.write_text(text.format(big=big))
+    read = {"sensors": SensorNetwork.from_csv, "measurements": MeasurementTable.from_csv, "tracks": TrackTable.from_csv}
+    with pytest.raises(ValueError, match=rf"^{column}: line 3 has '{big}', beyond the 64-bit integer range \(file "):
+        read[reader](path)

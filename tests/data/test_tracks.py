@@ -225,7 +225,8 @@ def test_nearly_symmetric_covariance_is_stored_symmetric() -> None:
 
 
 def test_huge_symmetric_covariance_stays_finite() -> None:
-    """Entries near the float64 limit used to overflow to inf when made exactly symmetric."""
+    """Entries near the float64 limit stay finite when made exactly symmetric (a plain
+    ``(C + Cᵀ) / 2`` overflows to inf)."""
     cov = np.broadcast_to(np.array([[1.5e308, 1e308], [1e308, 1.5e308]]), (3, 2, 2)).copy()
     t = TrackTable.from_arrays(**{**_BASE, "position": np.zeros((3, 2))}, covariance=cov)
     assert t.covariance is not None and np.array_equal(t.covariance, cov)

@@ -11,7 +11,7 @@ def test_crlb_is_symmetric_for_a_very_fast_target() -> None:
     table, sensors = scenario.measurements, scenario.sensors
     rows = scenario.true_groups()[0]
     state = np.array(scenario.true_states[0], dtype=float)
-    state[3:] *= 1e6  # ~1e8 m/s: the Cholesky inverse was asymmetric by 4e7
+    state[3:] *= 1e6  # ~1e8 m/s: here a Cholesky inverse is asymmetric by 4e7
     bound = pa.crlb(table.sensor[rows], table.time[rows], sensors, state)
     assert np.array_equal(bound, bound.T)
     assert np.isfinite(bound).all()

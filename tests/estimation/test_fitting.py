@@ -176,8 +176,8 @@ def test_permuting_measurements_changes_nothing(seed: int, perm_seed: int, noise
 
 
 def test_epoch_times_fit_with_the_default_t0() -> None:
-    """UNIX-epoch times: the default epoch is the table's earliest time (it was 0, and the fit
-    came back singular); the estimates are those of the same data shifted to start at 0."""
+    """UNIX-epoch times: the default epoch is the table's earliest time (an epoch of 0 would
+    make the fit singular); the estimates are those of the same data shifted to start at 0."""
     sc = pa.paper_fti_scenario(seed=1)
     rows = [np.flatnonzero(sc.measurements.truth == k) for k in range(4)]
     arrays = sc.measurements.to_arrays()

@@ -172,3 +172,26 @@ def test_parameters_are_checked() -> None:
     assert type(kf.process_noise) is float and type(kf.n_threads) is int
     with pytest.raises(dataclasses.FrozenInstanceError):
         kf.motion = "ca"  # type: ignore[misc]
+
+
+@pytest.mark.parametrize("bad", [-1e300, 1e13, np.inf])
+def test_times_beyond_the_epoch_bound_are_refused(bad: float) -> None:
+    """Times within ±1e12 s, as every epoch t0: a time of −1e300 once gave negative
+    variances on rows reported as having a state."""
+    times = np.array([bad, 0.0, 1.0, 2.0])
+    with pytest.raises(ValueError, match=r"times\[0\] = .*(within ±1e\+12 s|must be finite)"):
+        pa.KalmanFilter(process_noise=1e3).filter(times, np.arange(8.0).reshape(4, 2), np.arange(4), noise=1.0)
+
+
+@pytest.mark.parametrize("motion", ["cv", "ca"])
+@pytest.mark.parametrize("init", ["differencing", "single_point"])
+def test_no_row_with_a_state_has_a_negative_variance_at_the_time_bound(motion: str, init: str) -> None:
+    """A step of 2e12 s at the bound keeps no digits in the update: the filter reports those
+    rows as a numerical failure (NaN) instead of negative variances."""
+    times = np.array([-1e12, 1e12 - 2, 1e12 - 1, 1e12])
+    z = np.column_stack([10.0 * np.arange(4), np.arange(4.0)])
+    for q in (0.0, 1.0, 1e3):
+        kf = pa.KalmanFilter(process_noise=q, motion=motion, init=init)  # type: ignore[arg-type]
+        out = kf.filter(times, z, np.arange(4), noise=1.0)
+        variances = np.diagonal(out.covariances, axis1=1, axis2=2)[out.has_state]
+        assert np.isfinite(variances).all() and (variances >= 0).all(), (q, variances.min())

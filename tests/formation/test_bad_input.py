@@ -108,3 +108,30 @@ def test_static_gate_cuts_candidates_and_keeps_the_truth() -> None:
     kept = {tuple(r) for r in gated.rows}
     removed = [r for r in plain.rows if tuple(r) not in kept]
     assert removed and not any(agrees(r) for r in removed)
+
+
+@pytest.mark.parametrize("method", ["formation", "lagrangian", "intensity"])
+def test_an_attribute_std_key_naming_no_column_is_refused(method: str) -> None:
+    """A typo in an ``attribute_std`` key ("rff") was silently dropped, with its std unused:
+    refused, naming the key and the columns there are."""
+    std = {**STD, "rff": 10.0}
+    message = r"attribute_std: 'rff' names no attribute column; the table has \['rf', 'prf', 'pw', 'asp'\]"
+    with pytest.raises(ValueError, match=message):
+        if method == "formation":
+            _locate(attribute_std=std)
+        else:
+            pa.associate_static(SCENE.measurements, SCENE.sensors, method, attributes=None, attribute_std=std)
+
+
+@pytest.mark.parametrize("std", [1j, np.array([1.0 + 2j]), True])
+def test_a_complex_or_boolean_std_is_a_type_error(std: object) -> None:
+    """A complex std was cast to its real part with only NumPy's ComplexWarning (found by
+    the fuzz test); True was read as 1."""
+    with pytest.raises(TypeError, match=r"^attribute_std: std of 'rf' is not numeric"):
+        _locate(attribute_std={**STD, "rf": std})
+
+
+def test_an_integer_std_beyond_int64_is_a_number() -> None:
+    assert _locate(attribute_std={**STD, "rf": 2**70}).success
+    with pytest.raises(ValueError, match=r"^attribute_std = an integer of 401 digits is beyond the range of a float"):
+        _locate(attribute_std={**STD, "rf": 10**400})

@@ -169,3 +169,64 @@ def test_per_sensor_and_per_report_stds_equal_the_per_attribute_ones() -> None:
     wider = {**per_sensor, "rf": [std["rf"], 1e4, std["rf"]]}
     changed = pa.locate_formation(m, s, attribute_std=wider)
     assert not np.array_equal(changed.support[:, 1], reference.support[:, 1], equal_nan=True)
+
+
+@pytest.mark.parametrize("one_to_one", [False, True])
+def test_an_absurd_azimuth_leaves_its_report_unassociated(one_to_one: bool) -> None:
+    """An azimuth of 1e300 rad (only a UserWarning at the table) keeps no digits of its angle:
+    the set holding it once came back ``associated`` with a NaN position and covariance. An
+    associated report now always has a finite position; the others are as without the bad
+    report, and every row ends in exactly one group or the clutter."""
+    scene = paper_formation_scene(0, sigma_deg=0.0)
+    columns = scene.measurements.to_arrays()
+    columns["azimuth"] = columns["azimuth"].copy()
+    columns["azimuth"][0] = 1e300  # the baseline sensor's first report
+    with pytest.warns(UserWarning, match="beyond ±2π"):
+        table = pa.MeasurementTable.from_columns(columns)
+    result = pa.locate_formation(table, scene.sensors, attribute_std=scene.attribute_std, one_to_one=one_to_one)
+    assert not result.associated[0]
+    assert result.associated[1:].all()
+    assert np.isfinite(result.positions[result.associated]).all()
+    assert np.isfinite(result.covariances[result.associated]).all()
+    assert np.isnan(result.positions[~result.associated]).all()
+    assert len(result.clutter) + int((result.labels >= 0).sum()) == len(table)
+    assert result.labels[0] == -1
+
+
+def test_more_pairs_than_max_pairs_are_refused_before_any_work() -> None:
+    """3 sensors × 16 000 reports once ran 90 CPU-s with no cap and no Ctrl-C check: the
+    (baseline report, other report) pairs are capped (``max_pairs``, 5 × 10⁷ by default)."""
+    rng = np.random.default_rng(0)
+    big = pa.MeasurementTable.from_arrays(np.repeat([0, 1, 2], 16_000), np.zeros(48_000), rng.uniform(0.5, 2.6, 48_000))
+    sensors = paper_formation_scene(0, sigma_deg=0.0).sensors
+    with pytest.raises(ValueError, match=r"pairs: 512000000 exceeds the cap of 50000000; raise max_pairs"):
+        pa.locate_formation(big, sensors, attributes=[])
+    scene = paper_formation_scene(0, sigma_deg=0.0)
+    assert pa.locate_formation(scene.measurements, scene.sensors, attributes=[], max_pairs=72).success
+    with pytest.raises(ValueError, match=r"pairs: 72 exceeds the cap of 71"):
+        pa.locate_formation(scene.measurements, scene.sensors, attributes=[], max_pairs=71)
+    with pytest.raises(ValueError, match=r"^max_pairs: must be an integer >= 1"):
+        pa.FormationLocator(max_pairs=0)
+
+
+@pytest.mark.parametrize("one_to_one", [False, True])
+def test_progress_reports_the_baseline_reports_and_can_stop_the_call(one_to_one: bool) -> None:
+    scene = formation_scene(5, n_sensors=4, n_emitters=30, sigma_deg=0.2, clutter_per_sensor=2.0)
+    locator = pa.FormationLocator(attribute_std=scene.attribute_std, one_to_one=one_to_one)
+    reports: list[tuple[str, float]] = []
+    watched = locator.locate(scene.measurements, scene.sensors, progress=lambda s, f: reports.append((s, f)))
+    plain = locator.locate(scene.measurements, scene.sensors, progress=False)
+    np.testing.assert_array_equal(watched.labels, plain.labels)
+    assert reports[0] == ("baseline reports", 0.0) and ("baseline reports", 1.0) in reports
+    assert (("one-to-one", 1.0) in reports) == one_to_one
+
+    class Enough(Exception):
+        pass
+
+    def stop(stage: str, fraction: float) -> None:
+        raise Enough(stage)
+
+    with pytest.raises(Enough, match="baseline reports"):
+        pa.locate_formation(scene.measurements, scene.sensors, attribute_std=scene.attribute_std, progress=stop)
+    with pytest.raises(TypeError, match="progress"):
+        locator.locate(scene.measurements, scene.sensors, progress="yes")  # type: ignore[arg-type]

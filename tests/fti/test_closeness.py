@@ -66,7 +66,7 @@ def test_closeness_bad_input(scenario: pa.Scenario) -> None:
 
 def test_the_default_epoch_is_the_earliest_time() -> None:
     """UNIX-epoch times: states at the first scan give the R they give on the same table with
-    times from 0 (issue 16: t0 from the data everywhere)."""
+    times from 0 (t0 from the data, as everywhere)."""
     scenario = pa.paper_fti_scenario(seed=2)
     columns = scenario.measurements.to_arrays()
     columns["time"] = columns["time"] + 1.7e9

@@ -178,7 +178,11 @@ def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: P
         (dict(gate_pd=0.0), ValueError, "gate_pd"),
         (dict(pairs=[(0, 0)]), ValueError, "pairs"),
         (dict(pairs=[(0, 5)]), ValueError, "pairs"),
-        (dict(max_candidates=10), ValueError, "max_candidates"),
+        (dict(max_candidates=10, on_limit="raise"), ValueError, "max_candidates"),
+        (dict(on_limit="ignore"), ValueError, "on_limit"),
+        (dict(candidates="pairs"), ValueError, "candidates"),
+        (dict(score_pd=1.0), ValueError, "score_pd"),
+        (dict(min_score=float("nan")), ValueError, "min_score"),
     ],
 )
 def test_bad_parameters_are_refused(kwargs: dict, exc: type[Exception], message: str) -> None:

@@ -9,7 +9,13 @@ import numpy as np
 import pytest
 import pywt
 from numpy.typing import NDArray
-from passive_assoc.radar_esm import approximation_operator, coarse_gate, coefficients
+from passive_assoc.radar_esm import (
+    MAX_WINDOW,
+    WaveletFuzzyAssociator,
+    approximation_operator,
+    coarse_gate,
+    coefficients,
+)
 from passive_assoc.radar_esm.coarse import MODES as ALL_MODES
 from scipy.stats import chi2
 
@@ -154,6 +160,19 @@ def test_a_window_too_short_for_one_level_is_refused() -> None:
         approximation_operator(5)
     with pytest.raises(ValueError, match=r"^radar_positions: a window of 5 scans"):
         coarse_gate(*tracks(2, window=5), *tracks(2, window=5))
+
+
+def test_a_window_beyond_the_cap_is_refused_before_any_work() -> None:
+    """A window of 10⁹ scans once reached NumPy as a 10⁹ × 10⁹ identity ("Unable to allocate
+    6.94 EiB"): refused by name, with the cap, in every entry point that takes one."""
+    too_long = r"a window of 1000000000 scans exceeds the cap of 1024 scans \(MAX_WINDOW\)"
+    with pytest.raises(ValueError, match=r"^window: " + too_long):
+        approximation_operator(10**9)
+    with pytest.raises(ValueError, match=r"^window: " + too_long):
+        WaveletFuzzyAssociator(window=10**9)
+    assert approximation_operator(MAX_WINDOW)[0].shape == (130, MAX_WINDOW)
+    with pytest.raises(ValueError, match=r"^radar_positions: a window of 1025 scans exceeds the cap"):
+        coarse_gate(*tracks(1, window=MAX_WINDOW + 1), *tracks(1, window=MAX_WINDOW + 1))
 
 
 @pytest.mark.parametrize(

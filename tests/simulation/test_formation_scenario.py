@@ -1,5 +1,5 @@
 """The formation scenes against METHODS §3, and the NumPy comparator of benches/ against a loop
-form of the method (the prototype the paper's tables were reproduced with)."""
+form of the method (the prototype form the paper's tables are reproduced with)."""
 
 from __future__ import annotations
 

@@ -1,9 +1,9 @@
-"""The default false-alarm density on a scan the paper's numbers were not tuned on (issue 16
-§3): three well-separated targets seen by the paper's three sensors, and one false alarm.
+"""The default false-alarm density on a scan the paper's numbers are not tuned on: three
+well-separated targets seen by the paper's three sensors, and one false alarm.
 
-With ``p_false · n / span`` alone the density was 0.23 per radian here (0.05 x 4 reports over
-the sector they span), so eq. 2 priced the false alarm as a target: Lagrangian and exact
-returned a ghost at it and split a true target. The default now also counts a sensor's
+With ``p_false · n / span`` alone the density would be 0.23 per radian here (0.05 x 4 reports
+over the sector they span), so eq. 2 would price the false alarm as a target: Lagrangian and
+exact would return a ghost at it and split a true target. The default also counts a sensor's
 reports beyond the median sensor's as false alarms (docs/methods.md §2)."""
 
 from __future__ import annotations
@@ -66,9 +66,9 @@ def test_the_default_density_counts_the_excess_report() -> None:
 
 
 def numpy_reference(sensor: np.ndarray, angles: list[np.ndarray], n_sensors: int, p_false: float) -> np.ndarray:
-    """The rule as the library computed it in NumPy until session 17 (6df669d's
-    ``default_false_alarm_density``, ``expected_false_alarms``, ``_median_last_axis`` and
-    ``_spans``, inlined): the core must give the same densities to the bit."""
+    """The rule written in NumPy (the expressions of a NumPy ``default_false_alarm_density``,
+    ``expected_false_alarms``, ``_median_last_axis`` and ``_spans``, inlined): the core must
+    give the same densities to the bit."""
 
     def spans(sensor: np.ndarray, values: np.ndarray, counts: np.ndarray) -> np.ndarray:
         order = np.lexsort((values, sensor))
@@ -144,3 +144,35 @@ def test_the_default_equals_the_density_passed_explicitly() -> None:
         batch = associate_scans(table, sensors, method=method)
         single = pa.associate_static(table, sensors, method, false_alarm_density=density)
         assert np.array_equal(batch.labels, single.labels)
+
+
+@pytest.mark.parametrize("sigma", [1e-2, 3e-2, 1e-4])
+@pytest.mark.parametrize("method", ["lagrangian", "exact", "intensity"])
+def test_a_lone_noiseless_target_is_a_target(method: str, sigma: float) -> None:
+    """One report per sensor, each at the target's exact bearing: with the 10⁻³ rad floor
+    alone the default density was 50 per radian, above a perfect report's likelihood at
+    σ = 10 mrad (40 per radian), and the S-D methods called the target clutter. A tiny scan's
+    span is now at least the default gate's width on the sensor's angle."""
+    network = pa.SensorNetwork.planar(SENSORS.positions[:, :2], sigma)
+    target = np.array([2e3, 25e3])
+    bearings = np.arctan2(target[1] - network.positions[:, 1], target[0] - network.positions[:, 0])
+    scan = pa.MeasurementTable.from_arrays(np.arange(3), np.zeros(3), bearings)
+    result = pa.associate_static(scan, network, method)
+    assert result.labels.tolist() == [0, 0, 0]
+    np.testing.assert_allclose(result.positions, [target], atol=1e-3)
+    width = 2 * 2.5758293035489004 * sigma
+    expected = 0.05 / max(width, 1e-3)
+    density = default_false_alarm_density(scan, 3, sensors=network)
+    np.testing.assert_allclose(density, expected, rtol=1e-12)
+    batch = associate_scans(scan, network, method=method)
+    assert batch.labels.tolist() == [0, 0, 0]
+
+
+def test_the_density_helper_reads_the_network_stds_in_3d() -> None:
+    network = pa.SensorNetwork.spatial([[0.0, 0.0, 0.0], [1e4, 0.0, 0.0]], [1e-2, 2e-2], [3e-2, 1e-5])
+    table = pa.MeasurementTable.from_arrays([0, 1], [0.0, 0.0], [0.5, 1.0], elevation=[0.1, 0.2])
+    density = default_false_alarm_density(table, 2, sensors=network)
+    width = 2 * 2.5758293035489004
+    np.testing.assert_allclose(density, [0.05 / (width * 1e-2 * width * 3e-2), 0.05 / (width * 2e-2 * 1e-3)])
+    with pytest.raises(ValueError, match="sensors: has 2 sensors, n_sensors is 3"):
+        default_false_alarm_density(table, 3, sensors=network)

@@ -1,5 +1,5 @@
-"""The region / target-density prior of the static methods (issue 16 §4): the cost formula,
-what it removes, the partition, and refused settings."""
+"""The region / target-density prior of the static methods (docs/methods.md §2): the cost
+formula, what it removes, the partition, and refused settings."""
 
 from __future__ import annotations
 

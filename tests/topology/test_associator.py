@@ -50,7 +50,7 @@ def test_system_tracks_are_kept_where_a_source_has_no_track(
     method: type[pa.TopologyAssociator] | type[pa.NearestNeighbourAssociator],
 ) -> None:
     """A source with no track at one scan, and a scan only the system table has: every system
-    track there is unpaired for each source (they used to vanish from the result)."""
+    track there is unpaired for each source, none left out of the result."""
     local, system, _ = measured_tracks(7, 1.0)
     times = system.scan_times()
     sources = local.sources
@@ -160,6 +160,28 @@ def test_bad_tracks() -> None:
         pa.TopologyAssociator(heading_reference=True).associate(local=local, system=system)
     with pytest.raises(ValueError, match="one scan"):
         pa.TopologyAssociator().update(local=local, system=system)
+
+
+@pytest.mark.parametrize("associator", [pa.TopologyAssociator(), pa.NearestNeighbourAssociator()])
+def test_local_tracks_of_another_dimension_than_the_system_picture_are_refused(
+    associator: pa.TopologyAssociator | pa.NearestNeighbourAssociator,
+) -> None:
+    """3-D local tracks against a 2-D system picture (or the reverse), in one call or a scan
+    at a time: refused before any pairing, naming both dimensions."""
+    local, system, _ = measured_tracks(7, 0.0)
+    at = system.time[0]
+    flat, scan = system.at(at), local.at(at)
+    raised = pa.TrackTable.from_arrays(
+        scan.source, scan.track, scan.time, np.column_stack([scan.position, np.full(len(scan), 3e3)])
+    )
+    for call in (associator.associate, associator.update):
+        with pytest.raises(ValueError, match="system: has 2-D positions, local has 3-D"):
+            call(local=raised, system=flat)
+    lifted = pa.TrackTable.from_arrays(
+        flat.source, flat.track, flat.time, np.column_stack([flat.position, np.zeros(len(flat))])
+    )
+    with pytest.raises(ValueError, match="system: has 3-D positions, local has 2-D"):
+        associator.update(local=scan, system=lifted)
 
 
 def test_correcting_the_estimated_bias_rescues_nearest_neighbour() -> None:

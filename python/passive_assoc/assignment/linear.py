@@ -25,8 +25,10 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
     costs : array_like or scipy.sparse matrix
         Dense ``(n_rows, n_cols)`` costs, ``+inf`` forbidding a pair; or a SciPy sparse
         matrix or array (any format), whose *absent* entries are the forbidden pairs (stored
-        zeros are allowed pairs of cost 0; the cheapest of duplicate entries counts). The
-        sparse solve touches only the stored entries.
+        zeros are allowed pairs of cost 0; of duplicate entries of a pair the cheapest
+        counts, in every format — they are not summed as SciPy's conversions sum them). The
+        sparse solve touches only the stored entries, and its memory grows with them, not
+        with the shape.
 
     Returns
     -------
@@ -54,24 +56,58 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
 
 
 def _sparse(costs: Any) -> tuple[NDArray[np.int64], NDArray[np.int64], float]:
-    csr = sp.csr_array(costs)
-    if csr.ndim != 2:
-        raise ValueError(f"costs: expected a 2-dimensional sparse matrix, got shape {csr.shape}")
-    if not np.issubdtype(csr.dtype, np.number) or np.issubdtype(csr.dtype, np.complexfloating):
-        raise TypeError(f"costs: expected real numeric entries, got dtype {csr.dtype}")
-    data = np.asarray(csr.data, dtype=np.float64)
+    """The sparse solve, sized by the stored entries: duplicates of a pair keep their cheapest
+    (SciPy's own conversions would sum them), and the problem handed to the core has only the
+    rows and columns the entries use, so a matrix of shape (3, 10⁹) with three entries takes
+    a few bytes, not gigabytes."""
+    if len(costs.shape) != 2:
+        raise ValueError(f"costs: expected a 2-dimensional sparse matrix, got shape {costs.shape}")
+    if not np.issubdtype(costs.dtype, np.number) or np.issubdtype(costs.dtype, np.complexfloating):
+        raise TypeError(f"costs: expected real numeric entries, got dtype {costs.dtype}")
+    coo = costs.tocoo()  # keeps duplicate entries, unlike tocsr()
+    row = np.asarray(coo.row, dtype=np.int64)
+    col = np.asarray(coo.col, dtype=np.int64)
+    data = np.asarray(coo.data, dtype=np.float64)
+    order = np.lexsort((data, col, row))  # by row, column, then cost: each pair's cheapest first
+    row, col, data = row[order], col[order], data[order]
     bad = np.flatnonzero(~np.isfinite(data))
     if len(bad):
         k = int(bad[0])
-        row = int(np.searchsorted(csr.indptr, k, side="right")) - 1
         raise ValueError(
-            f"costs: the stored entry at ({row}, {int(csr.indices[k])}) is {data[k]}; stored entries must be "
+            f"costs: the stored entry at ({row[k]}, {col[k]}) is {data[k]}; stored entries must be "
             "finite (leave a forbidden pair out of the sparse matrix)"
         )
-    n_rows, n_cols = csr.shape
-    return _core.assign_2d_sparse(
-        (int(n_rows), int(n_cols)),
-        np.ascontiguousarray(csr.indptr, dtype=np.int64),
-        np.ascontiguousarray(csr.indices, dtype=np.int64),
-        np.ascontiguousarray(csr.data, dtype=np.float64),
+    first = np.ones(len(row), dtype=bool)
+    first[1:] = (row[1:] != row[:-1]) | (col[1:] != col[:-1])
+    row, col, data = row[first], col[first], data[first]
+    n_rows, n_cols = (int(n) for n in costs.shape)
+    # Every row is assigned when n_rows <= n_cols, every column otherwise: that side keeps its
+    # indices (and must be covered by the entries); the other keeps only the indices in use.
+    if n_rows <= n_cols:
+        _every_index_used("row", row, n_rows)
+        cols, col = np.unique(col, return_inverse=True)
+        rows, shape = None, (n_rows, max(len(cols), n_rows))
+    else:
+        _every_index_used("column", col, n_cols)
+        rows, row = np.unique(row, return_inverse=True)
+        cols, shape = None, (max(len(rows), n_cols + 1), n_cols)
+    indptr = np.searchsorted(row, np.arange(shape[0] + 1)).astype(np.int64)  # row is sorted
+    got_rows, got_cols, total = _core.assign_2d_sparse(
+        shape, indptr, np.ascontiguousarray(col, dtype=np.int64), np.ascontiguousarray(data)
     )
+    if rows is not None:
+        got_rows = rows[got_rows]
+    if cols is not None:
+        got_cols = cols[got_cols]
+    return got_rows, got_cols, total
+
+
+def _every_index_used(what: str, used: NDArray[np.int64], n: int) -> None:
+    """Refuses, as the core would, a side of ``n`` that must all be assigned when an index
+    has no stored entry (``used`` sorted)."""
+    present = np.unique(used)
+    if len(present) == n:
+        return
+    gaps = np.flatnonzero(present != np.arange(len(present)))
+    missing = int(gaps[0]) if len(gaps) else len(present)
+    raise ValueError(f"costs: {what} {missing} cannot be assigned: the stored entries admit no complete assignment")

@@ -137,14 +137,21 @@ def assign_sd(
     **parameters
         :class:`SdParameters`: ``max_iter``, ``gap_tol``, ``max_nodes``, ``time_limit``,
         ``warm_start``, ``sensor_order``, ``polish``, ``exact_backend``, as follows.
-    max_iter, gap_tol
-        Lagrangian iteration cap and relative duality-gap target. MATLAB's ``assignsd`` stops
+
+    Other Parameters
+    ----------------
+    max_iter : int
+        Lagrangian iteration cap (default 200).
+    gap_tol : float
+        Lagrangian relative duality-gap target (default 1e-3). MATLAB's ``assignsd`` stops
         at 100 iterations or a 1 % gap; these defaults are tighter, for answers nearer the
         optimum at more time (``max_iter=100, gap_tol=0.01`` gives MATLAB's limits).
-    max_nodes, time_limit
-        Branch-and-bound node cap; wall-clock limit in seconds of either method
-        (``time_limit=None``: none). A Lagrangian solve that reaches it returns its best
-        feasible solution with ``termination="time_limit"``.
+    max_nodes : int
+        Branch-and-bound node cap.
+    time_limit : float or None
+        Wall-clock limit in seconds of either method (``time_limit=None``: none). A
+        Lagrangian solve that reaches it returns its best feasible solution with
+        ``termination="time_limit"``.
     warm_start : {"auto", "always", "never"}
         Whether each Lagrangian iteration's inner 2-D assignment starts from the previous
         one's solution. It is exact either way, so only speed differs (and, between equally
@@ -155,7 +162,7 @@ def assign_sd(
         Which sensors the Lagrangian relaxation keeps as its 2-D problem (the rest have their
         constraints relaxed). "given": sensors 0 and 1, the textbook layout. "auto": for
         S = 3, the two with the fewest reports, relaxing the largest; on paper scans its dual
-        bound came much nearer the LP bound it converges to, in less time
+        bound comes much nearer the LP bound it converges to, in less time
         (``python benches/bench_sensor_order.py``); other S as given. Either way the bound is
         valid; the solution found may differ.
     polish : bool
@@ -167,7 +174,6 @@ def assign_sd(
         both in docs/performance.md). ``polish=False`` for speed. It runs only
         when the solve ended on ``max_iter`` or a stalled step, and ``time_limit`` does not
         bound it.
-
     exact_backend : {"auto", "branch_bound", "highs"}
         The exact method's solver: the core's depth-first branch-and-bound, HiGHS's MILP
         solver (:func:`scipy.optimize.milp`, whose LP bounds prove in seconds what the
@@ -268,7 +274,7 @@ def _solver_sizes(t: NDArray[np.int64], n: NDArray[np.int64]) -> NDArray[np.int6
     """``sizes``, or — when they declare more than :data:`MAX_DECLARED_REPORTS` reports — each
     sensor's largest report the tuples use. A report no tuple uses cannot change the answer,
     but the solvers allocate per declared report: S = 40 sensors declaring 10⁷ reports each
-    once took gigabytes for a handful of tuples. Below the threshold nothing changes (the
+    would take gigabytes for a handful of tuples. Below the threshold nothing changes (the
     S = 3 sensor order and the 2-D problems' sizes depend on the declared sizes)."""
     # A list sum: on the few sensors of a scan it takes a tenth of np.clip(...).sum()'s time.
     if sum(size for size in n.tolist() if size > 0) <= MAX_DECLARED_REPORTS:

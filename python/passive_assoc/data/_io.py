@@ -96,11 +96,19 @@ def parse_column(path: str | os.PathLike[str], name: str, values: list[str], int
     out = []
     for r, text in enumerate(values):
         try:
-            out.append(int(text) if integer else float(text))
+            value = int(text) if integer else float(text)
         except ValueError:
             kind = "an integer" if integer else "a number"
             raise ValueError(f"{name}: line {r + 2} has {text!r}, not {kind} (file {os.fspath(path)!r})") from None
+        if integer and not _INT64_MIN <= value <= _INT64_MAX:  # NumPy's cast would raise a bare OverflowError
+            raise ValueError(
+                f"{name}: line {r + 2} has {text!r}, beyond the 64-bit integer range (file {os.fspath(path)!r})"
+            )
+        out.append(value)
     return np.array(out, dtype=np.int64 if integer else np.float64)
+
+
+_INT64_MIN, _INT64_MAX = -(2**63), 2**63 - 1
 
 
 def is_numeric(values: list[str]) -> bool:

@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._params import Interval, Options
 from .._settings import AttributeEvidence
+from .._validation import as_float_array
 from .measurements import MeasurementTable
 from .sensors import SensorNetwork
 
@@ -80,10 +81,16 @@ def attribute_arrays(
         Column names; None takes every attribute column of the table except ``*_std`` ones.
         An empty sequence (or a table without attributes) gives ``K = 0``.
     attribute_std : sequence, mapping or array, optional
-        ``K`` stds in name order, or a mapping name -> std or name -> one std per sensor;
+        ``K`` stds in name order, or a mapping name -> std or name -> one std per sensor
+        (every key an attribute column of the table: a key that names none is refused);
         None reads per-report stds from ``<name>_std`` columns.
     """
     names = _names(measurements, attributes)
+    if isinstance(attribute_std, Mapping):
+        unknown = [key for key in attribute_std if key not in measurements.attributes]
+        if unknown:  # a typo would otherwise leave its attribute ungated or a std unread
+            columns = list(measurements.attributes)
+            raise ValueError(f"attribute_std: {unknown[0]!r} names no attribute column; the table has {columns}")
     n = len(measurements)
     if not names:
         return names, np.empty((0, n)), np.empty((0, 1))
@@ -153,7 +160,7 @@ def _std_column(
 
 
 def _as_float_array(value: ArrayLike | float, name: str) -> NDArray[np.float64]:
-    try:
-        return np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as err:
+    try:  # a complex std would lose its imaginary part silently; 2**70 is a real number
+        return as_float_array("attribute_std", value)
+    except TypeError as err:
         raise TypeError(f"attribute_std: std of {name!r} is not numeric: {value!r}") from err

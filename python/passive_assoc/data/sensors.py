@@ -32,7 +32,7 @@ COINCIDENCE_TOLERANCE = 1e-9
 
 
 #: Accepted angle noise stds, radians. Below 1e-12 the information 1/σ² (≳ 1e24 per
-#: measurement) overflows the fitter's sums at long ranges and covariances came back NaN;
+#: measurement) overflows the fitter's sums at long ranges and covariances come back NaN;
 #: above π an angle carries no information (a wrapped residual is at most π).
 ANGLE_STD_RANGE = (1e-12, math.pi)
 

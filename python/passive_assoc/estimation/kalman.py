@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._params import POSITIVE, Configurable, Interval, Options, Threads
 from .._settings import KalmanInit, KalmanMeasurement, KalmanMotion
-from .._validation import as_float_array
+from .._validation import as_float_array, require_time_range
 from .fitting import _groups_to_csr
 
 __all__ = ["KalmanFilter", "KalmanResult"]
@@ -50,7 +50,8 @@ class KalmanResult:
 
     Rows of no track, rows before their track's first state (one row for ``"cv"``, two for
     ``"ca"`` with ``"differencing"``) and rows after a numerical failure (a polar prediction
-    on its sensor, or overflow from absurd values) are NaN.
+    on its sensor, or overflow or a negative variance from absurd values) are NaN: a row
+    with a state has a finite state and no negative variance.
 
     Attributes
     ----------
@@ -131,7 +132,7 @@ class KalmanFilter(Configurable):
         Parameters
         ----------
         times : array_like, shape (n,)
-            Time of each measurement row, seconds.
+            Time of each measurement row, seconds, within ±1e12 (as every epoch ``t0``).
         measurements : array_like, shape (n, m)
             Positions (m = 1 to 3; a 1-D array is one axis) or, for the polar models,
             (range, azimuth) rows (m = 2).
@@ -151,6 +152,7 @@ class KalmanFilter(Configurable):
         KalmanResult
         """
         t = as_float_array("times", times, ndim=1)
+        require_time_range("times", t)
         z = as_float_array("measurements", measurements)
         if z.ndim == 1:
             z = z[:, None]

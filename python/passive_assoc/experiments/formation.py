@@ -73,8 +73,8 @@ Cell = tuple[int, int]
 
 @functools.cache
 def associators() -> tuple[list[FormationLocator], list[StaticAssociator]]:
-    """Every method, configured once per process (validating the settings per scene was a
-    visible share of a run): the baseline locators and the §2 associators, in :data:`METHODS` order. The
+    """Every method, configured once per process (validating the settings per scene would be
+    a visible share of a run): the baseline locators and the §2 associators, in :data:`METHODS` order. The
     attribute stds are the scene's own (σ_k of eq. 3, the same in both noise modes)."""
     std = dict(zip(PAPER_ATTRIBUTE_NAMES, PAPER_ATTRIBUTE_STD, strict=True))
     baseline = [

@@ -35,14 +35,15 @@ class Solvers:
     gap_tol: float = 1e-3
     sensor_order: Literal["auto", "given"] = "auto"
     polish: bool = False
-    #: The documented Table 1 and accuracy figures were measured with the core's
-    #: branch-and-bound; the library's default ("auto") hands hard problems to HiGHS.
+    #: The documented Table 1 and accuracy figures are the core's branch-and-bound's; the
+    #: library's default ("auto") hands hard problems to HiGHS.
     exact_backend: Literal["auto", "branch_bound", "highs"] = "branch_bound"
 
     def kwargs(self, method: str) -> dict[str, Any]:
         """The settings as keyword arguments of :func:`associate_static` (one per field).
-        ``time_limit`` binds the exact method only: the documented figures were measured when
-        the Lagrangian ignored it, and the largest scans take it longer than the limit."""
+        ``time_limit`` binds the exact method only: the documented figures are of Lagrangian
+        solves that end on ``max_iter`` or the gap, and the largest scans take longer than the
+        limit."""
         settings = asdict(self)
         if method != "exact":
             settings["time_limit"] = None

@@ -21,12 +21,18 @@ from numpy.typing import NDArray
 
 from .. import _core
 from .._inputs import check_pair
-from .._params import Boolean, Configurable, Interval, Options
+from .._params import COUNT, Boolean, Configurable, Interval, Options, Threads
+from .._progress import ProgressArg, reporting
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta, attribute_evidence
 from ..outcome import COMPLETED, Outcome
 
-__all__ = ["FormationDiagnostics", "FormationLocator", "FormationResult", "locate_formation"]
+__all__ = ["DEFAULT_MAX_PAIRS", "FormationDiagnostics", "FormationLocator", "FormationResult", "locate_formation"]
+
+#: :attr:`FormationLocator.max_pairs` by default: (baseline report, other report) pairs a
+#: location may examine, 5 × 10⁷ (about 10 s of one core; 3 sensors × 16 000 reports would be
+#: 5.1 × 10⁸, 90 CPU-s). The core's ``DEFAULT_MAX_PAIRS`` (tests/test_core_defaults.py compares them).
+DEFAULT_MAX_PAIRS = 50_000_000
 
 
 @dataclass(frozen=True)
@@ -112,7 +118,8 @@ class FormationLocator(Configurable):
         (azimuth-only association, the paper's Table 2).
     attribute_std : sequence, mapping or array, optional
         Attribute noise stds: one per attribute in name order, or a mapping name -> std or
-        name -> one std per sensor. None reads per-report stds from ``<name>_std`` columns.
+        name -> one std per sensor (a key that names no attribute column of the table is
+        refused). None reads per-report stds from ``<name>_std`` columns.
     eta : float
         Attribute gate: meetings whose ``m(assoc)`` is below η are dropped (paper 0.6).
     combination : {"simple", "two_outcome"}
@@ -133,6 +140,12 @@ class FormationLocator(Configurable):
         Surveillance region, metres.
     in_front : bool
         Drop meetings behind either sensor (the paper intersects full lines).
+    max_pairs : int
+        Most (baseline report, other sensor's report) pairs a location may examine: the work
+        (and the one-to-one mode's memory, up to 16 bytes a pair) grows with them, so a larger
+        snapshot is refused with a ValueError before any work. Default
+        :data:`DEFAULT_MAX_PAIRS`, 5 × 10⁷ (about 10 s of one core); the paper's scene has
+        72 pairs.
     n_threads : int, optional
         Threads (None: all cores); results are identical for any value.
     """
@@ -148,7 +161,8 @@ class FormationLocator(Configurable):
     r_max: Annotated[float, Interval(float, 0.0, None, closed="neither")] = 200e3
     region: tuple[float, float, float, float] | None = None
     in_front: Annotated[bool, Boolean()] = False
-    n_threads: Annotated[int | None, Interval(int, 1, None), None] = None
+    max_pairs: Annotated[int, COUNT] = DEFAULT_MAX_PAIRS
+    n_threads: Threads = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -158,22 +172,34 @@ class FormationLocator(Configurable):
                 raise ValueError(f"region: expected (x_min, x_max, y_min, y_max), got {self.region!r}")
             object.__setattr__(self, "region", region)
 
-    def locate(self, measurements: MeasurementTable, sensors: SensorNetwork) -> FormationResult:
+    def locate(
+        self, measurements: MeasurementTable, sensors: SensorNetwork, *, progress: ProgressArg = None
+    ) -> FormationResult:
         """Associate and locate one snapshot of 2-D bearings from ≥ 3 sensors.
 
         Every input row ends in exactly one group of :attr:`FormationResult.labels` or in
         :attr:`FormationResult.clutter`.
+
+        ``progress``: a bar on stderr over the baseline reports decided (stage ``"baseline
+        reports"``, then ``"one-to-one"`` with ``one_to_one``): None shows it on a terminal
+        once the call has run 2 s, True always, False never; a callable gets the reports
+        instead, ``progress(stage, fraction)``, and raising in it stops the call. Ctrl-C
+        stops the call within one baseline report's work.
         """
         table, network = check_pair(measurements, sensors)
         if network.ndim != 2:
             raise ValueError("sensors: the formation method takes 2-D bearing sensors (ndim=2)")
         evidence = attribute_evidence(table, network, self.attributes, self.attribute_std, self.eta, self.combination)
-        out = _core.locate_formation(table, network, evidence, self)
+        with reporting(progress) as report:
+            out = _core.locate_formation(table, network, evidence, self, report)
         return _result(out, evidence is not None)
 
 
-def locate_formation(measurements: MeasurementTable, sensors: SensorNetwork, **settings: Any) -> FormationResult:
-    """``FormationLocator(**settings).locate(measurements, sensors)``, for one-off calls.
+def locate_formation(
+    measurements: MeasurementTable, sensors: SensorNetwork, *, progress: ProgressArg = None, **settings: Any
+) -> FormationResult:
+    """``FormationLocator(**settings).locate(measurements, sensors, progress=progress)``, for
+    one-off calls.
 
     >>> import passive_assoc as pa
     >>> from passive_assoc.simulation import paper_formation_scene
@@ -182,7 +208,7 @@ def locate_formation(measurements: MeasurementTable, sensors: SensorNetwork, **s
     >>> bool(result.associated.all()), len(result.clutter)
     (True, 0)
     """
-    return FormationLocator(**settings).locate(measurements, sensors)
+    return FormationLocator(**settings).locate(measurements, sensors, progress=progress)
 
 
 def _result(out: _core.FormationOutput, with_attributes: bool) -> FormationResult:

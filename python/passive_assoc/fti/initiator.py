@@ -10,6 +10,7 @@ ambiguity resolution, final ML fit) runs in the Rust core with the GIL released.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
@@ -20,16 +21,18 @@ from numpy.typing import NDArray
 
 from .. import _core
 from .._inputs import check_pair
-from .._params import Boolean, Configurable, Interval, Options
+from .._params import Boolean, Configurable, Epoch, Interval, Options, checked
 from .._progress import ProgressArg, reporting
-from .._validation import as_float_scalar, as_int_array
+from .._validation import as_int_array
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
 from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, empty_stage, warn_if_no_candidate
+from .score import MIN_SCORE, track_scores
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
 CHI2_2DOF_999 = 13.815510557964274
+
 
 #: A finite number > 0.
 POSITIVE = Interval(float, 0.0, None, closed="neither")
@@ -53,6 +56,10 @@ class InitiatedTrack:
         Sum of squared normalised residuals of the final fit.
     measurements : ndarray of int
         Rows of the input table assigned to this target.
+    score : float
+        Log-likelihood ratio of the rows being this target rather than clutter (natural log;
+        :mod:`passive_assoc.fti.score`): the larger, the surer. Tracks below the initiator's
+        ``min_score`` are not returned.
     """
 
     state: NDArray[np.float64]
@@ -60,6 +67,7 @@ class InitiatedTrack:
     closeness: float
     chi2: float
     measurements: NDArray[np.int64]
+    score: float
 
 
 @dataclass(frozen=True)
@@ -81,11 +89,22 @@ class InitiationDiagnostics:
     stage_seconds : dict of str to float
         Wall-clock seconds of ``candidates``, ``fit``, ``support`` (the re-gating between
         stages included), ``descent``, ``detection`` and ``final`` (the final fits and tests).
+    candidates : {"paper", "rounds"}
+        The candidate formation that ran (``candidates="auto"`` resolved).
+    limit : str or None
+        The limit that ended the candidate formation early (``on_limit="warn"``), as the
+        error it would otherwise have been; None when the formation ran to its end.
+    below_min_score : int
+        Tracks the pipeline found whose score was below ``min_score``: their measurements are
+        clutter in the result.
     """
 
     stage_counts: dict[str, int]
     descent_iterations: NDArray[np.int64]
     stage_seconds: dict[str, float]
+    candidates: Literal["paper", "rounds"]
+    limit: str | None
+    below_min_score: int
 
 
 @dataclass(frozen=True)
@@ -95,9 +114,11 @@ class InitiationResult(Outcome):
     Every input measurement is in exactly one track or in :attr:`clutter`; :attr:`labels`
     holds that partition as one array (track index, or -1 for clutter).
 
-    :attr:`termination` is ``"completed"``, or ``"no_candidates"`` when pruning left no
+    :attr:`termination` is ``"completed"``; ``"no_candidates"`` when pruning left no
     candidate (:attr:`message` names the stage that emptied and its usual cause; a warning
-    says the same).
+    says the same); or ``"candidate_limit"`` when the formation reached ``max_candidates``
+    and stopped there (``on_limit="warn"``): the tracks are those found until then,
+    :attr:`success` is False and :attr:`message` and a warning name the limit.
     """
 
     tracks: list[InitiatedTrack]
@@ -144,6 +165,18 @@ class FuzzyTrackInitiator(Configurable):
         neighbouring pairs ``[(0, 1), (1, 2), ...]`` of a line of five sensors found as many
         targets in a quarter to two thirds of the time on the scale bench's scenes
         (docs/performance.md, *Fewer sensor pairs*; not measured at Pd < 1).
+    candidates : {"auto", "paper", "rounds"}
+        Where the candidates come from. ``"paper"``: the first and last scans of each sensor
+        pair (eq. 20–22), whose 4-tuples grow as the fourth power of the targets.
+        ``"rounds"`` (a project extension): two neighbouring scans of each sensor pair, each
+        candidate tested against the pair's neighbouring scans and the other sensors' scans
+        before its fit, so that the fits grow as the square of the targets. ``"auto"``
+        (default): ``"rounds"`` in 3-D with three or more sensors, where a third sensor's
+        rays reject the pair's ghosts; ``"paper"`` otherwise. The result's diagnostics say
+        which ran (docs/methods.md §1, *Rounds formation*).
+    prefit_gates : bool
+        The rounds formation's tests before each fit (its pair's neighbouring scans, the
+        other sensors' scans); False fits every candidate that passes ``v_max``.
     ray_gate_sigmas : float or None
         Prune a pair of first- or last-scan rays whose closest approach exceeds this many
         standard deviations of the crossing, plus ``v_max`` times the two sensors' time
@@ -215,7 +248,7 @@ class FuzzyTrackInitiator(Configurable):
         measurements detection has left. Scenes that reach tens of thousands of candidates
         (many sensors and targets) then search little more than one stage of them. None:
         every candidate is searched first, as in the paper. Default 8192, above the candidates
-        of the paper's scene and of the 2-D scenes the defaults were measured on, so their
+        of the paper's scene and of the 2-D scenes the defaults are tuned on, so their
         results are those of the paper's order (docs/performance.md, *Initiation at scale*).
     track_test : float or None
         Dissolve a final track whose ML refit χ² is above the χ²(dof) quantile at this tail
@@ -226,11 +259,25 @@ class FuzzyTrackInitiator(Configurable):
         coverage test), and the second candidate pass may reuse the measurements of first-pass
         tracks the test dissolves (docs/methods.md §1). Default 1e-6.
     max_candidates : int
-        Refuse (ValueError) rather than run for long (and, with ``support_gate=False``, which
-        stores every fitted candidate, exhaust memory) when more candidates than this reach
+        Stop the candidate formation (``on_limit``) rather than run for long (and, with
+        ``support_gate=False``, which stores every fitted candidate, exhaust memory) when more
+        candidates than this reach
         the fitting stage, or rather than run for minutes when pairing one scan pair's
         first-scan and last-scan ray pairs would take more than 200 times this many tests
-        (the count is known before any test is made).
+        (the count is known before any test is made). At 5 sensors × 100 targets the default
+        leaves room for 30 times the candidates the formation fits.
+    on_limit : {"warn", "raise"}
+        What reaching ``max_candidates`` does. ``"warn"`` (default): the formation stops
+        there, the search runs on the candidates fitted so far, and the result returns the
+        tracks they found, with termination ``"candidate_limit"``, the limit named in its
+        message and in a warning. ``"raise"``: a ValueError naming the limit, nothing returned.
+    score_pd : float
+        Detection probability the track score assumes (each of a sensor's scans without the
+        track's measurement costs ``log(1 - score_pd)``). Default 0.9.
+    min_score : float or None
+        Tracks whose score (:attr:`InitiatedTrack.score`) is below this are not returned;
+        their measurements become clutter. None keeps every track. The default,
+        :data:`MIN_SCORE`, is calibrated on simulation (docs/methods.md §1, *Track score*).
     n_threads : int, optional
         Threads; default all cores. Results are identical for any value.
     """
@@ -240,6 +287,8 @@ class FuzzyTrackInitiator(Configurable):
     gate_sigmas: Annotated[float, POSITIVE] = 5.0
     n_detect: Annotated[int | None, COUNT, None] = None
     pairs: Sequence[tuple[int, int]] | None = None  # checked against the network at initiate()
+    candidates: Annotated[Literal["auto", "paper", "rounds"], Options("auto", "paper", "rounds")] = "auto"
+    prefit_gates: Annotated[bool, Boolean()] = True
     ray_gate_sigmas: Annotated[float | None, POSITIVE, None] = 5.0
     reject_behind: Annotated[bool, Boolean()] = True
     v_max: Annotated[float | None, POSITIVE, None] = 500.0
@@ -256,6 +305,9 @@ class FuzzyTrackInitiator(Configurable):
     search_stage: Annotated[int | None, COUNT, None] = 8192
     track_test: Annotated[float | None, Interval(float, 0.0, 0.5, closed="neither"), None] = 1e-6
     max_candidates: Annotated[int, COUNT] = 500_000
+    on_limit: Annotated[Literal["warn", "raise"], Options("warn", "raise")] = "warn"
+    score_pd: Annotated[float, Interval(float, 0.0, 1.0, closed="neither")] = 0.9
+    min_score: Annotated[float | None, Interval(float, None, None), None] = MIN_SCORE
     n_threads: Annotated[int | None, COUNT, None] = None
 
     def _pairs(self, n_sensors: int) -> NDArray[np.int64]:
@@ -277,12 +329,13 @@ class FuzzyTrackInitiator(Configurable):
         sigma_el = sensors.sigma_azimuth if sensors.ndim == 2 else sensors.sigma_elevation
         return self.spread_factor * sensors.sigma_azimuth, self.spread_factor * np.asarray(sigma_el, dtype=float)
 
+    @checked
     def initiate(
         self,
         measurements: MeasurementTable,
         sensors: SensorNetwork,
         *,
-        t0: float | None = None,
+        t0: Epoch = None,
         progress: ProgressArg = None,
     ) -> InitiationResult:
         """Find the targets in ``measurements``.
@@ -307,35 +360,60 @@ class FuzzyTrackInitiator(Configurable):
         InitiationResult
         """
         table, network = check_pair(measurements, sensors)
-        epoch = float(measurements.time.min()) if t0 is None else as_float_scalar("t0", t0, finite=True)
+        epoch = float(measurements.time.min()) if t0 is None else t0
         spread_az, spread_el = self._spreads(sensors)
         pairs, spreads = self._pairs(network.n_sensors), (spread_az, spread_el)
         with reporting(progress, "candidates") as report:
             out = _core.initiate(table, network, pairs, spreads, epoch, self, report)
-        labels = out.labels
+        scores = track_scores(out.labels, out.chi2, measurements, sensors, self.score_pd)
+        kept = np.ones(len(scores), dtype=bool) if self.min_score is None else scores >= self.min_score
+        labels = _renumbered(out.labels, kept)
         tracks = [
             InitiatedTrack(
                 out.estimates[k],
                 out.covariances[k],
                 float(out.closeness[k]),
                 float(out.chi2[k]),
-                np.flatnonzero(labels == k),
+                np.flatnonzero(out.labels == k),
+                float(scores[k]),
             )
-            for k in range(len(out.closeness))
+            for k in np.flatnonzero(kept)
         ]
         counts = {name: int(getattr(out.stage_counts, name)) for name in STAGE_COUNT_NAMES}
         seconds = {name: float(getattr(out.stage_seconds, name)) for name in STAGE_SECOND_NAMES}
         seconds["final"] = seconds.pop("final_fit")
-        diagnostics = InitiationDiagnostics(counts, out.descent_iterations, seconds)
+        below = int(len(kept) - kept.sum())
+        diagnostics = InitiationDiagnostics(counts, out.descent_iterations, seconds, out.formation, out.limit, below)
         emptied = empty_stage(counts)
-        termination, message = (
-            (COMPLETED, f"{len(tracks)} track(s) initiated") if emptied is None else ("no_candidates", emptied)
-        )
-        if emptied is not None:
+        success = True
+        if out.limit is not None:
+            termination, success = "candidate_limit", False
+            message = (
+                f"the candidate formation stopped at its limit: {out.limit}; "
+                f"{len(tracks)} track(s) from the candidates formed until then"
+            )
+            warnings.warn(message, LimitWarning, stacklevel=2)
+        elif emptied is not None:
+            termination, message = "no_candidates", emptied
             warn_if_no_candidate(emptied)
+        else:
+            termination, message = COMPLETED, f"{len(tracks)} track(s) initiated"
         return InitiationResult(
-            tracks, labels, epoch, diagnostics, termination=termination, success=True, message=message
+            tracks, labels, epoch, diagnostics, termination=termination, success=success, message=message
         )
+
+
+class LimitWarning(UserWarning):
+    """The candidate formation reached ``max_candidates`` and stopped there: the result holds
+    the tracks found until then."""
+
+
+def _renumbered(labels: NDArray[np.int64], kept: NDArray[np.bool_]) -> NDArray[np.int64]:
+    """``labels`` with the rows of tracks not ``kept`` as clutter and the rest numbered
+    0, 1, ... in their order."""
+    new_index = np.full(len(kept) + 1, -1, dtype=np.int64)
+    new_index[:-1][kept] = np.arange(int(kept.sum()))
+    return new_index[labels]  # label -1 reads the last entry, -1
 
 
 def initiate_tracks(

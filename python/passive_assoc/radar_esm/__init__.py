@@ -6,7 +6,7 @@ from __future__ import annotations
 from .associator import WaveletFuzzyAssociator
 from .baselines import Chi2TrackAssociator, position_gate_pairs
 from .bearings import bearing_fixes
-from .coarse import CoarseGate, approximation_operator, coarse_gate, coefficients
+from .coarse import MAX_WINDOW, CoarseGate, approximation_operator, coarse_gate, coefficients
 from .combined import WaveletChi2Associator
 from .scan_gate import WINDOW_CAP
 from .scans import RadarEsmAssociation
@@ -18,6 +18,7 @@ __all__ = [
     "coarse_gate",
     "coefficients",
     "WINDOW_CAP",
+    "MAX_WINDOW",
     "WaveletFuzzyAssociator",
     "WaveletChi2Associator",
     "Chi2TrackAssociator",

@@ -67,7 +67,8 @@ class WaveletFuzzyAssociator(Configurable):
     mode : str
         PyWavelets' boundary extension mode (one of :data:`MODES`).
     window : int, optional
-        Most scans in the coarse window; None: all scans so far, at most :data:`WINDOW_CAP`.
+        Most scans in the coarse window, at most :data:`~passive_assoc.radar_esm.MAX_WINDOW`
+        (1 024); None: all scans so far, at most :data:`WINDOW_CAP` (32).
     gate_probability : float
         Probability of the χ² coarse gate (its degrees of freedom = coefficients × axes).
     weights : (float, float, float)

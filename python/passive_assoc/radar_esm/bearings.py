@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._params import Threads, checked
 from .._validation import as_int_array
 from ..data import MeasurementTable, SensorNetwork, TrackTable
 from ..estimation import fit_ml
@@ -20,13 +21,14 @@ from ..estimation import fit_ml
 __all__ = ["bearing_fixes"]
 
 
+@checked
 def bearing_fixes(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     track: ArrayLike,
     *,
     source: int = 1,
-    n_threads: int | None = None,
+    n_threads: Threads = None,
 ) -> TrackTable:
     """One position fix per (emitter track, scan time) from its bearings.
 

@@ -30,12 +30,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.stats import chi2
 
 from .. import _core
-from .._params import Boolean, Constraint, Interval, Options, validate
+from .._params import Boolean, Constraint, Interval, Options, Threads, constraints_of, validate
 from .._settings import CoarseGateSettings
 from .._validation import as_float_array, readonly, require_finite, require_nonnegative
 from .window import coefficient_covariance
 
-__all__ = ["MODES", "CoarseGate", "approximation_operator", "coefficients", "coarse_gate"]
+__all__ = ["MAX_WINDOW", "MODES", "CoarseGate", "approximation_operator", "coefficients", "coarse_gate"]
 
 #: PyWavelets' signal extension modes: how the transform treats the window's ends.
 MODES: tuple[str, ...] = tuple(pywt.Modes.modes)
@@ -50,7 +50,7 @@ _GATE_CONSTRAINTS: dict[str, list[Constraint]] = {
     "mode": [Options(*MODES)],
     "gate_probability": [Interval(float, 0.0, 1.0, closed="neither")],
     "whitened": [Boolean()],
-    "n_threads": [Interval(int, 1, None), None],
+    "n_threads": constraints_of(Threads),
 }
 
 
@@ -97,8 +97,17 @@ def _shortest_window(wavelet: str) -> int:
     return 2 * (int(pywt.Wavelet(wavelet).dec_len) - 1)
 
 
+#: Most scans a coarse window may hold. The operator W is built from the transform of a
+#: ``window × window`` identity and a track's full window covariance has ``(ndim·window)²``
+#: entries: at 1 024 scans 8 MB and 75 MB (3-D); a window of 10⁹ asked NumPy for exabytes.
+#: The paper's whole run is 30 scans.
+MAX_WINDOW = 1024
+
+
 def _level(name: str, window: int, wavelet: str, level: int) -> int:
     """The level used for ``window`` scans: ``level``, reduced to the most the window allows."""
+    if window > MAX_WINDOW:
+        raise ValueError(f"{name}: a window of {window} scans exceeds the cap of {MAX_WINDOW} scans (MAX_WINDOW)")
     shortest = _shortest_window(wavelet)
     if window < shortest:
         raise ValueError(
@@ -153,8 +162,9 @@ def approximation_operator(
     Raises
     ------
     ValueError
-        If the window is too short for one level (for sym2: fewer than 6 scans), the wavelet
-        is unknown, or the mode makes W rank-deficient for this window.
+        If the window is too short for one level (for sym2: fewer than 6 scans) or longer
+        than :data:`MAX_WINDOW` (1 024 scans), the wavelet is unknown, or the mode makes W
+        rank-deficient for this window.
 
     Examples
     --------
@@ -277,8 +287,9 @@ def coarse_gate(
     ------
     ValueError
         Mismatched shapes, NaN or infinite values or negative variances (naming the argument
-        and the first bad element), a window too short for one level, or a pair whose
-        summed covariance is not positive definite (naming the pair).
+        and the first bad element), a window too short for one level or longer than
+        :data:`MAX_WINDOW`, or a pair whose summed covariance is not positive definite (naming
+        the pair).
 
     Examples
     --------

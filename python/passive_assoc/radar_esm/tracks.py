@@ -21,7 +21,7 @@ from typing import Annotated
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._params import POSITIVE, Interval, Options, checked
+from .._params import POSITIVE, Interval, Options, Threads, checked
 from .._settings import KalmanInit
 from .._validation import as_float_array
 from ..data import TrackTable
@@ -39,7 +39,7 @@ def filter_reports(
     init: Annotated[KalmanInit, Options("differencing", "single_point")] = "single_point",
     init_velocity_std: Annotated[float, POSITIVE] = 500.0,
     init_acceleration_std: Annotated[float, POSITIVE] = 50.0,
-    n_threads: Annotated[int | None, Interval(int, 1, None), None] = None,
+    n_threads: Threads = None,
 ) -> TrackTable:
     """Filter every track of a table of position reports with ``KalmanFilter(motion="ca",
     measurement="position")``.

@@ -1,6 +1,7 @@
 """Simulated scenarios with truth: the generic constant-velocity simulator, the radar
-simulator (:mod:`.radar`), and one scenario module per method (:mod:`.fti` for fuzzy track
-initiation, :mod:`.static_los` for static line-of-sight association, :mod:`.topology` for
+simulator (:mod:`.radar`), a passive scene of sensors on a ring (:mod:`.ring`), and one
+scenario module per method (:mod:`.fti` for fuzzy track initiation, :mod:`.static_los` for
+static line-of-sight association, :mod:`.topology` for
 track-to-track association by reference topology, :mod:`.radar_esm` for radar/ESM association
 with wavelets, :mod:`.formation` for passive location of formation targets with emitter
 attributes)."""
@@ -28,6 +29,7 @@ from .radar import (
     true_positions,
 )
 from .radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, RadarEsmScenario, paper_wavelet_scenario
+from .ring import ring_scenario
 from .scenario import ConstantVelocityTarget, Scenario, bearing_only_2d_scenario, simulate, wrap_angle
 from .static_los import StaticScan, static_scan
 from .topology import RadarScenario, paper_topology_scenario
@@ -39,6 +41,7 @@ __all__ = [
     "StaticScan",
     "bearing_only_2d_scenario",
     "paper_fti_scenario",
+    "ring_scenario",
     "simulate",
     "static_scan",
     "wrap_angle",

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._core import Candidates
-from .._params import Boolean, Interval, Options
+from .._params import Boolean, Interval, Options, Threads
 from ..assignment.sd import SdMethod, SdParameters, _solver_sizes, solve_validated
 from ..data import MeasurementTable, SensorNetwork
 from ..data.attributes import DEFAULT_ETA, AttributeStd, Combination, Eta
@@ -134,7 +134,7 @@ class StaticAssociator(SdParameters):
         with the most exclusive rays). Default 64. None is the paper's rule, one chain per
         point of H: where ghosts are dense every point has 0 exclusive rays, H is the whole
         level, and the vote grows quadratically in the number of candidates (minutes at a few
-        hundred targets, issue 17). ``reproduce intensity`` runs the paper's rule up to M = 18
+        hundred targets). ``reproduce intensity`` runs the paper's rule up to M = 18
         and 64 beyond (docs/experiments.md).
     max_iter, gap_tol, max_nodes, time_limit, warm_start, sensor_order, polish, exact_backend
         Solver settings, as in :func:`passive_assoc.assign_sd`.
@@ -172,7 +172,7 @@ class StaticAssociator(SdParameters):
     valid_airspace: Annotated[bool, Boolean()] = False
     max_chains: Annotated[int | None, Interval(int, 1, None), None] = 64
     max_candidates: Annotated[int, Interval(int, 1, None)] = 1_000_000
-    n_threads: Annotated[int | None, Interval(int, 1, None), None] = None
+    n_threads: Threads = None
     attributes: Sequence[str] | None = ()
     attribute_std: AttributeStd | None = None
     eta: Eta = DEFAULT_ETA

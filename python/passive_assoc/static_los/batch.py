@@ -8,7 +8,7 @@ functions, so the same answer per scan) and runs the scans in parallel, with the
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -17,9 +17,10 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._inputs import check_pair
 from .._progress import ProgressArg, reporting
+from ..assignment.sd import AUTO_BRANCH_BOUND_NODES
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
-from .associator import DEFAULT_METHOD, Method, _associator
+from .associator import DEFAULT_METHOD, Method, StaticAssociator, _associator
 from .candidates import _per_sensor
 
 __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
@@ -75,8 +76,11 @@ def associate_scans(
         column, or one value per row.
     method, **settings
         As :class:`StaticAssociator` (``n_threads`` sets the threads over scans). Not
-        supported here: emitter ``attributes``; ``method="exact"`` runs the core's
-        branch-and-bound (``exact_backend="branch_bound"``).
+        supported here: emitter ``attributes``, and ``exact_backend="highs"``. With
+        ``method="exact"`` each scan takes the path :func:`associate_static` takes: the
+        core's branch-and-bound, and with ``exact_backend="auto"`` (the default) a scan it
+        does not prove within 50 000 nodes goes to HiGHS as there, so an equal-cost tie is
+        broken the same way in both.
     progress : bool or callable, optional
         A progress bar over the scans on stderr: None shows it on a terminal once the call
         has run 2 s, True always, False never; a callable gets the reports instead,
@@ -109,9 +113,12 @@ def associate_scans(
         density = np.tile(
             _per_sensor("false_alarm_density", associator.false_alarm_density, n, 0.0, np.inf), (len(keys), 1)
         )
-    a = associator
+    auto_exact = associator.method == "exact" and associator.exact_backend == "auto"
+    # "auto" as associate_static runs it: the branch-and-bound for at most its first nodes,
+    # then (below) HiGHS on the scans those nodes do not prove.
+    a = replace(associator, max_nodes=min(associator.max_nodes, AUTO_BRANCH_BOUND_NODES)) if auto_exact else associator
     with reporting(progress) as report:
-        labels_in_order, per_scan, positions = _core.associate_scans(
+        labels_in_order, per_scan, positions, node_limited = _core.associate_scans(
             table,
             network,
             order,
@@ -120,6 +127,11 @@ def associate_scans(
             None if density is None else np.ascontiguousarray(density),
             a,
             report,
+        )
+    redo = np.flatnonzero(node_limited) if auto_exact else np.zeros(0, dtype=np.int64)
+    if len(redo):
+        labels_in_order, per_scan, positions = _resolved(
+            (table, network, associator), (order, offsets), redo, (labels_in_order, per_scan, positions)
         )
     first_target = np.concatenate([[0], np.cumsum(per_scan)]).astype(np.int64)
     labels = np.full(len(table), -1, dtype=np.int64)
@@ -135,6 +147,26 @@ def associate_scans(
         positions=positions,
         target_scan=np.repeat(np.arange(len(keys), dtype=np.int64), per_scan),
     )
+
+
+def _resolved(
+    problem: tuple[MeasurementTable, SensorNetwork, StaticAssociator],
+    scans: tuple[NDArray[np.int64], NDArray[np.int64]],
+    redo: NDArray[np.int64],
+    found: tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]],
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """The batch's answers with the scans ``redo`` associated by :meth:`StaticAssociator.associate`
+    (HiGHS after the branch-and-bound's nodes), as :func:`associate_static` answers them."""
+    table, network, associator = problem
+    order, offsets = scans
+    labels, per_scan, positions = found[0].copy(), found[1].copy(), found[2]
+    blocks = np.split(positions, np.cumsum(per_scan)[:-1])
+    for k in redo.tolist():
+        rows = order[offsets[k] : offsets[k + 1]]
+        answer = associator.associate(table.select(rows), network)
+        labels[offsets[k] : offsets[k + 1]] = answer.labels
+        per_scan[k], blocks[k] = len(answer.positions), answer.positions
+    return labels, per_scan, np.concatenate(blocks).reshape(-1, positions.shape[1])
 
 
 def scan_keys(

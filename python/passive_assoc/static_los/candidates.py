@@ -46,6 +46,8 @@ def default_false_alarm_density(
     measurements: MeasurementTable,
     n_sensors: Annotated[int, Interval(int, 0, 2**20)],  # the core's MAX_SENSORS: the result's length
     p_false: Annotated[float, Interval(float, 0.0, 1.0, closed="both")] = 0.05,
+    *,
+    sensors: SensorNetwork | None = None,
 ) -> NDArray[np.float64]:
     """False alarms per radian (per rad² in 3-D) of each sensor ``0 .. n_sensors - 1`` of one
     scan, the static methods' default when the caller gives none (docs/methods.md §2).
@@ -55,14 +57,33 @@ def default_false_alarm_density(
     the same targets, so reports beyond what the median sensor has are false alarms (or the
     others' misses). Too low a density makes a false alarm look like a target to eq. 2 (issue
     16: a ghost at it and a true target split). They are spread over the azimuth (×
-    elevation) sector the sensor's reports span, each span at least 10⁻³ rad (π for a sensor
-    without reports). Computed in the Rust core, as the solvers compute it when
-    ``false_alarm_density`` is None."""
+    elevation) sector the sensor's reports span (π for a sensor without reports).
+
+    Tiny scans: each span is at least 10⁻³ rad and, given ``sensors`` (a network of
+    ``n_sensors`` sensors), at least the width of the default gate on the sensor's angle,
+    2 × 2.576 σ (at most 2π). A scan of one report per sensor spans nothing; with the
+    10⁻³ rad floor alone its density was 50 per radian, above the likelihood of a perfect
+    report at σ = 10 mrad, and a lone noiseless target was called clutter. With ``sensors``
+    these are the densities the solvers use when ``false_alarm_density`` is None; computed in
+    the Rust core."""
     elevation = measurements.elevation if measurements.ndim == 3 else None
+    sigma = None
+    if sensors is not None:
+        if not isinstance(sensors, SensorNetwork):
+            raise TypeError(f"sensors: expected a SensorNetwork, got {type(sensors).__name__}")
+        if sensors.n_sensors != n_sensors:
+            raise ValueError(f"sensors: has {sensors.n_sensors} sensors, n_sensors is {n_sensors}")
+        sigma = _stds(sensors)
     density: NDArray[np.float64] = _core.default_false_alarm_density(
-        measurements.sensor, measurements.azimuth, elevation, n_sensors, p_false
+        measurements.sensor, measurements.azimuth, elevation, n_sensors, p_false, sigma
     )
     return density
+
+
+def _stds(sensors: SensorNetwork) -> NDArray[np.float64]:
+    """``(S, 2)`` angle stds ``[σβ, σε]`` (σε = 1 in the plane, as the core reads them)."""
+    elevation = sensors.sigma_elevation if sensors.ndim == 3 else np.ones(sensors.n_sensors)
+    return np.ascontiguousarray(np.column_stack([sensors.sigma_azimuth, elevation]), dtype=np.float64)
 
 
 def enumerate_validated(

@@ -1,5 +1,5 @@
-"""What the user knows about where targets are: a region and a target density (issue 16 §4,
-a project extension of METHODS §2).
+"""What the user knows about where targets are: a region and a target density (a project
+extension of METHODS §2).
 
 Eq. 2 prices a candidate by the likelihood ratio of "a target at x̂" against "all clutter" at the
 fitted point x̂ alone. With a prior — targets uniform over a known region at a known density

@@ -4,8 +4,8 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
@@ -47,27 +47,68 @@ fn remember<P>(pools: &mut HashMap<usize, P>, threads: usize, pool: P) {
     pools.insert(threads, pool);
 }
 
-/// Set when the user asked to stop (the binding's SIGINT handler sets it; nothing here knows
-/// about signals). The long loops — the static enumeration, branch-and-bound, the Lagrangian,
-/// the intensity chains, the fuzzy initiation's candidates and descents — poll it and stop
-/// early; the binding then raises `KeyboardInterrupt` instead of returning the partial result.
-/// Process-wide: Ctrl-C stops every running call, as it stops the program.
-static INTERRUPT: AtomicBool = AtomicBool::new(false);
+/// Stop requests so far (the binding's SIGINT handler adds one; nothing here knows about
+/// signals). The long loops — the static enumeration, branch-and-bound, the Lagrangian, the
+/// intensity chains, the fuzzy initiation's candidates and descents, the formation locator,
+/// the track-to-track scans — poll [`interrupted`] and stop early; the binding then raises
+/// `KeyboardInterrupt` instead of returning the partial result.
+///
+/// A request counts for the calls running when it came: Ctrl-C stops every running call, as
+/// it stops the program, and a call that starts later does not see it. Calls that overlap
+/// share an epoch, [`ACKNOWLEDGED`]: the requests made before the first of them began. It
+/// moves on only when no call is running, so a call started from a second thread can no
+/// longer clear a request meant for the first (each call used to clear one shared flag on
+/// entry, swallowing a Ctrl-C that had arrived while another call ran).
+static REQUESTS: AtomicUsize = AtomicUsize::new(0);
 
-/// Asks every running call to stop (async-signal-safe: one atomic store).
+/// The requests the running calls do not answer to (those made before the first began).
+static ACKNOWLEDGED: AtomicUsize = AtomicUsize::new(0);
+
+/// Calls running between [`begin_call`] and the end of its guard.
+static RUNNING: Mutex<usize> = Mutex::new(0);
+
+/// Asks every running call to stop (async-signal-safe: one lock-free atomic add).
 pub fn request_interrupt() {
-    INTERRUPT.store(true, Ordering::Relaxed);
+    REQUESTS.fetch_add(1, Ordering::Relaxed);
 }
 
-/// Clears the request (the binding does, before a call and after it raised).
+/// Forgets every request made so far (a test's, or a program's between its calls).
 pub fn clear_interrupt() {
-    INTERRUPT.store(false, Ordering::Relaxed);
+    ACKNOWLEDGED.store(REQUESTS.load(Ordering::Relaxed), Ordering::Relaxed);
 }
 
-/// Whether a stop was requested.
+/// Whether a stop was requested since the running calls began.
 #[inline]
 pub fn interrupted() -> bool {
-    INTERRUPT.load(Ordering::Relaxed)
+    REQUESTS.load(Ordering::Relaxed) != ACKNOWLEDGED.load(Ordering::Relaxed)
+}
+
+/// Marks a call as running until the guard is dropped. The first of a set of overlapping
+/// calls forgets older requests (a Ctrl-C that came while no call ran is the program's to
+/// handle, not the next call's); a call that starts while others run joins their epoch, so a
+/// request that came while they ran stops it too and is never cleared under them.
+pub fn begin_call() -> CallGuard {
+    let mut running = RUNNING
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if *running == 0 {
+        clear_interrupt();
+    }
+    *running += 1;
+    CallGuard(())
+}
+
+/// A running call (see [`begin_call`]).
+#[derive(Debug)]
+pub struct CallGuard(());
+
+impl Drop for CallGuard {
+    fn drop(&mut self) {
+        let mut running = RUNNING
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        *running = running.saturating_sub(1);
+    }
 }
 
 /// Largest thread count accepted: far above any machine, low enough that a typo cannot ask

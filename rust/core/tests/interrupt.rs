@@ -1,7 +1,8 @@
 //! A stop request (Ctrl-C, through the binding's SIGINT handler) ends the batched fit and the
-//! batched Kalman filter with `Interrupted` instead of running every problem. The stop flag is
-//! process-wide, so these checks live in their own test binary (one process) and in one test,
-//! where no other test can see the flag.
+//! batched Kalman filter with `Interrupted` instead of running every problem, and reaches
+//! every call running when it came, however the calls overlap. The requests are process-wide,
+//! so these checks live in their own test binary (one process) and in one test, where no
+//! other test can see them.
 
 use passive_assoc_core::data::{Measurements, Sensors};
 use passive_assoc_core::error::CoreError;
@@ -11,7 +12,10 @@ use passive_assoc_core::estimation::kalman::{
     kalman_filter, KalmanInput, KalmanOptions, MotionModel, Noise, Tracks,
 };
 use passive_assoc_core::geometry::model::{predict, Motion, Space, StateLayout};
-use passive_assoc_core::parallel::{clear_interrupt, request_interrupt};
+use passive_assoc_core::parallel::{begin_call, clear_interrupt, interrupted, request_interrupt};
+use passive_assoc_core::topology::{
+    Associator, DecisionOptions, ScanTracks, Scoring, TopologyOptions,
+};
 
 #[test]
 fn a_stop_request_ends_the_fit_and_the_filter() {
@@ -67,4 +71,60 @@ fn a_stop_request_ends_the_fit_and_the_filter() {
         fitted.estimates
     );
     assert_eq!(&filter().unwrap().states[4..6], &[25.0, 10.0]);
+
+    // Overlapping calls: a request made while a call runs reaches it even when a second call
+    // starts and ends in the meantime (each call used to clear a shared flag on entry, so the
+    // second swallowed the first's Ctrl-C), and the second call sees it too.
+    let first = begin_call();
+    assert!(!interrupted());
+    request_interrupt();
+    let second = begin_call();
+    assert!(
+        interrupted(),
+        "the second call's start cleared the first's request"
+    );
+    assert!(matches!(fit(), Err(CoreError::Interrupted)));
+    drop(second);
+    assert!(
+        interrupted(),
+        "the second call's end cleared the first's request"
+    );
+    drop(first);
+    // A call that starts once they are over does not answer to their request, nor to one
+    // made while no call ran (the program's to handle).
+    let later = begin_call();
+    assert!(!interrupted());
+    drop(later);
+    request_interrupt();
+    let after_idle = begin_call();
+    assert!(!interrupted());
+    assert!(fit().is_ok());
+    drop(after_idle);
+
+    // A track-to-track scan stops on a request, and the associator goes on pairing later
+    // scans as one that never saw the stopped scan.
+    let ids = [0_i64, 1, 2];
+    let positions = [0.0, 0.0, 30e3, 0.0, 0.0, 45e3];
+    let scan = ScanTracks::new("local", &ids, &positions, None).unwrap();
+    let options = TopologyOptions::default();
+    let decision = DecisionOptions::default()
+        .with_threshold(0.5 * options.cells() as f64)
+        .unwrap()
+        .with_window(3)
+        .unwrap();
+    let mut used = Associator::new(Scoring::Topology(options), decision);
+    let mut fresh = Associator::new(Scoring::Topology(options), decision);
+    used.update(&scan, &scan).unwrap();
+    request_interrupt();
+    assert!(matches!(
+        used.update(&scan, &scan),
+        Err(CoreError::Interrupted)
+    ));
+    clear_interrupt();
+    for _ in 0..2 {
+        assert_eq!(
+            used.update(&scan, &scan).unwrap(),
+            fresh.update(&scan, &scan).unwrap()
+        );
+    }
 }

@@ -28,7 +28,7 @@ use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 
 /// Largest magnitude of a finite cost any solver accepts. The solvers add and subtract costs
 /// (dual potentials, path lengths, bounds): within ±1e150 every such sum of up to 1e150 terms
-/// stays finite, where ±1e308 once overflowed to −inf and was reported optimal. Results are
+/// stays finite, where ±1e308 can overflow to −inf and be reported optimal. Results are
 /// optimal to within floating-point rounding, about n · max|c| · 2⁻⁵², so costs spanning many
 /// orders of magnitude lose their small terms (scale them first).
 pub const MAX_ABS_COST: f64 = 1e150;
@@ -153,6 +153,13 @@ pub fn relative_gap(primal: f64, dual: f64) -> f64 {
 /// True when `primal` and `dual` agree to round-off, i.e. the primal is proven optimal.
 pub(crate) fn closes_gap(primal: f64, dual: f64) -> bool {
     primal - dual <= OPTIMAL_RTOL * primal.abs().max(1.0)
+}
+
+/// When a solve that starts now and may run `limit` must stop; `None` without a limit, and for
+/// a limit past what the clock can represent (an `Instant` holds at most 2⁶³ s on Linux, a
+/// `Duration` up to 1.8e19 s): such a limit never binds, and adding it panicked.
+pub(crate) fn deadline(limit: Option<std::time::Duration>) -> Option<std::time::Instant> {
+    limit.and_then(|limit| std::time::Instant::now().checked_add(limit))
 }
 
 /// Random instances and an independent exhaustive solver, shared by the solver tests.

@@ -15,6 +15,7 @@ use crate::error::{CoreError, CoreResult};
 use crate::estimation::fit::gauss_newton::fit;
 use crate::evidence::AttributeGate;
 use crate::geometry::model::{Motion, Observation, Space, StateLayout};
+use crate::progress::{Progress, Silent, Tally};
 
 /// The result, one entry per report of the baseline sensor in table order (`B` of them).
 #[derive(Clone, Debug, PartialEq)]
@@ -30,7 +31,8 @@ pub struct FormationOutput {
     pub support: Vec<f64>,
     /// `B`: eq. 6 cluster radius of the chosen set (NaN when none).
     pub radius: Vec<f64>,
-    /// `B × 2`: ML position of the chosen set (NaN when none or when the fit failed).
+    /// `B × 2`: ML position of the chosen set (NaN when none; a set whose fit failed is
+    /// not reported, as if none had been chosen).
     pub positions: Vec<f64>,
     /// `B × 4`: its covariance, row-major 2 × 2.
     pub covariances: Vec<f64>,
@@ -58,17 +60,47 @@ const SEQUENTIAL_FITS: usize = 32;
 /// depend on its size.
 ///
 /// Errors: a 3-D network, fewer than 3 sensors, a baseline or reference sensor that does not
-/// exist (or a reference equal to the baseline), an attribute table of the wrong length.
+/// exist (or a reference equal to the baseline), an attribute table of the wrong length, more
+/// (baseline, other) report pairs than [`FormationOptions::max_pairs`], and `Interrupted` on a
+/// stop request.
 pub fn locate(
     sensors: &Sensors<'_>,
     measurements: &Measurements<'_>,
     gate: Option<AttributeGate<'_>>,
     options: &FormationOptions,
 ) -> CoreResult<FormationOutput> {
+    locate_reporting(sensors, measurements, gate, options, &Silent)
+}
+
+/// [`locate`], reporting the baseline reports decided to `progress` (stage `"baseline
+/// reports"`, then `"one-to-one"` for the greedy pass) and stopping, as for Ctrl-C, when it
+/// is cancelled. The stop request is polled once per baseline report (a pass over the other
+/// sensors' reports) and per greedy step.
+pub fn locate_reporting(
+    sensors: &Sensors<'_>,
+    measurements: &Measurements<'_>,
+    gate: Option<AttributeGate<'_>>,
+    options: &FormationOptions,
+    progress: &dyn Progress,
+) -> CoreResult<FormationOutput> {
     check(sensors, measurements, gate.as_ref(), options)?;
     let scene = Scene::new(sensors, measurements, gate, *options);
     let bases = scene.baseline_lines();
-    let decide = |b: usize| {
+    let pairs = bases.len().saturating_mul(measurements.len() - bases.len());
+    if pairs > options.max_pairs() {
+        return Err(CoreError::CapExceeded {
+            what: "(baseline report, other report) pairs",
+            count: pairs,
+            cap: options.max_pairs(),
+            hint: "raise max_pairs, or locate a smaller snapshot (the work grows with the pairs)",
+        });
+    }
+    let stop = || crate::parallel::interrupted() || progress.cancelled();
+    let tally = Tally::new(progress, "baseline reports", bases.len() as u64);
+    let decide = |b: usize| -> Option<Decided> {
+        if stop() {
+            return None;
+        }
         let mut counts = PruneCounts::default();
         let subsets = scene.subsets(&bases[b], &mut counts);
         let choice = scene.choose(b, &subsets, None, &mut counts);
@@ -79,19 +111,25 @@ pub fn locate(
         } else {
             Vec::new()
         };
-        (kept, choice, counts)
+        tally.advance(1);
+        Some((kept, choice, counts))
     };
     // Handing a small scene to the thread pool costs more than deciding it (criterion
     // `formation/paper_scene`, docs/performance.md); both paths give the same output.
-    let decided: Vec<Decided> = match measurements.len() * bases.len() < SEQUENTIAL_WORK {
+    let decided: Vec<Option<Decided>> = match measurements.len() * bases.len() < SEQUENTIAL_WORK {
         true => (0..bases.len()).map(decide).collect(),
         false => (0..bases.len()).into_par_iter().map(decide).collect(),
     };
+    tally.finish();
+    let decided: Vec<Decided> = decided
+        .into_iter()
+        .collect::<Option<_>>()
+        .ok_or(CoreError::Interrupted)?;
     let mut counts = PruneCounts::default();
     decided.iter().for_each(|d| counts.add(&d.2));
     let choices = match options.one_to_one() {
         false => decided.into_iter().map(|d| d.1).collect(),
-        true => one_to_one(&scene, decided, measurements.len(), &mut counts),
+        true => one_to_one(&scene, decided, measurements.len(), &mut counts, progress)?,
     };
     let mut out = assemble(&scene, &choices, counts);
     (out.labels, out.times_chosen) = partition(&out.rows, &out.radius, measurements.len());
@@ -157,7 +195,8 @@ fn one_to_one(
     decided: Vec<Decided>,
     n_rows: usize,
     counts: &mut PruneCounts,
-) -> Vec<Option<Choice>> {
+    progress: &dyn Progress,
+) -> CoreResult<Vec<Option<Choice>>> {
     let mut used = vec![false; n_rows];
     let mut subsets = Vec::with_capacity(decided.len());
     let mut pending = Vec::with_capacity(decided.len());
@@ -170,7 +209,13 @@ fn one_to_one(
         pending.push(choice);
     }
     let mut accepted: Vec<Option<Choice>> = vec![None; pending.len()];
+    // Settled reports: accepted, or left without a set (those without one from the start).
+    let settled = pending.iter().filter(|c| c.is_none()).count() as u64;
+    let tally = Tally::resumed(progress, "one-to-one", settled, pending.len() as u64);
     while let Some(Reverse((_, b))) = heap.pop() {
+        if crate::parallel::interrupted() || progress.cancelled() {
+            return Err(CoreError::Interrupted);
+        }
         let Some(choice) = pending[b].take() else {
             continue;
         };
@@ -178,14 +223,19 @@ fn one_to_one(
         if rows.iter().all(|&row| !used[row]) {
             rows.iter().for_each(|&row| used[row] = true);
             accepted[b] = Some(choice);
+            tally.advance(1);
             continue;
         }
-        if let Some(again) = scene.choose(b, &subsets[b], Some(&used), counts) {
-            heap.push(Reverse((OrderedRadius(again.radius), b)));
-            pending[b] = Some(again);
+        match scene.choose(b, &subsets[b], Some(&used), counts) {
+            Some(again) => {
+                heap.push(Reverse((OrderedRadius(again.radius), b)));
+                pending[b] = Some(again);
+            }
+            None => tally.advance(1),
         }
     }
-    accepted
+    tally.finish();
+    Ok(accepted)
 }
 
 /// A radius ordered totally (NaN last), for the heap.
@@ -242,7 +292,9 @@ fn assemble(scene: &Scene<'_>, choices: &[Option<Choice>], counts: PruneCounts) 
     let baseline = scene.options.baseline_sensor();
     for (b, (choice, fit)) in choices.iter().zip(&fitted).enumerate() {
         match (choice, fit) {
-            (Some(c), Some(f)) => {
+            // A set whose ML fit fails (an azimuth of 1e300 rad keeps no digits of its
+            // angle) is no association: its report stays unassociated, its lines clutter.
+            (Some(c), Some(f)) if f.is_finite() => {
                 out.rows.extend(scene.rows_of(c).iter().map(|&r| r as i64));
                 out.support.extend_from_slice(&c.support);
                 out.radius.push(c.radius);
@@ -275,8 +327,17 @@ struct Fitted {
     chi2: f64,
 }
 
+impl Fitted {
+    fn is_finite(&self) -> bool {
+        (self.position.iter().chain(&self.covariance))
+            .chain([&self.chi2])
+            .all(|v| v.is_finite())
+    }
+}
+
 /// ML position of the chosen lines (the project's addition to the paper), started from the
-/// mean of their pairwise intersections; NaN where the fit fails (parallel lines).
+/// mean of their pairwise intersections; NaN where the fit fails (parallel lines, absurd
+/// angles), and the set is then left unassociated.
 fn triangulate(scene: &Scene<'_>, choice: &Choice) -> Fitted {
     let observations: Vec<Observation> = choice
         .lines

@@ -19,6 +19,9 @@ mod subsets;
 #[cfg(test)]
 mod tests;
 
-pub use locate::{locate, FormationOutput};
-pub use options::{triangulation_fit_options, ClusterRadius, FormationOptions, Reference, Region};
+pub use locate::{locate, locate_reporting, FormationOutput};
+pub use options::{
+    triangulation_fit_options, ClusterRadius, FormationOptions, Reference, Region,
+    DEFAULT_MAX_PAIRS,
+};
 pub use subsets::PruneCounts;

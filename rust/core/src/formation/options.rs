@@ -69,7 +69,14 @@ pub struct FormationOptions {
     region: Option<Region>,
     in_front: bool,
     fit: FitOptions,
+    max_pairs: usize,
 }
+
+/// The default cap on the (baseline report, other report) pairs a location examines,
+/// [`FormationOptions::max_pairs`]: about 10 s of one core, and at most 800 MB of kept
+/// meetings in the one-to-one mode. The paper's scene has 6 × 12 pairs, the 5 × 200 bench
+/// scene 160 000; 3 sensors × 16 000 reports would be 5.1 × 10⁸ (90 CPU-s).
+pub const DEFAULT_MAX_PAIRS: usize = 50_000_000;
 
 impl Default for FormationOptions {
     /// [`FormationOptions::recommended`].
@@ -94,6 +101,7 @@ impl FormationOptions {
             region: None,
             in_front: false,
             fit: triangulation_fit_options(),
+            max_pairs: DEFAULT_MAX_PAIRS,
         }
     }
 
@@ -175,6 +183,17 @@ impl FormationOptions {
         self
     }
 
+    /// Most (baseline report, other sensor's report) pairs a location may examine (`≥ 1`):
+    /// the work and the one-to-one mode's memory grow with them, so a larger snapshot is
+    /// refused before any work ([`DEFAULT_MAX_PAIRS`]).
+    pub fn with_max_pairs(mut self, max_pairs: usize) -> CoreResult<Self> {
+        if max_pairs == 0 {
+            return Err(CoreError::out_of_range("max_pairs", "must be at least 1"));
+        }
+        self.max_pairs = max_pairs;
+        Ok(self)
+    }
+
     pub fn baseline_sensor(&self) -> usize {
         self.baseline_sensor
     }
@@ -198,5 +217,8 @@ impl FormationOptions {
     }
     pub fn fit(&self) -> &FitOptions {
         &self.fit
+    }
+    pub fn max_pairs(&self) -> usize {
+        self.max_pairs
     }
 }

@@ -1,5 +1,6 @@
 use super::*;
 use crate::data::{Measurements, Sensors};
+use crate::error::CoreError;
 use crate::evidence::{AttributeGate, AttributeTable, Combination};
 use crate::geometry::model::Space;
 use crate::parallel::with_threads;
@@ -190,4 +191,79 @@ fn attribute_major(row_major: &[f64], k: usize) -> Vec<f64> {
     (0..k * n)
         .map(|at| row_major[(at % n) * k + at / n])
         .collect()
+}
+
+/// The pairs a location examines are capped before any work (3 sensors × 16 000 reports once
+/// ran 90 CPU-s unchecked): the paper's scene has 6 × 12 of them.
+#[test]
+fn more_pairs_than_the_cap_are_refused_before_any_work() {
+    let scene = paper_scene(|_| 0.0);
+    let sensors =
+        Sensors::new(Space::Planar, &scene.positions, &scene.sigma, &[]).expect("sensors");
+    let meas = Measurements::new(&sensors, &scene.sensor, &scene.time, &scene.azimuth, &[])
+        .expect("measurements");
+    let at = |cap: usize| {
+        FormationOptions::default()
+            .with_max_pairs(cap)
+            .expect("cap")
+    };
+    assert!(locate(&sensors, &meas, None, &at(72)).is_ok());
+    let e = locate(&sensors, &meas, None, &at(71)).expect_err("over the cap");
+    assert_eq!(
+        e,
+        CoreError::CapExceeded {
+            what: "(baseline report, other report) pairs",
+            count: 72,
+            cap: 71,
+            hint: "raise max_pairs, or locate a smaller snapshot (the work grows with the pairs)",
+        }
+    );
+    assert!(FormationOptions::default().with_max_pairs(0).is_err());
+    assert_eq!(FormationOptions::default().max_pairs(), DEFAULT_MAX_PAIRS);
+}
+
+/// A sink that records the reports and cancels from the `cancel_after`-th on.
+#[derive(Debug, Default)]
+struct Watcher {
+    reports: std::sync::Mutex<Vec<(&'static str, f64)>>,
+    cancel_after: Option<usize>,
+}
+
+impl crate::progress::Progress for Watcher {
+    fn report(&self, stage: &'static str, fraction: f64) {
+        self.reports.lock().expect("lock").push((stage, fraction));
+    }
+
+    fn cancelled(&self) -> bool {
+        let seen = self.reports.lock().expect("lock").len();
+        self.cancel_after.is_some_and(|n| seen >= n)
+    }
+}
+
+/// The baseline reports (and the one-to-one pass) are reported as they are decided; the
+/// answer does not depend on the watcher; a watcher that cancels stops the call.
+#[test]
+fn locations_report_progress_and_stop_when_cancelled() {
+    let scene = paper_scene(|row| 1e-3 * ((row * 7) % 5) as f64);
+    let sensors =
+        Sensors::new(Space::Planar, &scene.positions, &scene.sigma, &[]).expect("sensors");
+    let meas = Measurements::new(&sensors, &scene.sensor, &scene.time, &scene.azimuth, &[])
+        .expect("measurements");
+    for one_to_one in [false, true] {
+        let options = FormationOptions::default().with_one_to_one(one_to_one);
+        let watcher = Watcher::default();
+        let watched = locate_reporting(&sensors, &meas, None, &options, &watcher).expect("locate");
+        let unwatched = locate(&sensors, &meas, None, &options).expect("locate");
+        assert_eq!(format!("{watched:?}"), format!("{unwatched:?}")); // NaN-aware equality
+        let reports = watcher.reports.into_inner().expect("lock");
+        assert_eq!(reports.first(), Some(&("baseline reports", 0.0)));
+        assert!(reports.contains(&("baseline reports", 1.0)));
+        assert_eq!(reports.contains(&("one-to-one", 1.0)), one_to_one);
+        let cancelling = Watcher {
+            cancel_after: Some(2),
+            ..Watcher::default()
+        };
+        let stopped = locate_reporting(&sensors, &meas, None, &options, &cancelling);
+        assert_eq!(stopped, Err(CoreError::Interrupted));
+    }
 }

@@ -2,10 +2,9 @@
 //!
 //! Each batch is two parallel regions (fits, then gates) with serial steps between them. Each
 //! region ends when its slowest thread does, so many small regions lose most where a thread
-//! is now and then descheduled (a shared machine): batches of 2 048, ended with every scan
-//! pair, made the initiation of issue 16's 2-D scene slower there in most runs, and no
-//! faster on a quiet machine (docs/performance.md, *Session 18*, with the spread). So a
-//! batch gathers the 4-tuples of several scan pairs instead of ending with each: pass 2 combines
+//! is now and then descheduled (a loaded machine), and small batches gain nothing on a quiet
+//! one (the measurements are in CHANGELOG.md, *Progress and batches*). So a batch is large and
+//! gathers the 4-tuples of several scan pairs instead of ending with each: pass 2 combines
 //! fifteen slots per sensor pair, most with far fewer survivors than a batch. It holds each
 //! 4-tuple as indices into its scan pair's ray pairs, which it shares (`Arc`) until fitted:
 //! rebuilding the two ray pairs from the rows would repeat their sines, cosines and meetings
@@ -94,6 +93,11 @@ impl<'a> Batch<'a> {
         self.gate.is_some()
     }
 
+    /// The support gate (none when off).
+    pub(super) fn support(&self) -> Option<&'a Gate<'a>> {
+        self.gate
+    }
+
     /// Starts a scan pair whose 4-tuples will follow; its handle for [`push`](Self::push).
     pub(super) fn begin(
         &mut self,
@@ -137,8 +141,8 @@ impl<'a> Batch<'a> {
     /// Fits the 4-tuples in parallel (collected in order), applies the χ² gate and then the
     /// support `gate` (when on), and keeps the survivors. Gating each batch as it is fitted,
     /// instead of every candidate after all are fitted, keeps only the survivors in memory
-    /// (6 145 of the 465 152 fitted on issue 16's 2-D scene, each ≈ 0.45 kB; peak RSS
-    /// 208 → 111 MB).
+    /// (6 145 of the 465 152 fitted on the 8-target 2-D scene of
+    /// `benches/bench_initiation_2d.py`, each ≈ 0.45 kB).
     fn fit_and_gate(&self, set: &mut CandidateSet) -> CoreResult<()> {
         let (problem, options, gate) = (self.problem, self.options, self.gate);
         let start = Instant::now();

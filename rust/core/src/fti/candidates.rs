@@ -36,19 +36,22 @@ use super::options::InitiationOptions;
 use super::pool::{CandidateSet, Pool};
 use super::problem::Problem;
 use super::ray_pairs::ray_pairs;
-use super::scans::Scans;
+use super::round_gate::{RoundGate, RoundMeetings};
+use super::scans::{Scans, Slot};
 use super::support::Gate;
-use crate::error::CoreResult;
+use super::witness_gate::Witnesses;
+use crate::error::{CoreError, CoreResult};
 use crate::progress::{Progress, Tally};
 
-/// Generates, prunes and fits the candidates of every scan quadruple `[a-first, b-first,
-/// a-last, b-last]` of `slots` (see [`Scans::scan_slots`]), in order, from the rows that are
-/// `available` (every row when `None`), keeping those the support `gate` keeps (all when
+/// Generates, prunes and fits the candidates of every slot's scan quadruple `[a-first,
+/// b-first, a-last, b-last]` (see [`Scans::scan_slots`], [`Scans::round_slots`]), in order,
+/// from the rows that are `available` (every row when `None`), testing each against the
+/// slot's rounds (module `round_gate`), keeping those the support `gate` keeps (all when
 /// `None`).
 pub fn generate(
     problem: &Problem<'_>,
     scans: &Scans,
-    slots: &[[usize; 4]],
+    slots: &[Slot],
     available: Option<&[bool]>,
     options: &InitiationOptions,
     gate: Option<&Gate<'_>>,
@@ -62,7 +65,7 @@ pub fn generate(
 pub(super) fn generate_in(
     problem: &Problem<'_>,
     scans: &Scans,
-    slots: &[[usize; 4]],
+    slots: &[Slot],
     available: Option<&[bool]>,
     options: &InitiationOptions,
     mut batch: Batch<'_>,
@@ -78,39 +81,85 @@ pub(super) fn generate_in(
         rows.filter(|&m| available.is_none_or(|a| a[m])).collect()
     };
     let tally = Tally::new(problem.progress, "candidates", slots.len() as u64);
-    for (index, &slot) in slots.iter().enumerate() {
-        let [sa1, sb1, sa2, sb2] = slot.map(rows_of);
-        let raw = [sa1.len(), sb1.len(), sa2.len(), sb2.len()]
-            .iter()
-            .fold(1usize, |p, &n| p.saturating_mul(n));
-        set.counts.raw = set.counts.raw.saturating_add(raw);
-        let (firsts, f_ray) = ray_pairs(problem, &sa1, &sb1, options)?;
-        let (lasts, l_ray) = ray_pairs(problem, &sa2, &sb2, options)?;
-        set.counts.ray_gate = set
-            .counts
-            .ray_gate
-            .saturating_add(f_ray.saturating_mul(l_ray));
-        set.counts.behind = set
-            .counts
-            .behind
-            .saturating_add(firsts.len().saturating_mul(lasts.len()));
-        // The combination reports how far through this slot it is; the tally makes that a
-        // fraction of the whole stage.
+    let mut limit = None;
+    for (index, slot) in slots.iter().enumerate() {
         let within = tally.unit(index as u64);
-        let slot_problem = Problem {
-            progress: &within,
-            ..*problem
-        };
-        let rays = ScanPairRays {
-            firsts: firsts.into(),
-            lasts: lasts.into(),
-        };
-        combine::combine(&slot_problem, &rays, options, &mut batch, &mut set)?;
+        let formed = form_slot(
+            problem, slot, &rows_of, &within, options, &mut batch, &mut set,
+        );
+        match formed {
+            Err(reached @ CoreError::CapExceeded { .. }) if options.stop_at_limit() => {
+                limit = Some(reached.to_string());
+                break;
+            }
+            other => other?,
+        }
         within.report("candidates", 1.0);
     }
+    set.limit = limit;
     if !problem.stopped() {
         batch.flush(&mut set)?;
     }
     set.seconds_enumerate = start.elapsed().as_secs_f64() - set.seconds_fit - set.seconds_support;
     Ok(set)
+}
+
+/// Forms, tests and queues the candidates of one slot (the combination reports how far through
+/// the slot it is to `within`, a fraction of the whole stage).
+fn form_slot(
+    problem: &Problem<'_>,
+    slot: &Slot,
+    rows_of: &dyn Fn(usize) -> Vec<usize>,
+    within: &dyn Progress,
+    options: &InitiationOptions,
+    batch: &mut Batch<'_>,
+    set: &mut CandidateSet,
+) -> CoreResult<()> {
+    let gate = batch.support();
+    let [sa1, sb1, sa2, sb2] = slot.scans.map(rows_of);
+    let raw = [sa1.len(), sb1.len(), sa2.len(), sb2.len()]
+        .iter()
+        .fold(1usize, |p, &n| p.saturating_mul(n));
+    set.counts.raw = set.counts.raw.saturating_add(raw);
+    let (firsts, f_ray) = ray_pairs(problem, &sa1, &sb1, options)?;
+    let (lasts, l_ray) = ray_pairs(problem, &sa2, &sb2, options)?;
+    set.counts.ray_gate = set
+        .counts
+        .ray_gate
+        .saturating_add(f_ray.saturating_mul(l_ray));
+    set.counts.behind = set
+        .counts
+        .behind
+        .saturating_add(firsts.len().saturating_mul(lasts.len()));
+    let slot_problem = Problem {
+        progress: within,
+        ..*problem
+    };
+    let rays = ScanPairRays {
+        firsts: firsts.into(),
+        lasts: lasts.into(),
+    };
+    let round_gate = match slot.is_tested() {
+        false => None,
+        true => {
+            let mut rounds = Vec::with_capacity(slot.tested.len());
+            for &[a, b] in &slot.tested {
+                let (pairs, _) = ray_pairs(problem, &rows_of(a), &rows_of(b), options)?;
+                rounds.push(RoundMeetings::new(problem.layout.space, &pairs));
+            }
+            let table = gate.map_or(&[][..], |g| &g.table.scans[..]);
+            let witnesses = Witnesses::new(table, &slot.witnesses);
+            let (space, need) = (problem.layout.space, slot.need);
+            let located = [&rays.firsts[..], &rays.lasts[..]];
+            Some(RoundGate::new(space, rounds, need, witnesses, located))
+        }
+    };
+    combine::combine(
+        &slot_problem,
+        &rays,
+        round_gate.as_ref(),
+        options,
+        batch,
+        set,
+    )
 }

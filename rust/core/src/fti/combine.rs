@@ -5,18 +5,17 @@
 //! are fitted in the order of a plain double loop, so the candidates do not depend on the
 //! thread count. Two things keep the work bounded (a project extension):
 //!
-//! * **A grid over the last meetings.** A last pair can pass `v_max` only if its meeting lies
-//!   within `v_max · (t_last − t_first)` of the first's, so the last meetings are binned in
-//!   cubes of that size (bounded over the whole scan pair) and a first pair is tested only
-//!   against the 3³ (3² in 2-D) cubes around its meeting. Where the scene is smaller than a
-//!   few cubes the grid cannot prune and every last pair is tested.
+//! * **An index over the last meetings.** A last pair can pass `v_max` only if its meeting
+//!   lies within `v_max · (t_last − t_first)` of the first's, so the last meetings go in an
+//!   R*-tree and a first pair is tested only against those within that ball. Where the scene
+//!   is smaller than a few such reaches the index cannot prune and every last pair is tested.
 //! * **A cap on the tests, known before any is made.** More than `WORK_PER_CANDIDATE ·
 //!   max_candidates` first × last tests for one scan pair is refused (`CapExceeded`) at once,
 //!   instead of running for minutes before the survivors reach `max_candidates`.
 
-use std::collections::HashMap;
-
 use rayon::prelude::*;
+use rstar::primitives::GeomWithData;
+use rstar::RTree;
 
 use super::batch::{Batch, ScanPairRays};
 use super::motion_gate;
@@ -24,6 +23,7 @@ use super::options::InitiationOptions;
 use super::pool::CandidateSet;
 use super::problem::Problem;
 use super::ray_pairs::RayPair;
+use super::round_gate::RoundGate;
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::Space;
 
@@ -35,7 +35,7 @@ const WORK_PER_CANDIDATE: usize = 200;
 /// First pairs tested together in parallel: their survivors are held until fitted.
 const BLOCK: usize = 64;
 
-/// Below this many cubes along the scene's longest side the grid prunes too little to pay.
+/// Below this many reaches along the scene's longest side the index prunes too little to pay.
 const MIN_CELLS_ACROSS: f64 = 4.0;
 
 /// Combines a scan pair's first × last ray pairs (module doc) and adds the survivors to
@@ -43,13 +43,14 @@ const MIN_CELLS_ACROSS: f64 = 4.0;
 pub(super) fn combine(
     problem: &Problem<'_>,
     rays: &ScanPairRays,
+    rounds: Option<&RoundGate>,
     options: &InitiationOptions,
     batch: &mut Batch<'_>,
     set: &mut CandidateSet,
 ) -> CoreResult<()> {
     let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
     let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
-    combine_with(problem, rays, grid.as_ref(), options, batch, set)
+    combine_with(problem, rays, grid.as_ref(), rounds, options, batch, set)
 }
 
 /// [`combine`] with the grid given (`None`: test every last pair).
@@ -57,6 +58,7 @@ pub(super) fn combine_with(
     problem: &Problem<'_>,
     rays: &ScanPairRays,
     grid: Option<&Grid>,
+    rounds: Option<&RoundGate>,
     options: &InitiationOptions,
     batch: &mut Batch<'_>,
     set: &mut CandidateSet,
@@ -85,10 +87,12 @@ pub(super) fn combine_with(
         }
         let passing: Vec<Vec<usize>> = block
             .par_iter()
-            .map(|f| {
+            .enumerate()
+            .map(|(i, f)| {
                 let passes = |&l: &usize| {
                     speed_passes(f, &lasts[l], options.v_max())
                         && motion_gate::passes(problem, f, &lasts[l], options)
+                        && rounds.is_none_or(|r| r.passes(done * BLOCK + i, l, f, &lasts[l]))
                 };
                 match grid {
                     Some(g) => g.near(f).into_iter().filter(passes).collect(),
@@ -128,16 +132,17 @@ pub(super) fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) 
     distance <= v_max * (l.time - f.time)
 }
 
-/// The last pairs' meetings binned in cubes of side `v_max · max(t_last − t_first)`.
+/// The last pairs' meetings in an R*-tree, queried with the ball of radius
+/// `v_max · max(t_last − t_first)` around a first pair's meeting: the last pairs that may pass
+/// `v_max` with it.
 pub(super) struct Grid {
-    side: f64,
-    dims: usize,
-    cells: HashMap<[i64; 3], Vec<usize>>,
+    reach2: f64,
+    tree: RTree<GeomWithData<[f64; 3], usize>>,
 }
 
 impl Grid {
-    /// `None` when the grid cannot prune: no `v_max`, no meeting, an unbounded or
-    /// non-positive reach, or a scene fewer than [`MIN_CELLS_ACROSS`] cubes across.
+    /// `None` when it cannot prune: no `v_max`, no meeting, an unbounded or non-positive
+    /// reach, or a scene fewer than [`MIN_CELLS_ACROSS`] reaches across.
     pub(super) fn new(
         space: Space,
         firsts: &[RayPair],
@@ -150,8 +155,8 @@ impl Grid {
         };
         let earliest = times(firsts, f64::min, f64::INFINITY);
         let latest = times(lasts, f64::max, f64::NEG_INFINITY);
-        let side = v_max * (latest - earliest);
-        if !(side.is_finite() && side > 0.0) {
+        let reach = v_max * (latest - earliest);
+        if !(reach.is_finite() && reach > 0.0) {
             return None;
         }
         let dims = space.position_dim();
@@ -162,57 +167,39 @@ impl Grid {
                 (lo[k], hi[k]) = (lo[k].min(m.point[k]), hi[k].max(m.point[k]));
             }
         }
-        let across = (0..dims).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) / side;
+        let across = (0..dims).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) / reach;
         if across.is_nan() || across < MIN_CELLS_ACROSS {
             return None;
         }
-        let mut grid = Self {
-            side,
-            dims,
-            cells: HashMap::new(),
-        };
-        for (l, pair) in lasts.iter().enumerate() {
-            if let Some(m) = pair.meeting {
-                grid.cells.entry(grid.cell(&m.point)).or_default().push(l);
-            }
-        }
-        Some(grid)
-    }
-
-    fn cell(&self, point: &[f64; 3]) -> [i64; 3] {
-        // Saturating casts: a meeting far outside the scene lands in an edge cell, which
-        // only costs tests, never a missed pair (neighbours are still within one cube).
-        std::array::from_fn(|k| {
-            if k < self.dims {
-                (point[k] / self.side).floor() as i64
-            } else {
-                0
-            }
+        let located = (lasts.iter().enumerate())
+            .filter_map(|(l, pair)| pair.meeting.map(|m| GeomWithData::new(m.point, l)))
+            .collect();
+        Some(Self {
+            // A hair wider than the reach: the speed test decides the pairs at its edge.
+            reach2: (reach * (1.0 + 1e-9)).powi(2),
+            tree: RTree::bulk_load(located),
         })
     }
 
-    /// The cells around `f`'s meeting (none without one: it fails `v_max` anyway).
-    fn around(&self, f: &RayPair) -> impl Iterator<Item = &Vec<usize>> {
-        let centre = f.meeting.map(|m| self.cell(&m.point));
-        let reach = |k: usize| if k < self.dims { -1..=1 } else { 0..=0 };
-        let offsets = reach(0)
-            .flat_map(move |a| reach(1).flat_map(move |b| reach(2).map(move |c| [a, b, c])));
-        offsets.filter_map(move |d| {
-            let c = centre?;
-            let key = std::array::from_fn(|k| c[k].saturating_add(d[k]));
-            self.cells.get(&key)
-        })
-    }
-
-    /// The last pairs that may pass `v_max` with `f`, ascending.
+    /// The last pairs that may pass `v_max` with `f`, ascending (none without a meeting: it
+    /// fails `v_max` anyway).
     fn near(&self, f: &RayPair) -> Vec<usize> {
-        let mut out: Vec<usize> = self.around(f).flatten().copied().collect();
+        let Some(m) = f.meeting else {
+            return Vec::new();
+        };
+        let mut out: Vec<usize> = (self.tree.locate_within_distance(m.point, self.reach2))
+            .map(|hit| hit.data)
+            .collect();
         out.sort_unstable();
         out
     }
 
     fn count_near(&self, f: &RayPair) -> usize {
-        self.around(f).map(Vec::len).sum()
+        f.meeting.map_or(0, |m| {
+            self.tree
+                .locate_within_distance(m.point, self.reach2)
+                .count()
+        })
     }
 }
 
@@ -273,7 +260,8 @@ mod tests {
             let combined = |grid: Option<&Grid>| {
                 let mut batch = Batch::new(&problem, &options, None);
                 let mut set = CandidateSet::default();
-                combine_with(&problem, &rays, grid, &options, &mut batch, &mut set).expect("runs");
+                combine_with(&problem, &rays, grid, None, &options, &mut batch, &mut set)
+                    .expect("runs");
                 batch.flush(&mut set).expect("fits");
                 set
             };
@@ -287,7 +275,15 @@ mod tests {
                 let few = options.with_max_candidates(tests / 400).expect("valid");
                 let mut batch = Batch::new(&problem, &few, None);
                 let mut none = CandidateSet::default();
-                match combine_with(&problem, &rays, Some(&grid), &few, &mut batch, &mut none) {
+                match combine_with(
+                    &problem,
+                    &rays,
+                    Some(&grid),
+                    None,
+                    &few,
+                    &mut batch,
+                    &mut none,
+                ) {
                     Err(CoreError::CapExceeded { count, .. }) => assert_eq!(count, tests),
                     other => panic!("seed {seed}: {other:?}"),
                 }

@@ -2,13 +2,13 @@
 //! about as large a share of its sensors' scans as the typical track of the scene.
 //!
 //! Why: detection's threshold Nd is a count, and where clutter is dense a count is weak
-//! evidence. In the 2-D scenes of issue 16 (8 targets and 16 clutter bearings a scan and
-//! sensor, over half a turn) about every other relation gate holds a row by chance, and the
-//! search threads constant-velocity lines through the clutter that collect 15 or 16 of the
-//! 24 scans (above Nd = 14, with residuals that pass the χ² test), where a target is seen in
-//! nearly every scan. Comparing a track's count with the chance of clutter in its gate does
-//! not separate the two: the threaded lines are the best of millions of tries, and targets
-//! crowd the same sector (docs/methods.md §1, *Coverage test*).
+//! evidence. In the 2-D scenes of `benches/bench_initiation_2d.py` (8 targets and 16 clutter
+//! bearings a scan and sensor, over half a turn) about every other relation gate holds a row
+//! by chance, and the search threads constant-velocity lines through the clutter that
+//! collect 15 or 16 of the 24 scans (above Nd = 14, with residuals that pass the χ² test),
+//! where a target is seen in nearly every scan. Comparing a track's count with the chance of
+//! clutter in its gate does not separate the two: the threaded lines are the best of millions
+//! of tries, and targets crowd the same sector (docs/methods.md §1, *Coverage test*).
 //!
 //! How: a track's coverage is its scans over the scans of the sensors that contribute any of
 //! its rows (a target outside one sensor's view is not penalised for it). The detection

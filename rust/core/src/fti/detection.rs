@@ -66,7 +66,7 @@ fn residual2_from(
 /// Calls `each(m, d²)` for every row `m` of one scan's `rows`, in order, with the number
 /// [`residual2`] gives. The rows share the sensor and the time, hence the prediction: it is
 /// made once (two arctangents) instead of once per row. Detection and classification visit
-/// every row for every optimum or target, and that prediction was most of their time.
+/// every row for every optimum or target, and that prediction would be most of their time.
 fn for_each_residual2(
     problem: &Problem<'_>,
     rows: &[usize],

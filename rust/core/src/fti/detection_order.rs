@@ -1,13 +1,13 @@
 //! The order in which detection (eq. 23) visits the merged optima: the paper's, by decreasing
-//! closeness R, or the project's (issue 16), by the membership of the rows each optimum would
-//! take.
+//! closeness R, or the project's (a project extension), by the membership of the rows each
+//! optimum would take.
 //!
 //! **Why not R.** R is a mean over *every* row, so an optimum that sits between several
 //! targets collects membership from all of their rows, more than a true target's optimum whose
 //! neighbourhood holds only its own. Detection then takes such a ghost first; it takes one row
 //! per scan from two or three targets, and they fall below `Nd`. On the scale bench's 2 × 32
-//! scene (docs/performance.md) 1 of the first 8 tracks accepted held a target, and 9 of 32
-//! targets were found.
+//! scene, in R's order 1 of the first 8 tracks accepted holds a target, and 9 of 32 targets
+//! are found (docs/methods.md §1, *Detection order*).
 //!
 //! **Membership order.** An optimum's score is `Σ exp(−d²_m / 4)` over the rows it would take
 //! now (its related rows among those not yet removed, the nearest of each scan with

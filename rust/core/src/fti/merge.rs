@@ -6,9 +6,9 @@
 //! each is kept unless it merges with an already kept one: deterministic, and of merging
 //! optima the one with the larger R survives.
 //!
-//! **An index over the first coordinate, exact.** Compared with every kept optimum, the merge
-//! was quadratic, and where tens of thousands of optima are kept it took a quarter of the
-//! initiation (docs/performance.md, *Initiation at scale*). Two optima can merge only if
+//! **An index over the first coordinate, exact.** Comparing each optimum with every kept one
+//! is quadratic, and where tens of thousands of optima are kept that would be a large share
+//! of the initiation (CHANGELOG.md, *Many candidates*). Two optima can merge only if
 //! their first coordinates differ by at most
 //! `merge_tol·√((s_i0² + s_j0²)/2) ≤ merge_tol·max(s_i0, s_j0)`. So the optima are sorted by
 //! their first coordinate once, in classes of similar `s_0` (one per power of two, each with

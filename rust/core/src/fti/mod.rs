@@ -57,12 +57,14 @@ mod problem;
 mod quantiles;
 mod ray_pairs;
 mod refit;
+mod round_gate;
 mod scans;
 mod stages;
 mod support;
 mod track_join;
 mod track_quality;
 mod tracking_gate;
+mod witness_gate;
 
 #[cfg(test)]
 mod tests;
@@ -72,10 +74,10 @@ pub use candidates::generate as generate_candidates;
 pub use closeness::{closeness, closeness_and_gradient, closeness_batch, Precomputed, Spreads};
 pub use descent::{descend, descend_from};
 pub use descent_options::{DescentOptions, Scaling};
-pub use options::{DetectionOrder, InitiationOptions, CHI2_2DOF_999, TRACK_TEST};
+pub use options::{DetectionOrder, Formation, InitiationOptions, CHI2_2DOF_999, TRACK_TEST};
 pub use output::{Initiation, StageCounts, StageSeconds, Track};
 pub use pipeline::{initiate, initiate_reporting};
 pub use pool::{CandidateSet, Pool};
 pub use problem::Problem;
 pub use quantiles::{chi2_quantile, normal_quantile};
-pub use scans::{resolve_pairs, Scans};
+pub use scans::{resolve_pairs, Scans, Slot};

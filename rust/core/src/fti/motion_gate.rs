@@ -16,7 +16,7 @@
 use super::options::InitiationOptions;
 use super::problem::Problem;
 use super::ray_pairs::RayPair;
-use crate::geometry::los::{closest_points, direction};
+use crate::geometry::los::closest_points;
 use crate::geometry::model::Space;
 
 /// Whether the candidate of `first` and `last` passes (always, when the rule is off, in 2-D,
@@ -61,8 +61,7 @@ fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64
     let [oa, ob] = &pair.observations;
     let dt = oa.time - ob.time;
     let shifted: [f64; 3] = std::array::from_fn(|k| ob.sensor[k] + v[k] * dt);
-    let ua = direction(oa.angles[0], oa.angles[1]);
-    let ub = direction(ob.angles[0], ob.angles[1]);
+    let (ua, ub) = (oa.line_of_sight(), ob.line_of_sight());
     match closest_points(&oa.sensor, &ua, &shifted, &ub) {
         Some(m) => m.distance <= gate * (noise + dt.abs() * dv),
         None => true, // parallel lines: nothing to judge

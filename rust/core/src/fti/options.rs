@@ -5,6 +5,7 @@
 use super::descent_options::DescentOptions;
 use super::quantiles::upper_normal_level;
 use crate::error::{ensure_positive, parse_option, CoreError, CoreResult, UnknownOption};
+use crate::geometry::model::Space;
 
 /// 99.9 % quantile of χ²(2): the default candidate gate in 3-D, where a candidate's 4
 /// measurements give 8 equations for 6 unknowns.
@@ -16,6 +17,57 @@ pub const TRACK_TEST: f64 = 1e-6;
 /// What to do when the candidates outgrow memory (max_candidates bounds them only by count).
 pub(super) const OOM_HINT: &str =
     "lower max_candidates, set v_max, tighten ray_gate_sigmas or enable reject_behind";
+
+/// Where the candidates come from: see module `candidates`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formation {
+    /// [`Formation::Rounds`] in 3-D with three or more sensors that have two scans or more,
+    /// [`Formation::Paper`] otherwise (in 2-D any two bearings meet, so a third sensor's ray
+    /// rejects little and the short-baseline rounds give poor candidates).
+    Auto,
+    /// The paper's (eq. 20–22): the first and last scans of each sensor pair.
+    Paper,
+    /// Consecutive rounds of each sensor pair (a project extension): the short-baseline
+    /// 4-tuples of two neighbouring scans of each sensor, with the other sensor's scans
+    /// nearest in time, tested against the pair's neighbouring rounds (module `round_gate`)
+    /// and the other sensors' scans (module `witness_gate`) before their fit.
+    Rounds,
+}
+
+impl Formation {
+    /// The formation `Auto` stands for in a `space` where `sensors_with_scans` sensors have
+    /// two scans or more; the others stand for themselves.
+    pub fn resolve(self, space: Space, sensors_with_scans: usize) -> Self {
+        match self {
+            Self::Auto if space == Space::Spatial && sensors_with_scans >= 3 => Self::Rounds,
+            Self::Auto => Self::Paper,
+            other => other,
+        }
+    }
+
+    /// The name the option takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Paper => "paper",
+            Self::Rounds => "rounds",
+        }
+    }
+}
+
+impl std::str::FromStr for Formation {
+    type Err = UnknownOption;
+
+    /// `"auto"`, `"paper"` or `"rounds"`.
+    fn from_str(value: &str) -> Result<Self, UnknownOption> {
+        let choices = [
+            ("auto", Self::Auto),
+            ("paper", Self::Paper),
+            ("rounds", Self::Rounds),
+        ];
+        parse_option(value, &choices, "'auto', 'paper' or 'rounds'")
+    }
+}
 
 /// How detection orders the optima: see module `detection_order`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,6 +99,9 @@ impl std::str::FromStr for DetectionOrder {
 ///
 /// | field | recommended | why |
 /// |---|---|---|
+/// | `candidates` | auto | the rounds formation where a third sensor can reject ghosts (3-D, ≥ 3 sensors), the paper's elsewhere; see [`Formation`] |
+/// | `prefit_gates` | on | the rounds formation tests its candidates before fitting them; see [`with_prefit_gates`](Self::with_prefit_gates) |
+/// | `stop_at_limit` | on | reaching `max_candidates` ends the formation with the tracks it found, and says so; see [`with_stop_at_limit`](Self::with_stop_at_limit) |
 /// | `pairs` | every pair a < b | |
 /// | `gate_sigmas` | 5 | the paper's g |
 /// | `n_detect` | auto | ⌈0.6·N⌉ − 1 for N scans in the table: the paper's Nd = 9 at N = 16; see [`n_detect_for`](Self::n_detect_for) |
@@ -58,7 +113,7 @@ impl std::str::FromStr for DetectionOrder {
 /// | `detection_order` | membership | R favours ghosts between targets; see module `detection_order` |
 /// | `merge_tol` | 1 σ | distinct targets are many σ apart; duplicates converge within 0.1 σ |
 /// | `descent` | see [`DescentOptions`] | |
-/// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (issue 16's 2-D scene); with the support gate off every candidate is stored (≈ 0.45 kB each) |
+/// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (the 8-target 2-D scene of `benches/bench_initiation_2d.py`); with the support gate off every candidate is stored (≈ 0.45 kB each) |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
 /// | `track_test` | 10⁻⁶ (z = 4.753) | see [`with_track_test`](Self::with_track_test) |
 /// | `support_gate` | on | see module `support` |
@@ -85,6 +140,9 @@ impl std::str::FromStr for DetectionOrder {
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitiationOptions {
+    candidates: Formation,
+    prefit_gates: bool,
+    stop_at_limit: bool,
     pairs: Option<Vec<[usize; 2]>>,
     gate_sigmas: f64,
     n_detect: Option<usize>,
@@ -113,7 +171,8 @@ impl Default for InitiationOptions {
 }
 
 impl InitiationOptions {
-    /// The project's defaults, the Python package's: every pair, `gate_sigmas = 5`,
+    /// The project's defaults, the Python package's: the formation chosen by the scene, its
+    /// pre-fit gates on, a formation that stops at its limit, every pair, `gate_sigmas = 5`,
     /// `n_detect` automatic, `ray_gate_sigmas = Some(5)`, `reject_behind`,
     /// `v_max = Some(500)`, `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the
     /// membership detection order, `merge_tol = 1`, the recommended descent,
@@ -122,6 +181,9 @@ impl InitiationOptions {
     /// `search_stage = Some(8192)` (the table of [`InitiationOptions`] says why).
     pub fn recommended() -> Self {
         Self {
+            candidates: Formation::Auto,
+            prefit_gates: true,
+            stop_at_limit: true,
             pairs: None,
             gate_sigmas: 5.0,
             n_detect: None,
@@ -154,12 +216,14 @@ impl InitiationOptions {
     /// * `one_per_scan` off and the closeness detection order: eq. 23 as printed;
     /// * the diagonal descent scaling ([`DescentOptions::paper`]): per-component standard
     ///   deviations, the scaling METHODS names;
-    /// * `refine_passes = 0`, `candidate_scans = 1`, the support gate off, `track_test`
-    ///   `None`, `search_stage` `None`: the project extensions, each off, so candidates come
-    ///   from the first and last scans only and every candidate is descended before detection.
+    /// * `candidates = Paper`, `refine_passes = 0`, `candidate_scans = 1`, the support gate
+    ///   off, `track_test` `None`, `search_stage` `None`: the project extensions, each off, so
+    ///   candidates come from the first and last scans only and every candidate is descended
+    ///   before detection.
     ///
-    /// Where the paper is silent (`merge_tol`, `max_candidates`, `gate_pd`, the descent's
-    /// iteration cap and tolerances) the values are the recommended ones.
+    /// Where the paper is silent (`merge_tol`, `max_candidates` and what reaching it does,
+    /// `gate_pd`, the descent's iteration cap and tolerances) the values are the recommended
+    /// ones.
     pub fn paper() -> Self {
         Self {
             n_detect: Some(9),
@@ -172,11 +236,46 @@ impl InitiationOptions {
             descent: DescentOptions::paper(),
             refine_passes: 0,
             candidate_scans: 1,
+            candidates: Formation::Paper,
             support_gate: false,
             track_test: None,
             search_stage: None,
             ..Self::recommended()
         }
+    }
+
+    /// Where the candidates come from ([`Formation`]).
+    pub fn with_candidates(mut self, candidates: Formation) -> Self {
+        self.candidates = candidates;
+        self
+    }
+
+    pub fn candidates(&self) -> Formation {
+        self.candidates
+    }
+
+    /// Test the rounds formation's candidates against their pair's other rounds and the other
+    /// sensors' scans before fitting them (modules `round_gate`, `witness_gate`; on by
+    /// default). Without the tests every candidate that passes `v_max` is fitted.
+    pub fn with_prefit_gates(mut self, prefit_gates: bool) -> Self {
+        self.prefit_gates = prefit_gates;
+        self
+    }
+
+    pub fn prefit_gates(&self) -> bool {
+        self.prefit_gates
+    }
+
+    /// What reaching `max_candidates` (or the test cap it sets) does: `true` ends the
+    /// formation there and goes on with the candidates fitted so far, the result saying so
+    /// ([`crate::fti::Initiation::limit`]); `false` fails with [`CoreError::CapExceeded`].
+    pub fn with_stop_at_limit(mut self, stop_at_limit: bool) -> Self {
+        self.stop_at_limit = stop_at_limit;
+        self
+    }
+
+    pub fn stop_at_limit(&self) -> bool {
+        self.stop_at_limit
     }
 
     /// Sensor pairs that form candidates; `None` = every pair a < b. Checked against the data
@@ -267,7 +366,8 @@ impl InitiationOptions {
     }
 
     /// Cap on candidates reaching the fitting stage (and on ray pairs per scan pair; at least
-    /// 1): past it the call fails with [`CoreError::CapExceeded`] instead of exhausting memory.
+    /// 1): past it the formation stops, or the call fails with [`CoreError::CapExceeded`]
+    /// ([`Self::with_stop_at_limit`]), instead of exhausting memory.
     pub fn with_max_candidates(mut self, max_candidates: usize) -> CoreResult<Self> {
         if max_candidates < 1 {
             return Err(CoreError::out_of_range(

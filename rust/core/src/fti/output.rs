@@ -1,6 +1,8 @@
 //! What an initiation returns ([`Initiation`]): the tracks, the label of every row, and the
 //! candidates left and seconds spent after each stage.
 
+use super::options::Formation;
+
 /// Candidates (4-tuples) left after each stage, for diagnostics. A 4-tuple survives a
 /// ray-pair rule when both its first-scan and its last-scan ray pairs survive it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -106,6 +108,12 @@ pub struct Track {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Initiation {
     pub dim: usize,
+    /// The formation that ran: `Auto` resolved to `Paper` or `Rounds`.
+    pub formation: Formation,
+    /// What ended the formation early (`stop_at_limit`): the limit reached, as the error it
+    /// would otherwise have been; `None` when every slot was formed. The tracks are those the
+    /// candidates formed until then found.
+    pub limit: Option<String>,
     /// Tracks in the order detection accepted their optima (see `detection_order`).
     pub tracks: Vec<Track>,
     /// Per measurement row: its track index, or −1 for clutter.

@@ -8,11 +8,11 @@ use rayon::prelude::*;
 use super::candidates;
 use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
-use super::options::InitiationOptions;
+use super::options::{Formation, InitiationOptions};
 use super::output::{Initiation, StageCounts, StageSeconds, Track};
 use super::problem::Problem;
 use super::refit::{padded, refit};
-use super::scans::{resolve_pairs, Scans};
+use super::scans::{resolve_pairs, Scans, Slot};
 use super::stages::search_and_detect;
 use super::support::{Gate, SupportTable};
 use super::track_join;
@@ -65,41 +65,28 @@ pub fn initiate_reporting(
         ..Run::default()
     };
 
-    // Pass 1: the paper's first and last scans, over every row.
-    let outer: Vec<[usize; 4]> = pairs
-        .iter()
-        .flat_map(|&p| scans.scan_slots(p, 1, false))
-        .collect();
-    let mut states = run.pass(
-        &problem,
-        &pre,
-        &scans,
-        &outer,
-        None,
-        options,
-        &mut available,
-    )?;
-    // Pass 2 (candidate_scans > 1): the next-outermost scans, over the rows pass 1 left. Their
-    // targets are missed in an outer scan; the rows already taken cannot be reused, so pass 1's
-    // targets cannot be found twice.
-    let depth = options.candidate_scans();
-    let inner: Vec<[usize; 4]> = pairs
-        .iter()
-        .flat_map(|&p| scans.scan_slots(p, depth, true))
-        .collect();
-    if !inner.is_empty() {
-        free_dissolved(&problem, &pre, &scans, &states, options, &mut available)?;
-        let mask = available.clone();
-        states.extend(run.pass(
+    let with_scans = (scans.per_sensor.iter()).filter(|l| l.len() >= 2).count();
+    let formation = options.candidates().resolve(sensors.space(), with_scans);
+    let states = match formation {
+        Formation::Paper | Formation::Auto => paper_passes(
+            &mut run,
             &problem,
             &pre,
             &scans,
-            &inner,
-            Some(&mask),
+            &pairs,
             options,
             &mut available,
-        )?);
-    }
+        )?,
+        Formation::Rounds => round_passes(
+            &mut run,
+            &problem,
+            &pre,
+            &scans,
+            &pairs,
+            options,
+            &mut available,
+        )?,
+    };
     let (counts, mut seconds) = (run.counts, run.seconds);
 
     let clock = Instant::now();
@@ -118,6 +105,8 @@ pub fn initiate_reporting(
 
     Ok(Initiation {
         dim,
+        formation,
+        limit: run.limit,
         tracks,
         labels,
         stage_counts: counts,
@@ -126,10 +115,116 @@ pub fn initiate_reporting(
     })
 }
 
+/// The paper's formation: pass 1 on the first and last scans of every pair, over every row;
+/// pass 2 (candidate_scans > 1) on the next-outermost scans, over the rows pass 1 left. Their
+/// targets are missed in an outer scan; the rows already taken cannot be reused, so pass 1's
+/// targets cannot be found twice.
+fn paper_passes(
+    run: &mut Run,
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    scans: &Scans,
+    pairs: &[[usize; 2]],
+    options: &InitiationOptions,
+    available: &mut [bool],
+) -> CoreResult<Vec<[f64; MAX_DIM]>> {
+    let slots_of = |depth: usize, inner: bool| -> Vec<Slot> {
+        (pairs.iter())
+            .flat_map(|&p| scans.scan_slots(p, depth, inner))
+            .map(Slot::untested)
+            .collect()
+    };
+    let outer = slots_of(1, false);
+    let mut states = run.pass(problem, pre, scans, &outer, None, options, available)?;
+    let inner = slots_of(options.candidate_scans(), true);
+    if !inner.is_empty() && run.limit.is_none() {
+        free_dissolved(problem, pre, scans, &states, options, true, available)?;
+        let mask = available.to_vec();
+        states.extend(run.pass(problem, pre, scans, &inner, Some(&mask), options, available)?);
+    }
+    Ok(states)
+}
+
+/// Each scan's time (its rows share one).
+fn scan_times(problem: &Problem<'_>, scans: &Scans) -> Vec<f64> {
+    (0..scans.len())
+        .map(|k| problem.measurements.time(scans.scan(k)[0]))
+        .collect()
+}
+
+/// The rounds formation: every (pair, round) slot, best first (the most nearly synchronous,
+/// then the rounds nearest the middle), in passes of 1, 2, 4, … slots, each over the rows the
+/// passes before it left.
+fn round_passes(
+    run: &mut Run,
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    scans: &Scans,
+    pairs: &[[usize; 2]],
+    options: &InitiationOptions,
+    available: &mut [bool],
+) -> CoreResult<Vec<[f64; MAX_DIM]>> {
+    let times = scan_times(problem, scans);
+    // Each pair's slots best first; then the pairs' best slots, their second best, and so on.
+    let mut ranked: Vec<((usize, f64), Slot)> = Vec::new();
+    for &pair in pairs {
+        let mut round = scans.round_slots(pair, &times);
+        if !options.prefit_gates() {
+            round = round.into_iter().map(|s| Slot::untested(s.scans)).collect();
+        }
+        let middle = round.len() as f64 / 2.0;
+        let mut scored: Vec<(f64, Slot)> = (round.into_iter().enumerate())
+            .map(|(k, slot)| {
+                let [a0, b0, a1, b1] = slot.scans;
+                let skew = (times[a0] - times[b0]).abs() + (times[a1] - times[b1]).abs();
+                let span = (times[a1] - times[a0]).abs().max(1e-9);
+                let off_middle = ((k as f64 + 0.5) - middle).abs() / middle.max(1.0);
+                (skew / span + 0.25 * off_middle, slot)
+            })
+            .collect();
+        scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+        ranked.extend(
+            (scored.into_iter().enumerate()).map(|(rank, (score, slot))| ((rank, score), slot)),
+        );
+    }
+    ranked.sort_by(|a, b| (a.0 .0).cmp(&b.0 .0).then(a.0 .1.total_cmp(&b.0 .1)));
+    let slots: Vec<Slot> = ranked.into_iter().map(|(_, slot)| slot).collect();
+    // Once every pair has had two slots, a pass that finds nothing ends the formation.
+    let patience = 2 * pairs.len();
+    let mut states = Vec::new();
+    let (mut start, mut size) = (0usize, 1usize);
+    while start < slots.len() {
+        let group = &slots[start..(start + size).min(slots.len())];
+        if start > 0 {
+            // Light (no joins, no refine passes): it runs before every pass.
+            free_dissolved(problem, pre, scans, &states, options, false, available)?;
+        }
+        let mask = (start > 0).then(|| available.to_vec());
+        let before = run.counts.detected;
+        states.extend(run.pass(
+            problem,
+            pre,
+            scans,
+            group,
+            mask.as_deref(),
+            options,
+            available,
+        )?);
+        start += size;
+        size *= 2;
+        if run.limit.is_some() || (run.counts.detected == before && start >= patience) {
+            break;
+        }
+    }
+    Ok(states)
+}
+
 /// What the candidate passes have counted and timed so far.
 #[derive(Default)]
 struct Run {
     support: Option<SupportTable>,
+    /// The limit that ended the formation (`stop_at_limit`).
+    limit: Option<String>,
     counts: StageCounts,
     seconds: StageSeconds,
     iterations: Vec<usize>,
@@ -145,7 +240,7 @@ impl Run {
         problem: &Problem<'_>,
         pre: &Precomputed,
         scans: &Scans,
-        slots: &[[usize; 4]],
+        slots: &[Slot],
         mask: Option<&[bool]>,
         options: &InitiationOptions,
         available: &mut [bool],
@@ -165,6 +260,7 @@ impl Run {
 
         let set = candidates::generate(problem, scans, slots, mask, options, gate.as_ref())?;
         stop_if_stopped(problem)?;
+        self.limit = self.limit.take().or(set.limit);
         let mut counts = set.counts;
         self.seconds.candidates += set.seconds_enumerate;
         self.seconds.fit += set.seconds_fit;
@@ -201,7 +297,8 @@ impl Run {
 }
 
 /// Gives pass 2 the rows of pass-1 targets that the end of the pipeline ([`finished`]) would
-/// dissolve: such a target is usually a poor optimum that took a real target's rows in pass 1
+/// dissolve (`thorough`; otherwise the track test alone, without the joins and refine passes,
+/// judges them): such a target is usually a poor optimum that took a real target's rows in pass 1
 /// (that target missed in an outer scan, so its own candidate exists only in pass 2), and
 /// without its rows pass 2 cannot find it. Rows trimmed from a surviving track stay taken:
 /// they lie in a target's gate, and freed they would only seed candidates that climb back to
@@ -212,6 +309,7 @@ fn free_dissolved(
     scans: &Scans,
     states: &[[f64; MAX_DIM]],
     options: &InitiationOptions,
+    thorough: bool,
     available: &mut [bool],
 ) -> CoreResult<()> {
     if options.track_test().is_none() || states.is_empty() {
@@ -219,7 +317,15 @@ fn free_dissolved(
     }
     let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
     let classified = classify(problem, scans, states, gate, one_per_scan)?;
-    let (_, kept) = finished(problem, pre, scans, states, classified.clone(), options)?;
+    let (_, kept) = match thorough {
+        true => finished(problem, pre, scans, states, classified.clone(), options)?,
+        false => {
+            let (tracks, labels) = final_tracks(problem, pre, states, classified.clone());
+            let (n_rows, n_detect) = (labels.len(), options.n_detect_for(scans.len()));
+            let level = options.track_test_level();
+            track_quality::tested(problem, pre, scans, tracks, n_rows, n_detect, level)
+        }
+    };
     let mut survived = vec![false; states.len()];
     for (&was, &is) in classified.iter().zip(&kept) {
         if let (Ok(s), true) = (usize::try_from(was), is >= 0) {

@@ -1,10 +1,10 @@
 //! The supported candidates of one pass, as stored until the search takes them.
 //!
 //! A fitted candidate is about 0.45 kB (its estimate, scales, covariance factor and scores).
-//! Past the cap the support gate keeps millions of them (5 sensors × 64 targets: 3.3 M, most
-//! of the run's 1.56 GB peak, docs/performance.md), while the search in stages (module
-//! `stages`) descends only a few thousand. So past `search_stage` candidates, with the
-//! support gate on (each then has the score the stages order by), the pool keeps only each
+//! Past the cap the support gate keeps millions of them (5 sensors × 100 targets: 23.9 M,
+//! about 11 GB kept whole; docs/performance.md, *Initiation at scale*), while the search in
+//! stages (module `stages`) descends only a few thousand. So past `search_stage` candidates,
+//! with the support gate on (each then has the score the stages order by), the pool keeps only each
 //! candidate's four rows and score, and the search refits the ones it takes. A refit is the
 //! same computation on the same rows (`fit_candidate` from the same ray pairs), so it gives
 //! the same candidate bit for bit (a test checks it), and nothing else about the search
@@ -29,6 +29,9 @@ pub struct CandidateSet {
     pub seconds_enumerate: f64,
     pub seconds_fit: f64,
     pub seconds_support: f64,
+    /// The limit that ended the formation early, as the error it would have been
+    /// (`stop_at_limit`); `None` when every slot was formed.
+    pub limit: Option<String>,
 }
 
 /// A candidate as kept past the limit: what refits it, and its support-gate score.

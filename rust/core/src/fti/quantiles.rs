@@ -169,9 +169,8 @@ mod tests {
         }
     }
 
-    /// The default track test's level is SciPy's `-ndtri(1e-6)` to the bit (the value the
-    /// Python package passed before the core took the probability), and the function is
-    /// monotone and odd about ½ (up to the rounding of `1 − p`).
+    /// The default track test's level is SciPy's `-ndtri(1e-6)` to the bit, and the function
+    /// is monotone and odd about ½ (up to the rounding of `1 − p`).
     #[test]
     fn the_default_level_is_scipys_to_the_bit() {
         assert_eq!(upper_normal_level(1e-6), 4.753_424_308_822_899);

@@ -6,7 +6,7 @@
 use super::options::{InitiationOptions, OOM_HINT};
 use super::problem::Problem;
 use crate::error::{reserve_one, CoreError, CoreResult};
-use crate::geometry::los::{closest_points, direction, intersect_bearings};
+use crate::geometry::los::{closest_points, intersect_bearings};
 use crate::geometry::model::{Observation, Space};
 
 /// Where two rays (lines in 2-D) meet: midpoint of the closest points, the mean time of the
@@ -33,9 +33,14 @@ pub(super) struct RayPair {
 impl RayPair {
     pub(super) fn of(problem: &Problem<'_>, ra: usize, rb: usize) -> Self {
         let observations = [problem.observation(ra), problem.observation(rb)];
+        Self::from_observations(problem.layout.space, [ra, rb], observations)
+    }
+
+    /// The pair of rows `rows` whose observations are already built.
+    fn from_observations(space: Space, rows: [usize; 2], observations: [Observation; 2]) -> Self {
         Self {
-            rows: [ra, rb],
-            meeting: meet(problem.layout.space, &observations),
+            rows,
+            meeting: meet(space, &observations),
             observations,
         }
     }
@@ -57,8 +62,7 @@ fn meet(space: Space, [oa, ob]: &[Observation; 2]) -> Option<Meeting> {
             })
         }
         Space::Spatial => {
-            let ua = direction(oa.angles[0], oa.angles[1]);
-            let ub = direction(ob.angles[0], ob.angles[1]);
+            let (ua, ub) = (oa.line_of_sight(), ob.line_of_sight());
             let m = closest_points(&oa.sensor, &ua, &ob.sensor, &ub)?;
             Some(Meeting {
                 point: m.midpoint(),
@@ -81,9 +85,15 @@ pub(super) fn ray_pairs(
 ) -> CoreResult<(Vec<RayPair>, usize)> {
     let mut out = Vec::new();
     let mut passed_ray = 0usize;
-    for &ra in rows_a {
-        for &rb in rows_b {
-            let pair = RayPair::of(problem, ra, rb);
+    let space = problem.layout.space;
+    // Each row's observation once (its sines and cosines), not once per pair.
+    let observed = |rows: &[usize]| -> Vec<Observation> {
+        rows.iter().map(|&m| problem.observation(m)).collect()
+    };
+    let (obs_a, obs_b) = (observed(rows_a), observed(rows_b));
+    for (&ra, oa) in rows_a.iter().zip(&obs_a) {
+        for (&rb, ob) in rows_b.iter().zip(&obs_b) {
+            let pair = RayPair::from_observations(space, [ra, rb], [*oa, *ob]);
             if !ray_gate_passes(problem, &pair, options) {
                 continue;
             }

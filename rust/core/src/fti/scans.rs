@@ -116,6 +116,84 @@ impl Scans {
     }
 }
 
+/// One slot: the scans `[a-first, b-first, a-last, b-last]` of a sensor pair; the pair's
+/// other rounds (`[a, b]` scans) its candidates are tested against before their fit, and how
+/// many of those must support a candidate (module `round_gate`); and the other sensors' scans
+/// that must witness it (module `witness_gate`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Slot {
+    pub scans: [usize; 4],
+    pub tested: Vec<[usize; 2]>,
+    pub need: usize,
+    pub witnesses: Vec<usize>,
+}
+
+impl Slot {
+    /// The slot of `scans` with nothing to test before the fit (as the paper forms its
+    /// candidates).
+    pub fn untested(scans: [usize; 4]) -> Self {
+        Self {
+            scans,
+            tested: Vec::new(),
+            need: 0,
+            witnesses: Vec::new(),
+        }
+    }
+
+    /// Whether a candidate of this slot is tested before its fit.
+    pub fn is_tested(&self) -> bool {
+        self.need > 0 || !self.witnesses.is_empty()
+    }
+}
+
+impl Scans {
+    /// The rounds of pair (a, b): for each of sensor a's scans k with a next one, the scans
+    /// k and k + 1 with sensor b's scans nearest in time to each (`times[s]` is scan s's time),
+    /// and the rounds k − 1 and k + 2 likewise. A round whose two b scans coincide is left out.
+    /// The witnesses are the other sensors' scans within half the slot's span of it.
+    pub fn round_slots(&self, [a, b]: [usize; 2], times: &[f64]) -> Vec<Slot> {
+        let (sa, sb) = (&self.per_sensor[a], &self.per_sensor[b]);
+        let nearest = |t: f64| -> Option<usize> {
+            sb.iter()
+                .copied()
+                .min_by(|&p, &q| (times[p] - t).abs().total_cmp(&(times[q] - t).abs()))
+        };
+        let round = |k: usize| -> Option<[usize; 2]> {
+            let a_scan = *sa.get(k)?;
+            Some([a_scan, nearest(times[a_scan])?])
+        };
+        let mut out = Vec::new();
+        for k in 0..sa.len().saturating_sub(1) {
+            if let (Some([a0, b0]), Some([a1, b1])) = (round(k), round(k + 1)) {
+                if b0 != b1 {
+                    let before = k.checked_sub(1).and_then(round);
+                    let scans = [a0, b0, a1, b1];
+                    out.push(Slot {
+                        scans,
+                        tested: before.into_iter().chain(round(k + 2)).collect(),
+                        need: 1,
+                        witnesses: self.witnesses([a, b], scans, times),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The scans of every sensor but `pair` within half the span of `scans` of it.
+    fn witnesses(&self, pair: [usize; 2], scans: [usize; 4], times: &[f64]) -> Vec<usize> {
+        let at = scans.map(|s| times[s]);
+        let lo = at.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = at.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let margin = (hi - lo) / 2.0;
+        (self.per_sensor.iter().enumerate())
+            .filter(|(c, _)| !pair.contains(c))
+            .flat_map(|(_, list)| list.iter().copied())
+            .filter(|&s| times[s] >= lo - margin && times[s] <= hi + margin)
+            .collect()
+    }
+}
+
 /// The sensor pairs to use: `requested`, checked, or every pair a < b. Both sensors of each
 /// pair need a first and a last scan; pairs may not repeat (in either order).
 pub fn resolve_pairs(

@@ -4,15 +4,15 @@
 //! The paper descends every candidate, then runs detection (eq. 23) over all the optima by
 //! decreasing R. Where the candidates are at most `search_stage` (the paper's scene: about
 //! twenty a run) this module does exactly that. Where they number in the tens of thousands
-//! (dense scenes, more sensors) most are ghosts made of rows of several targets, and the
-//! searches were most of the initiation's time although detection rejects nearly all of
-//! their optima: the targets accepted before them have taken their rows.
+//! (dense scenes, more sensors) most are ghosts made of rows of several targets: searching
+//! them all would be most of the initiation's time, although detection rejects nearly all of
+//! their optima because the targets accepted before them have taken their rows.
 //!
 //! **Stages.** Above `search_stage` candidates, they are ordered by the tracking gate's score
 //! (decreasing; ties: lower index): how much likelier the rows a candidate's walk took are
 //! from it than from clutter (module `tracking_gate`). The first `search_stage` are searched
-//! and detection runs over their optima (on the 5-sensor scenes measured, at most one
-//! candidate after them passed the gate again: docs/performance.md). Each later stage
+//! and detection runs over their optima (on the 5-sensor scenes of the scale bench, few of
+//! the candidates after them pass the gate again). Each later stage
 //! searches the next `search_stage` candidates that still pass the support gate (both
 //! parts) *on the rows detection has left*, as pass 2's candidates must; a candidate whose
 //! support was rows that accepted targets now hold is their ghost or their duplicate, and

@@ -6,8 +6,8 @@
 //! climbs to an optimum detection rejects, and its descent (the dominant cost: tens of
 //! closeness evaluations over every row) is wasted. In 3-D the χ² gate already removes most
 //! such candidates; in 2-D four bearings fix the four unknowns exactly, the χ² gate has no
-//! information, and every 4-tuple of clutter bearings that survives `v_max` was descended
-//! (32 000 descents for 5 targets and 3 sensors).
+//! information, and every 4-tuple of clutter bearings that survives `v_max` would be
+//! descended (32 000 descents for 5 targets and 3 sensors).
 //!
 //! A scan *supports* the candidate X̂ (covariance `P = L·Lᵀ` from its fit) when one of its rows
 //! lies within `g` standard deviations of the predicted angles in each angle, where the

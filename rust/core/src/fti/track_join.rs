@@ -2,7 +2,8 @@
 //!
 //! Why: two nearby optima can both pass detection on one target's rows, each filling the scans
 //! the other took with clutter, and the final classification then shares the target's rows
-//! between two tracks (two targets of issue 16's 8-target 2-D scene, docs/methods.md §1).
+//! between two tracks (two targets of the 8-target 2-D scene of
+//! `benches/bench_initiation_2d.py` without the join; docs/methods.md §1).
 //! Each half fits its own rows well, so no test on the halves can see it.
 //!
 //! How: two tracks whose predicted angles come within the gate of each other in some scan

@@ -26,8 +26,8 @@ use crate::geometry::model::MAX_DIM;
 /// Standard-normal level of an outlier row: χ²(angles) at 1 − 10⁻³ (`−Φ⁻¹(10⁻³)`).
 const OUTLIER_Z: f64 = 3.090_232_306_167_813;
 
-/// Standard-normal level a trimmed track must pass: a 10⁻⁴ tail (`−Φ⁻¹(10⁻⁴)`). Measured against 10⁻³ and
-/// 10⁻⁵ in docs/methods.md §1 (*Track test*).
+/// Standard-normal level a trimmed track must pass: a 10⁻⁴ tail (`−Φ⁻¹(10⁻⁴)`). Its
+/// comparison with 10⁻³, 10⁻⁵ and 10⁻⁶ is in CHANGELOG.md (*Missed detections and clutter*).
 const TRIMMED_Z: f64 = 3.719_016_485_455_709;
 
 /// The tracks that pass at standard-normal level `z` (all when `None`; trimmed, then the coverage test of module `coverage`),

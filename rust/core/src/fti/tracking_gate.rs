@@ -5,8 +5,8 @@
 //! Why: the fixed gate widens each scan's window by the candidate's own uncertainty, and a
 //! candidate fitted on four rows is unsure of its range (of everything, in 2-D, where four
 //! bearings fix the four unknowns exactly). Other sensors' scans then pass it almost always,
-//! and on cluttered scenes the descents of candidates detection later rejects were most of
-//! the run (figures in docs/methods.md §1, *Tracking gate*).
+//! and on cluttered scenes the descents of candidates detection later rejects would be most
+//! of the run (docs/methods.md §1, *Tracking gate*).
 //!
 //! How: the scans other than the candidate's own four are visited from the one it predicts
 //! best (smallest spread `∇h·P·∇hᵀ`) to the worst. A scan supports the candidate when a row
@@ -20,9 +20,10 @@
 //! as support; their rows are already in the fit, so they update nothing. The descent still
 //! starts from the candidate's own fit: the gate only decides whether it runs.
 //!
-//! **Score.** Where clutter is dense a count is weak evidence: in the 2-D scenes of issue 16
-//! most gates hold a row by chance, and most candidates that reach more than Nd scans are
-//! clutter. So the walk also sums, over the rows it takes, the log-likelihood ratio of each
+//! **Score.** Where clutter is dense a count is weak evidence: in the cluttered 2-D scenes of
+//! `benches/bench_initiation_2d.py` most gates hold a row by chance, and most candidates that
+//! reach more than Nd scans are clutter.
+//! So the walk also sums, over the rows it takes, the log-likelihood ratio of each
 //! row under the candidate (the predictive Gaussian: innovation variance `σ² + ∇h·P·∇hᵀ`
 //! per angle) against clutter at the scan's local density (rows per radian, per rad² in 3-D,
 //! in a box of ±[`DENSITY_WIDTH`] predicted standard deviations, the scored row left out and
@@ -33,8 +34,8 @@
 //! without a row in the gate adds `ln(1 − p)` ([`Gate::miss_score`]). The own four scans
 //! add nothing (their rows are in the fit). On the paper's scene it removes 3 of the 24
 //! candidates a run that the count passes and no figure `reproduce fti` prints at Pd = 1
-//! changes; on issue 16's 2-D scene of 8 targets the searches go from 60 952 to 6 978
-//! (docs/methods.md §1, *Tracking gate*).
+//! changes; on the bench's 8-target 2-D scene it keeps about a tenth of the candidates the
+//! count passes (CHANGELOG.md, *Dense clutter*).
 
 use std::f64::consts::PI;
 

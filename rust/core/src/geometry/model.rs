@@ -235,6 +235,18 @@ impl Observation {
             inv_sigma: sigma.map(|v| 1.0 / v),
         }
     }
+
+    /// `[cos, sin]` of each measured angle (azimuth, then elevation), computed once.
+    pub fn cos_sin(&self) -> [[f64; 2]; 2] {
+        self.unit
+    }
+
+    /// The unit line of sight `[cos ε·cos β, cos ε·sin β, sin ε]` (the bearing's unit vector
+    /// in the plane, z = 0, in 2-D where ε = 0), from the cached cosines and sines.
+    pub fn line_of_sight(&self) -> [f64; 3] {
+        let ([ca, sa], [ce, se]) = (self.unit[0], self.unit[1]);
+        [ce * ca, ce * sa, se]
+    }
 }
 
 /// `wrap(z − atan2(v, u))` as `atan2(sin z·u − cos z·v, cos z·u + sin z·v)`: the same angle

@@ -83,8 +83,11 @@ pub fn coarse_gate(
     let pairs = checked_pairs(n_radar, n_esm)?;
     let parallel = is_parallel(pairs);
     let sides = Sides::new(operator, (radar, esm), options.whitened(), parallel);
-    run_pairs(&sides, (n_radar, n_esm), options.threshold(), parallel)
-        .map_err(|(i, j, k)| not_positive(i, j, k, options.whitened()))
+    let gate = run_pairs(&sides, (n_radar, n_esm), options.threshold(), parallel);
+    if crate::parallel::interrupted() {
+        return Err(CoreError::Interrupted); // rows were skipped: no gate to report
+    }
+    gate.map_err(|(i, j, k)| not_positive(i, j, k, options.whitened()))
 }
 
 /// `n_radar × n_esm`, or the cap's error.
@@ -114,7 +117,8 @@ pub fn runs_sequentially(n_radar: usize, n_esm: usize) -> bool {
 
 /// The statistic and pass flags of every pair of prepared `sides`; on failure the
 /// (radar, ESM, coordinate) of the first pair in row order whose summed covariance is not
-/// positive, whichever thread found it.
+/// positive, whichever thread found it. On a stop request the rows not yet begun are
+/// skipped: the caller polls it (`parallel::interrupted`) before using the gate.
 pub(super) fn run_pairs(
     sides: &Sides<'_>,
     (n_radar, n_esm): (usize, usize),
@@ -125,6 +129,9 @@ pub(super) fn run_pairs(
     if !statistic.is_empty() {
         let row = sides.row_kernel();
         let failed = |(i, out): (usize, &mut [f64])| -> Option<(usize, usize, usize)> {
+            if crate::parallel::interrupted() {
+                return None;
+            }
             row(sides, i, out).err().map(|(j, k)| (i, j, k))
         };
         let failure = if parallel {

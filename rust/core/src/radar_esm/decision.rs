@@ -60,6 +60,9 @@ pub fn repeated_maximum(
     let picks: Vec<Vec<(usize, usize, usize)>> = (0..scans)
         .into_par_iter()
         .map(|k| {
+            if crate::parallel::interrupted() {
+                return Vec::new(); // the call ends as interrupted below
+            }
             let span = k * per_scan..(k + 1) * per_scan;
             scan_picks(
                 &score[span.clone()],
@@ -73,6 +76,9 @@ pub fn repeated_maximum(
             .collect()
         })
         .collect();
+    if crate::parallel::interrupted() {
+        return Err(CoreError::Interrupted);
+    }
     Ok(picks.concat())
 }
 

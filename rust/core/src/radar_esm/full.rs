@@ -54,13 +54,16 @@ pub fn coarse_gate_coupled(
     }
     let pairs = checked_pairs(radar.len(), esm.len())?;
     let sides = Sides::coupled(radar, esm);
-    run_pairs(
+    let gate = run_pairs(
         &sides,
         (radar.len(), esm.len()),
         options.threshold(),
         is_parallel(pairs),
-    )
-    .map_err(|(i, j, _)| {
+    );
+    if crate::parallel::interrupted() {
+        return Err(CoreError::Interrupted); // rows were skipped: no gate to report
+    }
+    gate.map_err(|(i, j, _)| {
         CoreError::ill_posed(
             "covariances",
             format!(

@@ -4,10 +4,10 @@
 //! "Is another intensity-S point within d?" is asked of every candidate. A sweep along x
 //! answers it fast when the answer is yes, but a ghost with no point within d scans every
 //! point of the x-window, and d (about the scene's size) makes that window nearly all of them
-//! — quadratic in large scans (at M = 500 it was most of the search). So the sweep looks at a
+//! — quadratic in large scans (at M = 500 it would be most of the search). So the sweep looks at a
 //! bounded number of points, and a candidate it does not settle goes to an R*-tree (the
 //! `rstar` crate, a well-kept spatial index), built on first use: in small scans the sweep
-//! settles everything and the tree, whose building cost more than their sweeps, is never
+//! settles everything and the tree, whose building costs more than their sweeps, is never
 //! built.
 
 use std::cell::OnceCell;

@@ -14,10 +14,9 @@ use super::{
 };
 use crate::assign::branch_bound::{self, BranchBoundOptions};
 use crate::assign::lagrangian::{self, LagrangianOptions};
-use crate::assign::{CandidateSet, SdProblem};
+use crate::assign::{CandidateSet, Limit, SdProblem, Termination};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
-use crate::geometry::model::Space;
 use crate::progress::{Progress, Tally};
 
 /// The solver each scan's candidates go to.
@@ -44,6 +43,10 @@ pub struct ScanResult {
     pub labels: Vec<i64>,
     pub positions: Vec<f64>,
     pub targets: usize,
+    /// The branch-and-bound stopped at its node cap without proving its answer optimal (only
+    /// with [`ScanSolver::Exact`]): a caller whose one-scan path hands such a problem to
+    /// another solver (the Python layer's HiGHS) re-solves this scan that way.
+    pub node_limited: bool,
 }
 
 /// Associates every scan. `false_alarm_density` holds one value per scan and sensor
@@ -82,7 +85,6 @@ pub fn associate_scans(
             format!("row {bad} is beyond the table's {} rows", table.len()),
         ));
     }
-    let spatial = sensors.space() == Space::Spatial;
     let tally = Tally::new(progress, "scans", n_scans as u64);
     let results = (0..n_scans)
         .into_par_iter()
@@ -93,7 +95,7 @@ pub fn associate_scans(
             let rows = &scans.rows[scans.offsets[k]..scans.offsets[k + 1]];
             let density = match false_alarm_density {
                 Some(given) => Cow::Borrowed(&given[k * s..(k + 1) * s]),
-                None => Cow::Owned(table_density(table, rows.iter().copied(), s, spatial)),
+                None => Cow::Owned(table_density(table, rows.iter().copied(), sensors)),
             };
             let result = one_scan(sensors, table, rows, (pd, &density), enumerate, solver);
             tally.advance(1);
@@ -124,7 +126,7 @@ fn one_scan(
     let scan = Measurements::new(sensors, &sensor, &time, &azimuth, &elevation)?;
     let detection = DetectionModel::new(sensors, pd, density)?;
     let candidates = enumerate_with_attributes(sensors, &scan, &detection, enumerate, None)?;
-    let chosen = solve(&candidates, solver)?;
+    let (chosen, node_limited) = solve(&candidates, solver)?;
     let mut labels = vec![-1; rows.len()];
     let (s, dim) = (candidates.n_sensors, candidates.dim);
     let mut positions = Vec::with_capacity(chosen.len() * dim);
@@ -140,25 +142,29 @@ fn one_scan(
         labels,
         positions,
         targets: chosen.len(),
+        node_limited,
     })
 }
 
-/// The chosen candidate indices, ascending, as the one-scan solvers return them.
-fn solve(c: &Candidates, solver: &ScanSolver) -> CoreResult<Vec<usize>> {
+/// The chosen candidate indices, ascending, as the one-scan solvers return them, and whether
+/// the branch-and-bound stopped at its node cap.
+fn solve(c: &Candidates, solver: &ScanSolver) -> CoreResult<(Vec<usize>, bool)> {
     let tuples: Vec<usize> = c.tuples.iter().map(|&v| v as usize).collect();
     let chosen = match solver {
         ScanSolver::Intensity(options) => {
             let set = CandidateSet::new(tuples, c.n_sensors, c.costs.clone(), c.sizes.clone())?;
             let input = IntensityInput::new(set, c.positions.clone(), c.dim)?;
-            intensity_search(&input, options)?.chosen
+            (intensity_search(&input, options)?.chosen, false)
         }
         ScanSolver::Lagrangian(options) => {
             let problem = SdProblem::new(tuples, c.n_sensors, c.costs.clone(), c.sizes.clone())?;
-            lagrangian::solve(&problem, options).chosen
+            (lagrangian::solve(&problem, options).chosen, false)
         }
         ScanSolver::Exact(options) => {
             let problem = SdProblem::new(tuples, c.n_sensors, c.costs.clone(), c.sizes.clone())?;
-            branch_bound::solve(&problem, options).chosen
+            let solved = branch_bound::solve(&problem, options);
+            let capped = solved.termination == Termination::NotProven(Limit::Nodes);
+            (solved.chosen, capped)
         }
     };
     Ok(chosen)

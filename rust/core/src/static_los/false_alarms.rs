@@ -1,25 +1,37 @@
-//! The default false-alarm density of a scan (a project extension, issue 16 §3; documented in
+//! The default false-alarm density of a scan (a project extension, documented in
 //! docs/methods.md §2): false alarms per radian (per rad² with elevations) for each sensor, when
 //! the caller gives none.
 //!
 //! A sensor's expected false alarms are `p_false` of its reports (the paper's P_FA = 0.05), or
 //! its excess over the median sensor's report count when that is larger: all sensors see the
 //! same targets, so reports beyond the median sensor's are false alarms (or the others'
-//! misses). They are spread over the azimuth (× elevation) span of the sensor's reports, each
-//! span at least 10⁻³ rad; a sensor without reports gets π. The density is at least 10⁻¹².
+//! misses). They are spread over the azimuth (× elevation) span of the sensor's reports; a
+//! sensor without reports gets π. The density is at least 10⁻¹².
 //!
-//! This was NumPy until the per-call overhead of its ten array operations (about 20 µs) came
-//! to a quarter of a tiny scan's time; the arithmetic is the same, operation for operation, so
-//! the densities are the same to the bit (a pytest compares them with the NumPy expressions).
+//! Tiny scans: a span is at least 10⁻³ rad and at least the width of the default gate on the
+//! sensor's angle, 2 × 2.576 σ ([`DEFAULT_GATE_SIGMAS`]), capped at 2π. One report per sensor
+//! spans nothing: with the 10⁻³ rad floor alone its density was 50 per radian, above the
+//! likelihood of a perfect report at σ = 10 mrad (40 per radian), and eq. 2 called a lone
+//! noiseless target clutter. Reports closer together than a gate's width cannot tell how far
+//! false alarms spread; with the gate's width, a report at its target's bearing always beats
+//! a false alarm (by `Pd · 2 · 2.576 / (P_FA · √(2π))` ≈ 39 Pd per sensor). Wider scans are
+//! unchanged.
+//!
+//! It is computed here, not in NumPy, because the per-call overhead of ten array operations
+//! (about 20 µs) would be a quarter of a tiny scan's time. The arithmetic is the NumPy
+//! expressions', operation for operation, so the densities are the same to the bit (a pytest
+//! compares them with those expressions).
 
-use crate::data::Measurements;
+use super::options::DEFAULT_GATE_SIGMAS;
+use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
+use crate::geometry::model::Space;
 
 /// The paper's probability that a report is a false alarm: the default `p_false`.
 pub const DEFAULT_P_FALSE: f64 = 0.05;
 
-/// Narrowest angular span a sensor's reports are taken to cover (rad).
-const MIN_SPAN: f64 = 1e-3;
+/// Narrowest angular span a sensor's reports are taken to cover (rad), whatever its σ.
+pub const MIN_SPAN: f64 = 1e-3;
 
 /// Least density returned, so eq. 2's logarithm exists.
 const MIN_DENSITY: f64 = 1e-12;
@@ -48,14 +60,15 @@ impl Extent {
         ];
     }
 
-    /// The sector the reports span: π for a sensor without reports.
-    fn area(&self, with_elevation: bool) -> f64 {
+    /// The sector the reports span, each side at least its `floor`: π for a sensor without
+    /// reports.
+    fn area(&self, with_elevation: bool, floor: [f64; 2]) -> f64 {
         if self.count == 0 {
             return std::f64::consts::PI;
         }
-        let width = (self.azimuth[1] - self.azimuth[0]).max(MIN_SPAN);
+        let width = (self.azimuth[1] - self.azimuth[0]).max(floor[0]);
         if with_elevation {
-            width * (self.elevation[1] - self.elevation[0]).max(MIN_SPAN)
+            width * (self.elevation[1] - self.elevation[0]).max(floor[1])
         } else {
             width
         }
@@ -84,15 +97,30 @@ pub fn check(n_sensors: usize, p_false: f64) -> CoreResult<()> {
     ))
 }
 
-/// The default density of each of `n_sensors` sensors from one scan's `reports`, each
-/// `(sensor, azimuth, elevation)`; the elevations are read only `with_elevation`. Reports of
-/// sensors outside `0..n_sensors` are not counted.
+/// The narrowest span of each sensor's reports, `[azimuth, elevation]`: [`MIN_SPAN`], and the
+/// width of the default gate on its angles, `2 · DEFAULT_GATE_SIGMAS · σ` (at most 2π).
+pub fn min_spans(sensors: &Sensors<'_>) -> Vec<[f64; 2]> {
+    (0..sensors.len())
+        .map(|j| sensors.sigma(j).map(gate_width))
+        .collect()
+}
+
+/// The width of the default gate on an angle of std `sigma`, at least [`MIN_SPAN`].
+pub fn gate_width(sigma: f64) -> f64 {
+    (2.0 * DEFAULT_GATE_SIGMAS * sigma).clamp(MIN_SPAN, std::f64::consts::TAU)
+}
+
+/// The default density of each sensor from one scan's `reports`, each `(sensor, azimuth,
+/// elevation)`; the elevations are read only `with_elevation`. `floors` holds each sensor's
+/// narrowest span ([`min_spans`]), one per sensor `0..floors.len()`; reports of other sensors
+/// are not counted.
 pub fn scan_density(
     reports: impl IntoIterator<Item = (usize, f64, f64)>,
-    n_sensors: usize,
+    floors: &[[f64; 2]],
     with_elevation: bool,
     p_false: f64,
 ) -> Vec<f64> {
+    let n_sensors = floors.len();
     let mut extents = vec![Extent::EMPTY; n_sensors];
     for (j, azimuth, elevation) in reports {
         if let Some(extent) = extents.get_mut(j) {
@@ -103,26 +131,27 @@ pub fn scan_density(
     let median = median(&counts);
     extents
         .iter()
-        .map(|e| {
+        .zip(floors)
+        .map(|(e, &floor)| {
             let base = p_false * e.count.max(1) as f64;
             let excess = e.count as f64 - median;
-            (base.max(excess) / e.area(with_elevation)).max(MIN_DENSITY)
+            (base.max(excess) / e.area(with_elevation, floor)).max(MIN_DENSITY)
         })
         .collect()
 }
 
-/// The default density of `table`'s `rows` (one scan), for every sensor of the table's network.
+/// The default density of `table`'s `rows` (one scan), for every sensor of `sensors`.
 pub fn table_density(
     table: &Measurements<'_>,
     rows: impl IntoIterator<Item = usize>,
-    n_sensors: usize,
-    with_elevation: bool,
+    sensors: &Sensors<'_>,
 ) -> Vec<f64> {
     let reports = rows.into_iter().map(|m| {
         let [azimuth, elevation] = table.angles(m);
         (table.sensor(m), azimuth, elevation)
     });
-    scan_density(reports, n_sensors, with_elevation, DEFAULT_P_FALSE)
+    let spatial = sensors.space() == Space::Spatial;
+    scan_density(reports, &min_spans(sensors), spatial, DEFAULT_P_FALSE)
 }
 
 /// The median report count, as `np.median` computes it (the mean of the middle two when even).
@@ -139,7 +168,7 @@ fn median(counts: &[usize]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{scan_density, MIN_DENSITY};
+    use super::{gate_width, scan_density, MIN_DENSITY, MIN_SPAN};
 
     /// Three sensors with 3, 3 and 5 reports and a fourth with none: the third holds two more
     /// than the median (3), so two expected false alarms (not 0.25) over its span; the first
@@ -155,7 +184,7 @@ mod tests {
                 .collect()
         };
         let all: Vec<usize> = (0..sensor.len()).collect();
-        let density = scan_density(reports(&all), 4, false, 0.05);
+        let density = scan_density(reports(&all), &[[MIN_SPAN; 2]; 4], false, 0.05);
         let expected = [
             0.15 / 0.4,
             0.15 / 1e-3,
@@ -166,8 +195,20 @@ mod tests {
             assert!((got - want).abs() <= 1e-12 * want, "{density:?}");
         }
         // Only the rows asked for count; a sensor without any gets π and P_FA of one report.
-        let first_two = scan_density(reports(&[0, 1]), 2, false, 0.0);
+        let first_two = scan_density(reports(&[0, 1]), &[[MIN_SPAN; 2]; 2], false, 0.0);
         assert!((first_two[0] - 1.0 / 0.1).abs() < 1e-12, "{first_two:?}");
         assert_eq!(first_two[1], MIN_DENSITY);
+    }
+
+    /// One report per sensor spans nothing: the span is the default gate's width on the
+    /// sensor's angle (at least 10⁻³ rad), so a lone report's density is P_FA over that width.
+    #[test]
+    fn a_lone_report_spreads_its_false_alarms_over_a_gate_width() {
+        let floors = [[gate_width(1e-2), 1.0], [gate_width(1e-5), 1.0]];
+        let density = scan_density([(0, 0.3, 0.0), (1, 1.2, 0.0)], &floors, false, 0.05);
+        let width = 2.0 * 2.5758293035489004 * 1e-2;
+        assert!((density[0] - 0.05 / width).abs() <= 1e-12 * density[0]);
+        assert_eq!(density[1], 0.05 / MIN_SPAN);
+        assert_eq!(gate_width(3.0), std::f64::consts::TAU);
     }
 }

@@ -4,7 +4,7 @@
 //! refit the bias to the pairs believed so far (`memory.rs`).
 
 use super::bias::BiasEstimate;
-use super::candidates::{auto_gated, candidate_pairs, chi2_gated, pair_distances, Candidates};
+use super::candidates::{auto_gated, chi2_gated, gated_pairs, pair_distances, Candidates};
 use super::closeness::pair_closeness;
 use super::decision::decide;
 use super::fusion::{fused_pairs, reliable, Scan};
@@ -32,10 +32,19 @@ pub struct ScanPairs {
     pub scores: Vec<f64>,
 }
 
-/// Candidate pairs scored at most in one scan: 8 bytes of pair and 8 of score each, so this
-/// bounds a scan's working memory near 1 GB; beyond it a position gate is needed. With a
-/// window longer than one scan the same number bounds the pairs remembered.
-pub const MAX_PAIRS: usize = 64_000_000;
+/// Candidate pairs scored at most in one scan, with or without a position or χ² gate: a
+/// larger picture needs a position gate that keeps fewer pairs. A pair takes 8 bytes of pair
+/// and 8 of score, and about 50 more in the decision when every pair may be made (the
+/// nearest-neighbour scoring without a gate): at the cap, 4 000 × 4 000 tracks, that peaked
+/// at 1.07 GB. It was 64 million, and only without a gate: a wide gate listed every pair
+/// (5 000 × 5 000 tracks took 1.8 GB).
+pub const MAX_PAIRS: usize = 16_000_000;
+
+/// [`MAX_PAIRS`] with a window longer than one scan, where every scored pair is remembered
+/// for the window's average (about 250 bytes each: 2 000 × 2 000 tracks at a window of 6
+/// peaked at 1.08 GB, 8 million pairs at 2.04 GB). The pairs remembered are those of the
+/// last `window` scans: as many again for every scan whose track ids are new.
+pub const MAX_REMEMBERED_PAIRS: usize = 4_000_000;
 
 /// One local source's association with the system picture, scan after scan.
 #[derive(Debug, Clone)]
@@ -65,32 +74,39 @@ impl Associator {
         local: &ScanTracks<'_>,
         system: &ScanTracks<'_>,
     ) -> CoreResult<ScanPairs> {
-        let all = local.len().saturating_mul(system.len());
         let cap = if self.decision.window() > 1 {
-            MAX_PAIRS / 8
+            MAX_REMEMBERED_PAIRS
         } else {
             MAX_PAIRS
         };
-        if self.decision.gate() == Gate::Off && all > cap {
-            return Err(CoreError::CapExceeded {
-                what: "track pairs in one scan",
-                count: all,
-                cap,
-                hint:
-                    "give a position gate (only pairs within it are scored) for pictures this large",
-            });
-        }
-        let mut pairs = match self.decision.gate() {
-            Gate::Off => candidate_pairs(local, system, None),
-            Gate::Distance(g) => candidate_pairs(local, system, Some(g)),
-            Gate::Auto => auto_gated(local, system, self.decision.max_offset()),
+        let chi2 = self.decision.chi2_gate();
+        let pairs = match self.decision.gate() {
+            Gate::Off => gated_pairs(local, system, (None, chi2), cap)?,
+            Gate::Distance(g) => gated_pairs(local, system, (Some(g), chi2), cap)?,
+            Gate::Auto => {
+                let near = auto_gated(local, system, self.decision.max_offset());
+                let pairs = match chi2 {
+                    Some(threshold) => chi2_gated(local, system, &near, threshold)?,
+                    None => near,
+                };
+                if pairs.len() > cap {
+                    return Err(CoreError::CapExceeded {
+                        what: "track pairs in one scan",
+                        count: pairs.len(),
+                        cap,
+                        hint: "give a smaller bias bound or range, or a position gate: too many pairs lie within the automatic gate",
+                    });
+                }
+                pairs
+            }
         };
-        if let Some(threshold) = self.decision.chi2_gate() {
-            pairs = chi2_gated(local, system, &pairs, threshold)?;
-        }
         let mut scores = self.scores(local, system, &pairs)?;
-        self.history
-            .average_in_place(local.ids(), system.ids(), &pairs, &mut scores);
+        if crate::parallel::interrupted() {
+            return Err(CoreError::Interrupted); // the scores may be partial: decide nothing
+        }
+        if !(self.history).average_in_place(local.ids(), system.ids(), &pairs, &mut scores) {
+            return Err(self.stopped());
+        }
         let threshold = match (self.scoring, self.decision.gate()) {
             // Distances without a gate in metres: every allowed pair is worth more than any
             // sum of distances, so the decision makes the most pairs, then the least total
@@ -104,7 +120,11 @@ impl Associator {
         let dims = (local.len(), system.len());
         let decided = match (self.scoring, self.decision.decision()) {
             (Scoring::Topology(grid), Decision::Fused) => {
-                let topology = decide(&pairs, &scores, dims, threshold, Decision::Assignment)?;
+                let topology = match decide(&pairs, &scores, dims, threshold, Decision::Assignment)
+                {
+                    Err(CoreError::Interrupted) => return Err(self.stopped()),
+                    topology => topology?,
+                };
                 let cells = grid.cells() as f64;
                 let closeness: Vec<f64> = scores.iter().map(|s| s / cells).collect();
                 let scan = Scan {
@@ -115,9 +135,13 @@ impl Associator {
                     topology: &topology,
                     lambda: threshold / cells,
                 };
-                fused_pairs(&scan, &self.memory, self.estimate.as_ref(), &self.decision)?
+                fused_pairs(&scan, &self.memory, self.estimate.as_ref(), &self.decision)
             }
-            (_, decision) => decide(&pairs, &scores, dims, threshold, decision)?,
+            (_, decision) => decide(&pairs, &scores, dims, threshold, decision),
+        };
+        let decided = match decided {
+            Err(CoreError::Interrupted) => return Err(self.stopped()),
+            decided => decided?,
         };
         self.memory.commit(local, system, &decided);
         self.estimate = self.memory.fit(&self.memory.believed(), None).map(|mut e| {
@@ -132,6 +156,14 @@ impl Associator {
             pairs: decided,
             scores: kept,
         })
+    }
+
+    /// A scan stopped once its scores entered the window: a history holding (part of) a
+    /// scan that decided nothing would bias every later average, so the window starts afresh
+    /// (the bias estimate and the believed pairs, which only decided scans feed, are kept).
+    fn stopped(&mut self) -> CoreError {
+        self.history = ScoreHistory::new(self.decision.window());
+        CoreError::Interrupted
     }
 
     /// The rigid bias estimate, fitted to every scan of the pairs believed after the latest

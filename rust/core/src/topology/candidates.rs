@@ -56,19 +56,93 @@ pub fn candidate_pairs(
     system: &ScanTracks<'_>,
     gate: Option<f64>,
 ) -> Candidates {
-    let (n_local, n_system) = (local.len() as u32, system.len() as u32);
     let Some(gate) = gate else {
         return Candidates::All {
             n_local: local.len(),
             n_system: system.len(),
         };
     };
+    let mut pairs = Vec::new();
+    // The visitor never fails, so neither does the walk.
+    let _ = each_pair_within(local, system, gate, |i, j| {
+        pairs.push((i, j));
+        Ok(())
+    });
+    Candidates::Listed(pairs)
+}
+
+/// The pairs one scan scores, as [`candidate_pairs`] and then [`chi2_gated`] give them, but
+/// with at most `cap` pairs kept and the stop request polled while they are found. Without a
+/// position gate every pair is a candidate, so more than `cap` of them are refused before
+/// any work; with one, the pairs within it (and passing the χ² gate, tested as they are found
+/// instead of after listing them all) are refused once they outnumber the cap.
+pub fn gated_pairs(
+    local: &ScanTracks<'_>,
+    system: &ScanTracks<'_>,
+    (gate, chi2): (Option<f64>, Option<f64>),
+    cap: usize,
+) -> CoreResult<Candidates> {
+    let over = |count: usize, hint: &'static str| CoreError::CapExceeded {
+        what: "track pairs in one scan",
+        count,
+        cap,
+        hint,
+    };
+    let Some(gate) = gate else {
+        let all = local.len().saturating_mul(system.len());
+        if all > cap {
+            return Err(over(
+                all,
+                "give a position gate (only pairs within it are scored) for pictures this large",
+            ));
+        }
+        let pairs = candidate_pairs(local, system, None);
+        return match chi2 {
+            Some(threshold) => chi2_gated(local, system, &pairs, threshold),
+            None => Ok(pairs),
+        };
+    };
+    if chi2.is_some() {
+        check_dimensions(local, system)?;
+    }
+    let mut pairs = Vec::new();
+    each_pair_within(local, system, gate, |i, j| {
+        if crate::parallel::interrupted() {
+            return Err(CoreError::Interrupted);
+        }
+        let kept = match chi2 {
+            Some(threshold) => passes_chi2(local, system, (i as usize, j as usize), threshold)?,
+            None => true,
+        };
+        if kept {
+            if pairs.len() == cap {
+                return Err(over(
+                    cap + 1,
+                    "narrow the position gate (or the χ² gate): too many pairs lie within it",
+                ));
+            }
+            pairs.push((i, j));
+        }
+        Ok(())
+    })?;
+    Ok(Candidates::Listed(pairs))
+}
+
+/// Calls `visit(i, j)` for every pair within `gate` metres (in 3-D where the scans carry
+/// heights), ascending by local row, then system row, with an R*-tree over the system
+/// positions; stops at the first error.
+fn each_pair_within(
+    local: &ScanTracks<'_>,
+    system: &ScanTracks<'_>,
+    gate: f64,
+    mut visit: impl FnMut(u32, u32) -> CoreResult<()>,
+) -> CoreResult<()> {
+    let (n_local, n_system) = (local.len() as u32, system.len() as u32);
     let tree = RTree::bulk_load(
         (0..n_system)
             .map(|j| Located::new(system.position(j as usize), j))
             .collect(),
     );
-    let mut pairs = Vec::new();
     let mut near = Vec::new();
     for i in 0..n_local {
         near.clear();
@@ -82,21 +156,39 @@ pub fn candidate_pairs(
             let p = local.point(i as usize);
             near.retain(|&j| squared_distance(p, system.point(j as usize)) <= gate * gate);
         }
-        pairs.extend(near.iter().map(|&j| (i, j)));
+        for &j in &near {
+            visit(i, j)?;
+        }
     }
-    Candidates::Listed(pairs)
+    Ok(())
 }
 
 /// The candidates whose current positions pass the χ² gate `dᵀ(P_i + P_j)⁻¹d ≤ threshold`,
 /// d the position difference and P the tracks' position covariances (a pair whose summed
 /// covariance is not positive definite never passes). Both scans must carry covariances of
-/// the same dimension.
+/// the same dimension. Polls the stop request (`Interrupted`).
 pub fn chi2_gated(
     local: &ScanTracks<'_>,
     system: &ScanTracks<'_>,
     pairs: &Candidates,
     threshold: f64,
 ) -> CoreResult<Candidates> {
+    check_dimensions(local, system)?;
+    let mut kept = Vec::new();
+    for k in 0..pairs.len() {
+        if k % 4096 == 0 && crate::parallel::interrupted() {
+            return Err(CoreError::Interrupted);
+        }
+        let (i, j) = pairs.pair(k);
+        if passes_chi2(local, system, (i, j), threshold)? {
+            kept.push((i as u32, j as u32));
+        }
+    }
+    Ok(Candidates::Listed(kept))
+}
+
+/// Both sides of a χ² gate have positions of the same dimension.
+fn check_dimensions(local: &ScanTracks<'_>, system: &ScanTracks<'_>) -> CoreResult<()> {
     if local.dim() != system.dim() {
         return Err(CoreError::ill_posed(
             "system",
@@ -107,27 +199,30 @@ pub fn chi2_gated(
             ),
         ));
     }
-    let mut kept = Vec::new();
-    for k in 0..pairs.len() {
-        let (i, j) = pairs.pair(k);
-        let (Some(a), Some(b)) = (local.covariance(i), system.covariance(j)) else {
-            return Err(CoreError::ill_posed(
-                "covariance",
-                "the χ² gate needs both sides' position covariances",
-            ));
-        };
-        let (p, q) = (local.point(i), system.point(j));
-        let d = local.dim();
-        let diff = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-        let mut sum = [0.0; 9];
-        for (s, (x, y)) in sum.iter_mut().zip(a.iter().zip(b)) {
-            *s = x + y;
-        }
-        if mahalanobis(&sum[..d * d], &diff[..d]).is_some_and(|m| m <= threshold) {
-            kept.push((i as u32, j as u32));
-        }
+    Ok(())
+}
+
+/// Whether pair `(i, j)` passes the χ² gate; an error when a side has no covariances.
+fn passes_chi2(
+    local: &ScanTracks<'_>,
+    system: &ScanTracks<'_>,
+    (i, j): (usize, usize),
+    threshold: f64,
+) -> CoreResult<bool> {
+    let (Some(a), Some(b)) = (local.covariance(i), system.covariance(j)) else {
+        return Err(CoreError::ill_posed(
+            "covariance",
+            "the χ² gate needs both sides' position covariances",
+        ));
+    };
+    let (p, q) = (local.point(i), system.point(j));
+    let d = local.dim();
+    let diff = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    let mut sum = [0.0; 9];
+    for (s, (x, y)) in sum.iter_mut().zip(a.iter().zip(b)) {
+        *s = x + y;
     }
-    Ok(Candidates::Listed(kept))
+    Ok(mahalanobis(&sum[..d * d], &diff[..d]).is_some_and(|m| m <= threshold))
 }
 
 /// `dᵀ S⁻¹ d` for a 2×2 or 3×3 symmetric `S` by Cholesky; None when `S` is not positive

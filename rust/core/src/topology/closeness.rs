@@ -44,7 +44,9 @@ fn cell(x: f32, y: f32) -> f32 {
     }
 }
 
-/// W of each candidate pair, as `f64`, in candidate order.
+/// W of each candidate pair, as `f64`, in candidate order. On a stop request the rows (or
+/// blocks of pairs) not yet begun are left at 0: a caller that polls the request afterwards
+/// (`parallel::interrupted`) must not use the scores.
 pub fn pair_closeness(local: &[f32], system: &[f32], cells: usize, pairs: &Candidates) -> Vec<f64> {
     let row = |i: usize| &local[i * cells..(i + 1) * cells];
     let col = |j: usize| &system[j * cells..(j + 1) * cells];
@@ -53,6 +55,9 @@ pub fn pair_closeness(local: &[f32], system: &[f32], cells: usize, pairs: &Candi
         Candidates::All { n_system, .. } => {
             let mut out = vec![0.0; pairs.len()];
             let fill = |(i, out_row): (usize, &mut [f64])| {
+                if crate::parallel::interrupted() {
+                    return;
+                }
                 for (j, w) in out_row.iter_mut().enumerate() {
                     *w = f64::from(closeness(row(i), col(j)));
                 }
@@ -66,13 +71,23 @@ pub fn pair_closeness(local: &[f32], system: &[f32], cells: usize, pairs: &Candi
             out
         }
         Candidates::Listed(list) => {
-            let score =
-                |&(i, j): &(u32, u32)| f64::from(closeness(row(i as usize), col(j as usize)));
+            let mut out = vec![0.0; list.len()];
+            let fill = |(block, scores): (&[(u32, u32)], &mut [f64])| {
+                if crate::parallel::interrupted() {
+                    return;
+                }
+                for (&(i, j), w) in block.iter().zip(scores) {
+                    *w = f64::from(closeness(row(i as usize), col(j as usize)));
+                }
+            };
+            // Blocks of pairs: the unit of work, and of the stop request's polling.
+            const BLOCK: usize = 1024;
             if parallel {
-                list.par_iter().map(score).collect()
+                (list.par_chunks(BLOCK).zip(out.par_chunks_mut(BLOCK))).for_each(fill);
             } else {
-                list.iter().map(score).collect()
+                list.chunks(BLOCK).zip(out.chunks_mut(BLOCK)).for_each(fill);
             }
+            out
         }
     }
 }

@@ -7,7 +7,7 @@
 use super::candidates::Candidates;
 use super::options::Decision;
 use crate::assign::lap::{solve_sparse, SparseCosts};
-use crate::error::CoreResult;
+use crate::error::{CoreError, CoreResult};
 
 /// `(local row, system row)` pairs, ascending by local row. `pairs` and `scores` are the
 /// candidates and their (window-averaged) scores.
@@ -33,7 +33,8 @@ pub fn decide(
     }
 }
 
-/// One-to-one pairs maximising the total score above the threshold, `Σ (score − threshold)`:
+/// One-to-one pairs maximising the total score above the threshold, `Σ (score − threshold)`
+/// (the stop request is polled between building the costs and solving, `Interrupted`):
 /// the project's sparse 2-D solver on costs `threshold − score` (< 0 for every allowed
 /// pair) with free non-assignment, so only allowed pairs are ever made. For distances this
 /// is the usual gated assignment: cost `d − gate`.
@@ -43,9 +44,15 @@ fn max_margin(
     threshold: f64,
     allowed: impl Iterator<Item = (usize, usize, f64)>,
 ) -> CoreResult<Vec<(usize, usize)>> {
+    let stop = || match crate::parallel::interrupted() {
+        true => Err(CoreError::Interrupted),
+        false => Ok(()),
+    };
     let triplets: Vec<(usize, usize, f64)> =
         allowed.map(|(i, j, s)| (i, j, threshold - s)).collect();
+    stop()?;
     let costs = SparseCosts::from_triplets(n_local, n_system, &triplets)?;
+    stop()?;
     let solved = solve_sparse(&costs, &vec![0.0; n_local], &vec![0.0; n_system])?;
     Ok(solved
         .row_to_col

@@ -30,20 +30,25 @@ impl ScoreHistory {
     }
 
     /// Records this scan's `scores` of the candidate `pairs` (rows into `local_ids` and
-    /// `system_ids`) and replaces each score by its window average.
+    /// `system_ids`) and replaces each score by its window average. On a stop request
+    /// (`parallel::interrupted`, polled every 4 096 pairs) it ends early, returns `false`, and
+    /// the history is then part this scan's: the caller forgets it ([`Self::new`]).
     pub fn average_in_place(
         &mut self,
         local_ids: &[i64],
         system_ids: &[i64],
         pairs: &Candidates,
         scores: &mut [f64],
-    ) {
+    ) -> bool {
         self.scan += 1;
         if self.window == 1 {
-            return;
+            return true;
         }
         let oldest = self.scan.saturating_sub(self.window as u64 - 1);
         for (k, score) in scores.iter_mut().enumerate() {
+            if k % 4096 == 0 && crate::parallel::interrupted() {
+                return false;
+            }
             let (i, j) = pairs.pair(k);
             let key = (local_ids[i], system_ids[j]);
             let ring = self.pairs.entry(key).or_default();
@@ -55,6 +60,7 @@ impl ScoreHistory {
         }
         self.pairs
             .retain(|_, ring| ring.back().is_some_and(|&(last, _)| last >= oldest));
+        true
     }
 
     /// Pairs currently remembered (for tests and memory accounting).

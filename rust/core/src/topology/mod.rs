@@ -34,9 +34,9 @@ mod vectors;
 #[cfg(test)]
 mod tests;
 
-pub use associator::{Associator, ScanPairs, Scoring, MAX_PAIRS};
+pub use associator::{Associator, ScanPairs, Scoring, MAX_PAIRS, MAX_REMEMBERED_PAIRS};
 pub use bias::{student_3sigma, BiasAccumulator, BiasEstimate, MIN_CLUSTERS, TRIM_SIGMAS};
-pub use candidates::{auto_gated, candidate_pairs, chi2_gated, Candidates};
+pub use candidates::{auto_gated, candidate_pairs, chi2_gated, gated_pairs, Candidates};
 pub use closeness::{closeness, pair_closeness};
 pub use decision::decide;
 pub use fusion::{

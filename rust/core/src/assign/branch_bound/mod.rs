@@ -236,7 +236,7 @@ impl<'a> Search<'a> {
             best,
             nodes: 0,
             max_nodes: options.max_nodes,
-            deadline: options.time_limit.map(|d| Instant::now() + d),
+            deadline: crate::assign::deadline(options.time_limit),
         }
     }
 

@@ -70,7 +70,7 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
     let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
     let (mut iterations, mut termination) = (0, Termination::MaxIterations);
-    let deadline = options.time_limit().map(|limit| Instant::now() + limit);
+    let deadline = crate::assign::deadline(options.time_limit());
     // Per-iteration buffers, allocated once: the relaxed solution and the subgradient.
     let mut relaxed = Vec::new();
     let mut gradient: Vec<Vec<f64>> = mult.iter().map(|m| vec![0.0; m.len()]).collect();

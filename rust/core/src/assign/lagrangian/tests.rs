@@ -120,3 +120,16 @@ fn options_reject_out_of_range_values() {
         })
     ));
 }
+
+/// A time limit past what the clock can represent (up to `Duration::MAX`, 1.8e19 s) panicked
+/// adding itself to `Instant::now()`; it now never binds.
+#[test]
+fn a_time_limit_past_the_clock_never_binds() {
+    let p = random_problem(3, 4, 6, 4, 30);
+    let unlimited = solve(&p, &unpolished().with_time_limit(None).unwrap());
+    for seconds in [2f64.powi(63), 1e19, 1.8e19] {
+        let limit = Some(std::time::Duration::from_secs_f64(seconds));
+        let s = solve(&p, &unpolished().with_time_limit(limit).unwrap());
+        assert_eq!(s, unlimited, "{seconds}");
+    }
+}

@@ -91,14 +91,14 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
 const SPARSE_MIN_ENTRIES: usize = 64 * 64;
 /// At most this share of allowed (finite) entries, a dense matrix is solved sparse: the sparse
 /// search touches only allowed entries, the dense one every entry of every row it scans. At
-/// 1000² the sparse solve was still faster at half the entries allowed (15 ms against 20 ms,
+/// 1000² the sparse solve is still faster at half the entries allowed (14.6 ms against 21.5 ms,
 /// `benches/bench_lap.py --densities`, docs/performance.md).
 const SPARSE_MAX_SHARE: f64 = 0.5;
 
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
 /// whether any is invalid (NaN, `-inf`, or finite beyond ±[`MAX_ABS_COST`](super::MAX_ABS_COST)).
-/// The checks, the sparse-path test and the solver's all-finite test each read the whole matrix
-/// before, a visible share of a small solve's time (docs/performance.md, issue 18).
+/// The checks, the sparse-path test and the solver's all-finite test share it: a read of the
+/// whole matrix for each would be a visible share of a small solve's time.
 struct EntryScan {
     finite: usize,
     bad: bool,

@@ -28,8 +28,9 @@ const NONE: usize = usize::MAX;
 /// Up to this many columns a search picks its next column by scanning the open ones instead of
 /// popping a heap. Both pick the least [`key`], so the result is the same bit for bit. On the
 /// Lagrangian's relaxed problems at M = 20 (about 40 columns with the dummies) the scan saves
-/// the heap's sifting and stale entries; at M = 50 (about 95) the heap did better, and a limit
-/// of 64 rather than 128 took 5 % fewer instructions there (docs/performance.md).
+/// the heap's sifting and stale entries; at M = 50 (about 95) the heap does better, and a
+/// limit of 64 rather than 128 takes 5 % fewer instructions there (CHANGELOG.md, *2-D (linear
+/// assignment)*).
 const LINEAR_MAX_COLS: usize = 64;
 
 /// Flips the alternating path ending at column `sink` back to row `cur`.

@@ -1,5 +1,5 @@
 //! Fixed-size matrix products as plain loops over compile-time bounds. nalgebra's generic
-//! `Mul` was not inlined into the filter's loop (a fifth of the bench's time in calls);
+//! `Mul` is not inlined into the filter's loop (its calls would take a fifth of the bench);
 //! these unroll into straight multiply-adds, column by column (contiguous in nalgebra's
 //! column-major storage).
 

@@ -42,16 +42,20 @@ impl TrackOutput<'_> {
     }
 }
 
-fn finite<const N: usize>(x: &SVector<f64, N>, p: &SMatrix<f64, N, N>) -> bool {
-    x.iter().chain(p.iter()).all(|v| v.is_finite())
+/// Whether a state can be reported: finite, with no negative variance. A negative variance is
+/// rounding that kept no digits (a time step of 10¹² s in a constant-acceleration filter
+/// scales the prediction by 10⁶⁰), not a covariance.
+fn sound<const N: usize>(x: &SVector<f64, N>, p: &SMatrix<f64, N, N>) -> bool {
+    x.iter().chain(p.iter()).all(|v| v.is_finite()) && p.diagonal().iter().all(|&v| v >= 0.0)
 }
 
 /// Filters the rows `rows` (validated, time-ordered) of `input` into `out`. `D` is the
 /// position dimension, `N = order · D` the state's.
 ///
 /// Rows before the start get NaN (every row of a track too short to start). If an update
-/// fails numerically — the prediction on a polar sensor, or arithmetic overflowing on absurd
-/// but finite inputs — that row and the rest of the track get NaN.
+/// fails numerically — the prediction on a polar sensor, or arithmetic overflowing or losing
+/// every digit (a negative variance) on absurd but finite inputs — that row and the rest of
+/// the track get NaN.
 pub(crate) fn filter_track<const D: usize, const N: usize>(
     input: &KalmanInput<'_>,
     options: &KalmanOptions,
@@ -87,7 +91,7 @@ pub(crate) fn filter_track<const D: usize, const N: usize>(
             options.init_acceleration_std(),
         ),
     };
-    if !finite(&x, &p) {
+    if !sound(&x, &p) {
         out.blank::<N>(0..rows.len());
         return;
     }
@@ -114,7 +118,7 @@ pub(crate) fn filter_track<const D: usize, const N: usize>(
             }
         };
         match nis {
-            Some(nis) if finite(&x, &p) => out.write(k, &x, &p, nis),
+            Some(nis) if sound(&x, &p) => out.write(k, &x, &p, nis),
             _ => {
                 out.blank::<N>(k..rows.len());
                 return;

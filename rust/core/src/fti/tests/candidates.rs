@@ -4,7 +4,7 @@ use super::sim;
 use crate::fti::batch::Batch;
 use crate::fti::candidates::generate_in;
 use crate::fti::options::InitiationOptions;
-use crate::fti::scans::{resolve_pairs, Scans};
+use crate::fti::scans::{resolve_pairs, Scans, Slot};
 
 /// Batches of 7 that let go of their ray pairs at every scan pair find the candidates, in the
 /// same order, and the counts of one batch per 16 384: in 2-D and 3-D, over the slots of
@@ -18,8 +18,9 @@ fn small_batches_find_the_same_candidates() {
         let options = InitiationOptions::default();
         let scans = Scans::new(&table, sensors.len());
         let pairs = resolve_pairs(options.pairs(), &scans).expect("pairs");
-        let slots: Vec<[usize; 4]> = (pairs.iter())
+        let slots: Vec<Slot> = (pairs.iter())
             .flat_map(|&p| scans.scan_slots(p, 3, false))
+            .map(Slot::untested)
             .collect();
         let run = |batch: Batch<'_>| {
             generate_in(&problem, &scans, &slots, None, &options, batch).expect("runs")

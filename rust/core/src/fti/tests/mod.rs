@@ -5,6 +5,7 @@ mod candidates;
 mod missed;
 mod progress;
 mod reference;
+mod rounds;
 pub(super) mod sim;
 
 use super::candidate::Candidate;
@@ -13,7 +14,7 @@ use super::closeness::{closeness, closeness_and_gradient, Precomputed};
 use super::descent::descend;
 use super::output::StageCounts;
 use super::problem::Problem;
-use super::scans::{resolve_pairs, Scans};
+use super::scans::{resolve_pairs, Scans, Slot};
 use super::{initiate, DescentOptions, Initiation, InitiationOptions, Spreads};
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
@@ -50,9 +51,10 @@ pub(super) fn candidates_of(
     };
     let scans = Scans::new(measurements, sensors.len());
     let pairs = resolve_pairs(options.pairs(), &scans)?;
-    let slots: Vec<[usize; 4]> = pairs
+    let slots: Vec<Slot> = pairs
         .iter()
         .flat_map(|&p| scans.scan_slots(p, 1, false))
+        .map(Slot::untested)
         .collect();
     let set = generate(&problem, &scans, &slots, None, options, None)?;
     Ok((

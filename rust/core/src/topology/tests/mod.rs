@@ -5,6 +5,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 mod bias;
+mod caps;
 mod fusion;
 
 use super::*;

@@ -193,8 +193,8 @@ impl<'p> Polish<'p> {
         let mut delta = costs[a] - self.conflicts.iter().map(|&c| costs[c]).sum::<f64>();
         self.gather_candidates(a);
         // The refill is a subset of the candidates, so their negative costs bound what it can
-        // win. On the Lagrangian's scans this rarely decides; a tighter bound was tried and
-        // cost more than the plans it saved (docs/performance.md, "Exact speed-ups").
+        // win. On the Lagrangian's scans this rarely decides, and a tighter bound costs more
+        // than the plans it saves (CHANGELOG.md, *S-D assignment*, the exact speed-ups).
         let bound: f64 = self
             .candidates
             .iter()

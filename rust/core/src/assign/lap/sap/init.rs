@@ -21,12 +21,11 @@ pub(super) struct Init {
 }
 
 /// Repricing steps per free row allowed in one pass of augmenting row reduction. LAPJV's own
-/// bound (current · n) let the first pass run until no row was free, which at 1000² and 3000²
-/// was most of the solve. Past a few steps per row the shortest
-/// augmenting paths finish the remaining rows for less. A sweep of 1 to 64 (uniform costs,
-/// 100² to 3000², three seeds, made with a temporary build knob) put the best between 8 and 16;
-/// 8 is the better of the two below 1000². The resulting times are in docs/performance.md
-/// (`benches/bench_lap.py`).
+/// bound (current · n) lets the first pass run until no row is free, which at 1000² and 3000²
+/// is most of the solve. Past a few steps per row the shortest augmenting paths finish the
+/// remaining rows for less. A sweep of 1 to 64 (uniform costs, 100² to 3000², three seeds)
+/// puts the best between 8 and 16; 8 is the better of the two below 1000². The resulting
+/// times are in docs/performance.md (`benches/bench_lap.py`).
 const ARR_STEPS_PER_ROW: usize = 8;
 
 /// The initialisation of an `n × n` row-major matrix with every entry finite.

@@ -371,3 +371,41 @@ fn absurd_finite_values_give_nan_rows_not_a_panic() {
         assert!(case.run().is_ok());
     }
 }
+
+/// Time steps of 10¹² s scale a constant-acceleration prediction by 10⁶⁰: the update then
+/// keeps no digits and once wrote negative variances on rows reported as having a state. Such
+/// a row and the rest of its track are NaN now, like any numerical failure.
+#[test]
+fn a_row_with_a_state_never_has_a_negative_variance() {
+    let times = [-1e12, 1e12 - 2.0, 1e12 - 1.0, 1e12];
+    let measurements: Vec<f64> = (0..4).flat_map(|k| [10.0 * k as f64, k as f64]).collect();
+    let input = KalmanInput {
+        times: &times,
+        measurements: &measurements,
+        columns: 2,
+        noise: Noise::Std(&[1.0; 8]),
+        sensor_positions: None,
+    };
+    let tracks = Tracks {
+        indices: &[0, 1, 2, 3],
+        offsets: &[0, 4],
+    };
+    for init in [Init::Differencing, Init::SinglePoint] {
+        for q in [0.0, 1.0, 1e3] {
+            let options = KalmanOptions::new(MotionModel::ConstantAcceleration, q)
+                .unwrap()
+                .with_init(init);
+            let out = kalman_filter(&input, &tracks, &options).unwrap();
+            let n = out.state_dim;
+            for row in 0..times.len() {
+                let p = &out.covariances[row * n * n..(row + 1) * n * n];
+                if !out.states[row * n].is_nan() {
+                    assert!(
+                        (0..n).all(|k| p[k * n + k] >= 0.0),
+                        "{init:?} q {q} row {row}"
+                    );
+                }
+            }
+        }
+    }
+}
