@@ -28,61 +28,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..data import TrackTable
-from ..estimation.kalman import KalmanFilter
 from ..evaluation.track_scores import track_association_scores
 from ..roles import TrackAssociator
-from ..simulation.topology import RadarScenario, paper_topology_scenario
+from ..simulation.topology import paper_topology_scenario
 from ..topology import TopologyAssociator
 from ..track_association import NearestNeighbourAssociator
 from .common import finite_float, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
+from .topology_tracks import GROSS_BIAS_DEG, PROCESS_NOISE, local_tracks
 
 #: The paper's precision, recall and F1 (%); its text swaps precision and recall (METHODS §4).
 PAPER = {"precision": 99.9034, "recall": 99.5362, "f1": 99.7195}
-#: White-acceleration spectral density of the local trackers (m²/s³). The targets fly
-#: straight at constant speed (the truth's q is 0); 0.1 lets the velocity wander ~0.3 m/s per
-#: 10 s scan. docs/experiments.md shows the result barely depends on it (0.01 to 1).
-PROCESS_NOISE = 0.1
 SYSTEM_RADAR = 0
 #: The nearest-neighbour baseline's gate, metres, on the window-averaged distance (no χ² gate).
 NEAREST_GATE = 60e3
-#: A bias estimate further than this from the truth (degrees) is counted as a gross failure.
-GROSS_BIAS_DEG = 1.0
-
-
-def local_tracks(scenario: RadarScenario, rng: np.random.Generator, process_noise: float = PROCESS_NOISE) -> TrackTable:
-    """Every radar's tracks: a CV EKF per (radar, target) on its own range/azimuth reports,
-    positions in the radar's own biased frame (with the filter's covariance), ids shuffled per
-    radar. (The radar's own
-    report-to-track assignment is taken as given: it is not the method under test.)"""
-    m = scenario.measurements
-    groups, track_ids = [], []
-    for radar in range(len(scenario.radars)):
-        rows_of_radar = np.flatnonzero(m.radar == radar)
-        targets = np.unique(m.truth[rows_of_radar])
-        shuffled = rng.permutation(len(targets))
-        for k, target in enumerate(targets):
-            rows = rows_of_radar[m.truth[rows_of_radar] == target]
-            groups.append(rows[np.argsort(m.time[rows], kind="stable")])
-            track_ids.append(int(shuffled[k]))
-    radar_at = np.array([r.position for r in scenario.radars])[m.radar]
-    noise = np.array([[r.sigma_range, r.sigma_azimuth] for r in scenario.radars])[m.radar]
-    kf = KalmanFilter(motion="cv", measurement="polar", process_noise=process_noise, n_threads=1)
-    out = kf.filter(m.time, np.column_stack([m.range, m.azimuth]), groups, noise=noise, sensor_positions=radar_at)
-    rows = np.concatenate(groups)
-    track = np.concatenate([np.full(len(g), tid) for g, tid in zip(groups, track_ids, strict=True)])
-    keep = out.has_state[rows]
-    rows, track = rows[keep], track[keep]
-    return TrackTable.from_arrays(
-        m.radar[rows],
-        track,
-        m.time[rows],
-        out.states[rows, :2],
-        velocity=out.states[rows, 2:4],
-        covariance=out.covariances[rows],
-        truth=m.truth[rows],
-        sort=True,
-    )
 
 
 @dataclass(frozen=True)

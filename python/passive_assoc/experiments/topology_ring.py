@@ -4,7 +4,7 @@ the topology defaults were not tuned on (:func:`~passive_assoc.simulation.topolo
 8 radars on a ring each see 300 km around themselves, so radar pairs share all, most or few of
 their targets, and targets enter and leave the pictures. Each radar's local tracks come from a
 constant-velocity EKF on its own biased range/azimuth reports (with the filter's covariances),
-ids shuffled, as in the paper's experiment (:func:`.topology.local_tracks`). *Every* radar pair
+ids shuffled, as in the paper's experiment (:func:`.topology_tracks.local_tracks`). *Every* radar pair
 (i, j), i < j, is associated: radar i's tracks against radar j's picture, 28 pairs a run, every
 scan. Scores, pooled over the radar pairs and runs at each bias level:
 
@@ -34,7 +34,7 @@ from ..simulation.topology import ring_radar_scenario
 from ..topology import TopologyAssociator
 from ..track_association import NearestNeighbourAssociator, TrackAssociation
 from .common import map_runs, print_rows, run_seeds, write_json
-from .topology import GROSS_BIAS_DEG, local_tracks
+from .topology_tracks import GROSS_BIAS_DEG, local_tracks
 
 #: The associators compared, by row title. "topology" is the library's default; the paper's
 #: rule, the former default (the closeness alone, one-to-one, every pair scored) and the best
