@@ -55,7 +55,8 @@ import stonesoup
 from numpy.typing import NDArray
 from passive_assoc.data.conventions import covariance_to_interleaved, to_interleaved
 from passive_assoc.evaluation import track_association_scores
-from passive_assoc.experiments.topology import SYSTEM_RADAR, local_tracks
+from passive_assoc.experiments.topology import SYSTEM_RADAR
+from passive_assoc.experiments.topology_tracks import local_tracks
 from passive_assoc.simulation.topology import paper_topology_scenario
 from passive_assoc.track_association import TrackPairs, UnpairedTracks
 from stonesoup.dataassociator.tracktotrack import OneToOneTrackAssociator, TrackToTrackCounting

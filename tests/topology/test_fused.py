@@ -10,7 +10,7 @@ import numpy as np
 import passive_assoc as pa
 import pytest
 from passive_assoc.evaluation import track_pair_scores
-from passive_assoc.experiments.topology import local_tracks
+from passive_assoc.experiments.topology_tracks import local_tracks
 from passive_assoc.simulation.topology import ring_radar_scenario
 
 
