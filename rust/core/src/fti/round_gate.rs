@@ -30,6 +30,7 @@
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, AABB};
 
+use super::meeting::{Located3, Matrix};
 use super::ray_pairs::RayPair;
 use super::witness_gate::Witnesses;
 use crate::geometry::model::Space;
@@ -52,16 +53,7 @@ const GATE_3D: f64 = 16.266_236_196_238_13 * MARGIN;
 /// χ²(2) at 99.9 % with the margin (2-D).
 const GATE_2D: f64 = 13.815_510_557_964_274 * MARGIN;
 
-type Matrix = [[f64; 3]; 3];
 type Located = GeomWithData<Rectangle<[f64; 3]>, usize>;
-
-/// A meeting with its covariance and time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Located3 {
-    pub(super) point: [f64; 3],
-    pub(super) covariance: Matrix,
-    pub(super) time: f64,
-}
 
 /// The meetings of one round of a sensor pair, each indexed by the box its gate may reach
 /// (its own spread at the gate).
