@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 #: The columns of where the time goes.
-STAGES = ("candidates", "fit", "support", "descent", "final_fit", "other")
+STAGES = ("candidates", "fit", "support", "descent", "final", "other")
 
 CASE = r"""
 import json, resource, statistics, sys, time
