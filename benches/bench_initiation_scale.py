@@ -15,6 +15,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
     python3 benches/bench_initiation_scale.py --search-stage none   # every candidate searched first
     python3 benches/bench_initiation_scale.py --adjacent-pairs   # pairs (0, 1), (1, 2), ... only
     python3 benches/bench_initiation_scale.py --detection-order closeness   # the paper's order
+    python3 benches/bench_initiation_scale.py --candidates paper   # the paper's candidate formation
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ gate_pd = float(sys.argv[7]) if sys.argv[7] != "None" else None
 search_stage = sys.argv[8] if len(sys.argv) > 8 else "default"
 adjacent = len(sys.argv) > 9 and sys.argv[9] == "adjacent"
 order = sys.argv[10] if len(sys.argv) > 10 else "default"
+formation = sys.argv[11] if len(sys.argv) > 11 else "default"
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
@@ -58,6 +60,8 @@ if search_stage != "default":  # likewise
     options["search_stage"] = None if search_stage == "none" else int(search_stage)
 if order != "default":  # likewise
     options["detection_order"] = order
+if formation != "default":  # likewise
+    options["candidates"] = formation
 if adjacent:  # candidates from neighbouring sensors only (j, j + 1)
     options["pairs"] = [(j, j + 1) for j in range(n_sensors - 1)]
 result = pa.FuzzyTrackInitiator(v_max=v_max, **options).initiate(scenario.measurements, sensors, t0=0.0)
@@ -88,6 +92,7 @@ def run_case(
     search_stage: str = "default",
     pairs: str = "all",
     order: str = "default",
+    formation: str = "default",
 ) -> dict[str, Any] | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
@@ -99,7 +104,7 @@ def run_case(
                 "-c",
                 CASE,
                 *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd)),
-                *(search_stage, pairs, order),
+                *(search_stage, pairs, order, formation),
             ],
             capture_output=True,
             text=True,
@@ -145,6 +150,9 @@ def main() -> None:
     parser.add_argument(
         "--detection-order", default="default", help="the initiator's detection_order (default: its default)"
     )
+    parser.add_argument(
+        "--candidates", default="default", help="the initiator's candidates (formation; default: its default)"
+    )
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | supported | "
@@ -166,6 +174,7 @@ def main() -> None:
                 args.search_stage,
                 "adjacent" if args.adjacent_pairs else "all",
                 args.detection_order,
+                args.candidates,
             )
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"

@@ -15,7 +15,8 @@ import time
 
 import numpy as np
 import passive_assoc as pa
-from passive_assoc.experiments.topology import SYSTEM_RADAR, local_tracks
+from passive_assoc.experiments.topology import SYSTEM_RADAR
+from passive_assoc.experiments.topology_tracks import local_tracks
 from passive_assoc.simulation.topology import paper_topology_scenario
 
 

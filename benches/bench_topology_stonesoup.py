@@ -3,9 +3,11 @@ tracks: the topology paper scenario (EXPERIMENTS ``topology``: 8 radars, 20 targ
 90 scans of 10 s, full coverage, azimuth bias U(±B)); each of the 7 local radars is associated
 with the system radar (radar 0) by
 
-* ``topology``: our ``TopologyAssociator`` (default settings, window 6, one thread);
+* ``topology``: our ``TopologyAssociator`` (default settings: the fused decision, window 6, one
+  thread);
 * ``nearest``: our ``NearestNeighbourAssociator`` (every scan, the gated optimal one-to-one
-  assignment of the 6-scan mean position distance; 60 km gate; one thread);
+  assignment of the 6-scan mean position distance; 60 km gate, no covariance gate; one
+  thread);
 * ``ss counting``: Stone Soup's ``TrackToTrackCounting`` (the counting technique, whole tracks
   at once: a pair is associated over the time range its position distance stays within the
   threshold) as it comes, ``one_to_one=False`` (a track may hold several partners at a time);
@@ -53,7 +55,8 @@ import stonesoup
 from numpy.typing import NDArray
 from passive_assoc.data.conventions import covariance_to_interleaved, to_interleaved
 from passive_assoc.evaluation import track_association_scores
-from passive_assoc.experiments.topology import SYSTEM_RADAR, local_tracks
+from passive_assoc.experiments.topology import SYSTEM_RADAR
+from passive_assoc.experiments.topology_tracks import local_tracks
 from passive_assoc.simulation.topology import paper_topology_scenario
 from passive_assoc.track_association import TrackPairs, UnpairedTracks
 from stonesoup.dataassociator.tracktotrack import OneToOneTrackAssociator, TrackToTrackCounting
@@ -185,7 +188,7 @@ def main() -> None:
 
     ours: dict[str, Callable[[], pa.TopologyAssociator | pa.NearestNeighbourAssociator]] = {
         "topology": lambda: pa.TopologyAssociator(window=WINDOW, n_threads=1),
-        "nearest": lambda: pa.NearestNeighbourAssociator(gate=GATE, window=WINDOW, n_threads=1),
+        "nearest": lambda: pa.NearestNeighbourAssociator(gate=GATE, window=WINDOW, gate_probability=None, n_threads=1),
     }
     whole: dict[str, Callable[[], TrackToTrackCounting]] = {
         "ss counting": lambda: counting(False),

@@ -28,7 +28,7 @@ def main() -> None:
     scans = len(scenario.scan_times) - 2  # the CA filter's first state is at the third report
     for label, associator in (
         ("whole-window Σ", pa.WaveletFuzzyAssociator(process_noise=PROCESS_NOISE)),
-        ("per-scan Σ", pa.WaveletFuzzyAssociator()),
+        ("per-scan Σ", pa.WaveletFuzzyAssociator(process_noise=None)),
     ):
         best = float("inf")
         for _ in range(args.repeat):

@@ -16,7 +16,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use passive_assoc_core::topology::{
     candidate_pairs, decide, pair_closeness, topology_vectors, Associator, Decision,
-    DecisionOptions, ScanTracks, Scoring, TopologyOptions,
+    DecisionOptions, Gate, ScanTracks, Scoring, TopologyOptions,
 };
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -51,7 +51,8 @@ fn associator(gate: Option<f64>) -> Associator {
     let decision = DecisionOptions::default()
         .with_threshold(0.6 * grid.cells() as f64)
         .and_then(|d| d.with_window(1))
-        .and_then(|d| d.with_gate(gate))
+        .and_then(|d| d.with_gate(gate.map_or(Gate::Off, Gate::Distance)))
+        .map(|d| d.with_decision(Decision::Assignment))
         .unwrap_or_default();
     Associator::new(Scoring::Topology(grid), decision)
 }

@@ -10,7 +10,8 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
-from passive_assoc.experiments.topology import SYSTEM_RADAR, local_tracks
+from passive_assoc.experiments.topology import SYSTEM_RADAR
+from passive_assoc.experiments.topology_tracks import local_tracks
 from passive_assoc.simulation.topology import paper_topology_scenario
 from passive_assoc.topology import TopologyAssociator
 

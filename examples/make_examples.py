@@ -10,9 +10,12 @@
   ``rf``, ``prf``, ``pw``, ``asp`` and their per-report stds (``<name>_std``);
 * ``topology_local.csv`` / ``topology_system.csv`` — the topology paper's radars (seed 1,
   relative azimuth biases up to 3°), tracks filtered from their reports over the first 12
-  scans: the system radar's and the others';
+  scans: the system radar's and the others' (positions and velocities, without the filter's
+  covariances, to keep the files small: the topology associator then weighs distances by the
+  scatter of its own bias fit);
 * ``wavelet_radar.csv`` / ``wavelet_esm.csv`` — the wavelet paper's radar and ESM tracks
-  (seed 1, one false track each), constant-acceleration filtered.
+  (seed 1, one false track each), constant-acceleration filtered from a prior at the first
+  report.
 
     python3 examples/make_examples.py
 """
@@ -53,6 +56,9 @@ def main() -> None:
     scenario = paper_topology_scenario(rng, bias_deg=3.0)
     tracks = local_tracks(scenario, rng)
     tracks = tracks.select(np.flatnonzero(tracks.time <= scenario.scan_times[11]))  # 12 scans: a small file
+    tracks = pa.TrackTable.from_arrays(
+        tracks.source, tracks.track, tracks.time, tracks.position, velocity=tracks.velocity, truth=tracks.truth
+    )
     tracks.of(SYSTEM_RADAR).to_csv(HERE / "topology_system.csv")
     tracks.select(np.flatnonzero(tracks.source != SYSTEM_RADAR)).to_csv(HERE / "topology_local.csv")
     filtered = filter_reports(paper_wavelet_scenario(1, n_clutter=1).measurements, PROCESS_NOISE)

@@ -109,11 +109,23 @@ def test_reproduce_topology_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[
     for coverage in record.values():
         assert [row["bias_deg"] for row in coverage["rows"]] == [0.0, 5.0]
         for row in coverage["rows"]:
-            for method in ("topology", "nearest"):
+            for method in ("paper rule", "topology", "fused", "nearest"):
                 assert 0.0 <= row[method]["f1"] <= 100.0
     full = record["full"]["rows"]
     assert full[1]["topology"]["f1"] > full[1]["nearest"]["f1"], "at ±5° topology beats nearest neighbour"
+    assert full[1]["fused"]["bias_within_3_std"] >= 0.9
     assert out_png.stat().st_size > 10_000
+
+
+def test_reproduce_topology_ring_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out_json = tmp_path / "ring.json"
+    args = ["reproduce", "topology", "--scenario", "ring", "--runs", "1", "--bias", "5", "--scans", "20"]
+    assert cli_main([*args, "--json", str(out_json)]) == 0
+    text = capsys.readouterr().out
+    assert "28 radar pairs" in text and "topology (default)" in text and "nearest (default)" in text
+    level = json.loads(out_json.read_text())["levels"]["5.0"]
+    assert level["topology (default)"]["pair"]["f1"] > level["topology, assignment"]["pair"]["f1"] - 0.05
+    assert level["topology (default)"]["bias"]["estimates"] > 20
 
 
 def test_reproduce_wavelet_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -125,13 +137,14 @@ def test_reproduce_wavelet_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[s
     record = json.loads(out_json.read_text())
     assert set(record) == {"settings", "paper", "levels", "passive_2d"}
     assert set(record["levels"]) == {"0", "2"}
-    ablations = ("wavelet_per_scan", "wavelet_literal")
+    ablations = ("wavelet_paper", "wavelet_per_scan", "wavelet_literal", "wavelet_raw", "combined_raw")
     assert not set(ablations) & set(record["levels"]["2"]), "the ablations run without false tracks only"
     for summary in [*record["levels"].values(), record["passive_2d"]]:
-        for method in ("wavelet", "nearest", "chi2", *(ablations if summary is not record["levels"]["2"] else ())):
+        compared = ("wavelet", "nearest", "chi2", "combined")
+        for method in (*compared, *(ablations if summary is not record["levels"]["2"] else ())):
             cell = summary[method]
-            assert len(cell["per_scan"]) == 30 and cell["per_scan"][:2] == [None, None]  # no track before scan 3
-            values = [*cell["per_scan"][2:], cell["mean_6_30"], cell["min_15_30"], cell["gate_keeps_true_6_30"]]
+            assert len(cell["per_scan"]) == 30  # the trackers start from a prior: a track from scan 1
+            values = [*cell["per_scan"], cell["mean_6_30"], cell["min_15_30"], cell["gate_keeps_true_6_30"]]
             assert all(0.0 <= v <= 1.0 for v in values)
     assert out_png.stat().st_size > 10_000
 
@@ -291,7 +304,7 @@ def test_a_closed_standard_output_stops_quietly(tmp_path: Path) -> None:
     status, err = process.wait(timeout=300), process.stderr.read()
     process.stderr.close()
     assert status == 141
-    assert err.startswith("1540 pairs;") and len(err.splitlines()) == 1, "the report line alone, no traceback"
+    assert err.startswith("1538 pairs;") and len(err.splitlines()) == 1, "the report line alone, no traceback"
     assert (tmp_path / "topology_local.associate-tracks.json").exists(), "the outputs were written first"
 
 

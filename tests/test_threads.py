@@ -18,7 +18,7 @@ import numpy as np
 import passive_assoc as pa
 import pytest
 from passive_assoc.evaluation import perfect_association_fit
-from passive_assoc.radar_esm import coarse_gate, filter_reports
+from passive_assoc.radar_esm import bearing_fixes, coarse_gate, filter_reports
 from passive_assoc.simulation import static_scan
 
 SCAN = static_scan(1, n_targets=3)
@@ -56,6 +56,11 @@ ENTRY_POINTS: dict[str, Callable[[Any], Any]] = {
     "associate_tracks": lambda n: pa.associate_tracks(local=TRACKS, system=TRACKS, n_threads=n),
     "WaveletFuzzyAssociator": lambda n: pa.WaveletFuzzyAssociator(n_threads=n),
     "Chi2TrackAssociator": lambda n: pa.Chi2TrackAssociator(n_threads=n),
+    "WaveletChi2Associator": lambda n: pa.WaveletChi2Associator(n_threads=n),
+    # No row has a track: it returns before any fit, so only the declaration can refuse.
+    "bearing_fixes": lambda n: bearing_fixes(
+        SCAN.measurements, SCAN.sensors, np.full(len(SCAN.measurements), -1), n_threads=n
+    ),
     "coarse_gate": _gate,
     "filter_reports": lambda n: filter_reports(REPORTS, 1.0, n_threads=n),
     # With no track to filter it returned before any check: True passed silently.

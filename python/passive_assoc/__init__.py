@@ -48,7 +48,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "initiate_tracks",
         "maximize_closeness",
     ),
-    "radar_esm": ("Chi2TrackAssociator", "WaveletFuzzyAssociator"),
+    "radar_esm": ("Chi2TrackAssociator", "WaveletChi2Associator", "WaveletFuzzyAssociator"),
     "simulation": (
         "PAPER_FTI_TARGETS",
         "ConstantVelocityTarget",
@@ -112,7 +112,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers and readers
         maximize_closeness,
     )
     from .fti.closeness import closeness  # not from .fti: mypy then reports it defined twice
-    from .radar_esm import Chi2TrackAssociator, WaveletFuzzyAssociator
+    from .radar_esm import Chi2TrackAssociator, WaveletChi2Associator, WaveletFuzzyAssociator
     from .simulation import (
         PAPER_FTI_TARGETS,
         ConstantVelocityTarget,
@@ -143,6 +143,7 @@ __all__ = [
     "NearestNeighbourAssociator",
     "TopologyAssociator",
     "WaveletFuzzyAssociator",
+    "WaveletChi2Associator",
     "Chi2TrackAssociator",
     "TrackAssociation",
     "StaticAssociation",

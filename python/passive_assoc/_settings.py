@@ -34,8 +34,13 @@ class TopologySettings:
     threshold: float
     window: int
     gate: float | None
+    auto_gate: bool
     chi2_gate: float | None
-    decision: Literal["assignment", "per_system_track"]
+    decision: Literal["fused", "assignment", "per_system_track"]
+    max_bias_deg: float
+    max_range: float
+    gate_probability: float
+    topology_weight: float
     n_threads: int | None
 
 

@@ -133,7 +133,7 @@ def plot_static_scan(scan: Any, path: str) -> None:
 
 def plot_topology(scenario: Any, record: dict[str, Any], path: str) -> None:
     """EXPERIMENTS ``topology``: the radars and two biased local pictures against the truth,
-    one track's ring/sector grid with its neighbours, and F1 against bias for both methods."""
+    one track's ring/sector grid with its neighbours, and F1 against bias for every method."""
     plt = _pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(17, 5.6))
     _biased_pictures(axes[0], scenario)
@@ -141,8 +141,10 @@ def plot_topology(scenario: Any, record: dict[str, Any], path: str) -> None:
     for coverage, entry in record.items():
         rows = entry["rows"]
         bias = [row["bias_deg"] for row in rows]
-        for method, style in (("topology", "-o"), ("nearest", "--s")):
-            axes[2].plot(bias, [row[method]["f1"] for row in rows], style, label=f"{method}, {coverage}")
+        styles = {"paper rule": ":^", "topology": "-o", "fused": "-D", "nearest": "--s"}
+        for method, style in styles.items():
+            if method in rows[0]:
+                axes[2].plot(bias, [row[method]["f1"] for row in rows], style, label=f"{method}, {coverage}")
     axes[2].axhline(99.7195, color="0.5", lw=0.8, ls=":", label="paper F1 (topology)")
     axes[2].set(xlabel="azimuth bias bound B (°)", ylabel="F1 (%)", title="F1 against bias", ylim=(0, 101))
     axes[2].legend(fontsize=8)

@@ -12,8 +12,9 @@ for the same meaning, and returns a result that starts with ``termination``, ``s
 * :class:`TrackAssociator` — ``associate(*, local, system)`` → pairs, unpaired tracks and
   biases: :class:`~passive_assoc.TopologyAssociator` (§4),
   :class:`~passive_assoc.NearestNeighbourAssociator`,
-  :class:`~passive_assoc.WaveletFuzzyAssociator` (§5) and
-  :class:`~passive_assoc.radar_esm.Chi2TrackAssociator`.
+  :class:`~passive_assoc.WaveletFuzzyAssociator` (§5),
+  :class:`~passive_assoc.radar_esm.Chi2TrackAssociator` and
+  :class:`~passive_assoc.radar_esm.WaveletChi2Associator`.
 
 The protocols are structural: a class of your own with the same method is accepted wherever
 the library takes a role (``isinstance(obj, TrackAssociator)`` checks the method is there).

@@ -9,7 +9,9 @@ settings and runs it over every scan.
 * ``"wavelet"``: radar (system) against ESM (local) tracks by wavelets and fuzzy factors
   (§5), :class:`~passive_assoc.WaveletFuzzyAssociator`;
 * ``"chi2"``: the weighted χ² test on the tracks' states,
-  :class:`~passive_assoc.radar_esm.Chi2TrackAssociator`.
+  :class:`~passive_assoc.radar_esm.Chi2TrackAssociator`;
+* ``"combined"``: the wavelet coarse gate, then the χ² test on the whole state (the project's
+  extension of §5), :class:`~passive_assoc.radar_esm.WaveletChi2Associator`.
 """
 
 from __future__ import annotations
@@ -18,14 +20,14 @@ from typing import Any, Literal
 
 from ._progress import ProgressArg
 from .data import TrackTable
-from .radar_esm import Chi2TrackAssociator, WaveletFuzzyAssociator
+from .radar_esm import Chi2TrackAssociator, WaveletChi2Associator, WaveletFuzzyAssociator
 from .roles import TrackAssociator
 from .topology import TopologyAssociator
 from .track_association import NearestNeighbourAssociator, TrackAssociation
 
 __all__ = ["TRACK_METHODS", "TrackMethod", "associate_tracks", "track_associator"]
 
-TrackMethod = Literal["topology", "nearest", "wavelet", "chi2"]
+TrackMethod = Literal["topology", "nearest", "wavelet", "chi2", "combined"]
 
 #: Each method's associator class.
 TRACK_METHODS: dict[str, type[Any]] = {
@@ -33,6 +35,7 @@ TRACK_METHODS: dict[str, type[Any]] = {
     "nearest": NearestNeighbourAssociator,
     "wavelet": WaveletFuzzyAssociator,
     "chi2": Chi2TrackAssociator,
+    "combined": WaveletChi2Associator,
 }
 
 

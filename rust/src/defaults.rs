@@ -14,7 +14,7 @@ use passive_assoc_core::fti::{DescentOptions, DetectionOrder, InitiationOptions,
 use passive_assoc_core::radar_esm::CoarseOptions;
 use passive_assoc_core::static_los::{EnumerateOptions, IntensityOptions};
 use passive_assoc_core::topology::{
-    Decision, DecisionOptions, Diffusion, Reference as Sector0, TopologyOptions,
+    Decision, DecisionOptions, Diffusion, Gate, Reference as Sector0, TopologyOptions,
 };
 
 use super::errors::BindResult;
@@ -147,8 +147,16 @@ pub fn option_defaults(py: Python<'_>, paper: bool) -> BindResult<Bound<'_, PyDi
     let d = kind("decision")?;
     d.set_item("threshold", o.threshold())?;
     d.set_item("window", o.window())?;
-    d.set_item("gate", o.gate())?;
+    match o.gate() {
+        Gate::Off => d.set_item("gate", None::<f64>)?,
+        Gate::Distance(g) => d.set_item("gate", g)?,
+        Gate::Auto => d.set_item("gate", "auto")?,
+    }
     d.set_item("decision", decision(o.decision()))?;
+    d.set_item("max_bias_deg", o.max_bias_deg())?;
+    d.set_item("max_range", o.max_range())?;
+    d.set_item("gate_probability", o.gate_probability())?;
+    d.set_item("topology_weight", o.topology_weight())?;
 
     let o = pick(paper, FitOptions::recommended, FitOptions::paper);
     let d = kind("fit")?;
@@ -242,6 +250,7 @@ fn diffusion(value: Diffusion) -> &'static str {
 
 fn decision(value: Decision) -> &'static str {
     match value {
+        Decision::Fused => "fused",
         Decision::Assignment => "assignment",
         Decision::PerSystemTrack => "per_system_track",
     }

@@ -13,7 +13,7 @@ use super::errors::{value_error, BindResult};
 use super::interrupt;
 use passive_assoc_core::parallel::with_threads;
 use passive_assoc_core::topology::{
-    topology_vectors as core_vectors, Associator, BiasEstimate, DecisionOptions, ScanTracks,
+    topology_vectors as core_vectors, Associator, BiasEstimate, DecisionOptions, Gate, ScanTracks,
     Scoring, TopologyOptions,
 };
 
@@ -31,8 +31,13 @@ pub struct TopologySettings {
     threshold: f64,
     window: i64,
     gate: Option<f64>,
+    auto_gate: bool,
     chi2_gate: Option<f64>,
     decision: String,
+    max_bias_deg: f64,
+    max_range: f64,
+    gate_probability: f64,
+    topology_weight: f64,
     n_threads: Option<i64>,
 }
 
@@ -59,12 +64,21 @@ impl TopologySettings {
                 ))
             }
         };
+        let gate = match (self.auto_gate, self.gate) {
+            (true, _) => Gate::Auto,
+            (false, Some(g)) => Gate::Distance(g),
+            (false, None) => Gate::Off,
+        };
         let decision = DecisionOptions::default()
             .with_threshold(self.threshold)?
             .with_window(count("window", self.window, 1)?)?
-            .with_gate(self.gate)?
+            .with_gate(gate)?
             .with_chi2_gate(self.chi2_gate)?
-            .with_decision(parse("decision", &self.decision)?);
+            .with_decision(parse("decision", &self.decision)?)
+            .with_max_bias_deg(self.max_bias_deg)?
+            .with_max_range(self.max_range)?
+            .with_gate_probability(self.gate_probability)?
+            .with_topology_weight(self.topology_weight)?;
         Ok(Associator::new(scoring, decision))
     }
 }
@@ -119,13 +133,16 @@ pub struct ScanPairs {
     scores: Py<PyArrayDyn<f64>>,
 }
 
-/// A bias estimate: rotation (rad) with its standard deviation, translation (m), pairs used.
+/// A bias estimate: rotation (rad) with its standard deviation, translation (m), pairs
+/// (points) and track pairs used, and whether it is reliable.
 #[pyclass(frozen, get_all, module = "passive_assoc._core")]
 pub struct Bias {
     rotation: f64,
     rotation_std: f64,
     translation: (f64, f64),
     pairs: usize,
+    tracks: usize,
+    reliable: bool,
 }
 
 impl From<BiasEstimate> for Bias {
@@ -135,6 +152,8 @@ impl From<BiasEstimate> for Bias {
             rotation_std: b.rotation_std,
             translation: (b.translation[0], b.translation[1]),
             pairs: b.pairs,
+            tracks: b.clusters,
+            reliable: b.reliable,
         }
     }
 }

@@ -16,9 +16,12 @@ from passive_assoc.radar_esm.fuzzy import _heading, membership
 from passive_assoc.radar_esm.scan_gate import gate_diagonal
 from passive_assoc.simulation import paper_wavelet_scenario
 
-METHODS: dict[str, Callable[[], pa.WaveletFuzzyAssociator | pa.NearestNeighbourAssociator | pa.Chi2TrackAssociator]] = {
+METHODS: dict[str, Callable[[], pa.TrackAssociator]] = {
     "wavelet": pa.WaveletFuzzyAssociator,
     "wavelet_cross_time": lambda: pa.WaveletFuzzyAssociator(process_noise=PROCESS_NOISE),
+    "wavelet_per_scan": lambda: pa.WaveletFuzzyAssociator(process_noise=None),
+    "wavelet_paper": pa.WaveletFuzzyAssociator.paper,
+    "combined": pa.radar_esm.WaveletChi2Associator,
     "nearest": pa.NearestNeighbourAssociator,
     "chi2": pa.Chi2TrackAssociator,
 }
@@ -81,13 +84,19 @@ def test_track_ids_do_not_matter(method: str) -> None:
 
 @pytest.mark.parametrize("method", METHODS)
 def test_noiseless_distinct_targets_are_all_paired_correctly(method: str) -> None:
-    """Exact positions, filtered with a nominal 1 m noise: every target, every scan."""
+    """Exact positions, filtered with a nominal 1 m noise: every target, every scan (the
+    filter starts from a prior at the first report; from the first three, scans 1-2 have no
+    track)."""
     scenario = paper_wavelet_scenario(3, noise_variance=0.0)
     tracks = filter_reports(scenario.measurements, PROCESS_NOISE, noise=1.0)
     radar, esm = tracks.of(0), tracks.of(1)
     correct, _ = score(METHODS[method]().associate(local=esm, system=radar), radar, esm, scenario.scan_times)
-    assert np.isnan(correct[:2]).all()  # the CA filter's first state is at the third report
-    assert correct[2:].tolist() == [1.0] * 28
+    assert correct.tolist() == [1.0] * 30
+    late = filter_reports(scenario.measurements, PROCESS_NOISE, noise=1.0, init="differencing")
+    correct, _ = score(
+        METHODS[method]().associate(local=late.of(1), system=late.of(0)), late.of(0), late.of(1), scenario.scan_times
+    )
+    assert np.isnan(correct[:2]).all() and correct[2:].tolist() == [1.0] * 28
 
 
 @pytest.mark.parametrize("process_noise", [None, PROCESS_NOISE])
@@ -107,8 +116,12 @@ def test_two_and_three_dimensional_tracks(process_noise: float | None) -> None:
         old = [0, 1, 2, 3, 4, 5]  # x, y, vx, vy, ax, ay → into x, y, _, vx, vy, _, ax, ay, _
         new = [0, 1, 3, 4, 6, 7]
         cov[np.ix_(np.arange(len(table)), new, new)] = table.covariance[np.ix_(np.arange(len(table)), old, old)]
-        for z, x in ((2, 0), (5, 2), (8, 4)):  # z, vz, az as uncertain as x, vx, ax
-            cov[:, z, z] = table.covariance[:, x, x]
+        # z, vz, az as uncertain as x, vx, ax, cross terms included (a CA filter's block).
+        z_block, x_block = [2, 5, 8], [0, 2, 4]
+        rows = np.arange(len(table))[:, None, None]
+        cov[rows, np.array(z_block)[:, None], np.array(z_block)] = table.covariance[
+            rows, np.array(x_block)[:, None], np.array(x_block)
+        ]
         lifted.append(
             pa.TrackTable.from_arrays(
                 table.source,
@@ -184,11 +197,14 @@ def test_bad_tracks() -> None:
     shifted = pa.TrackTable.from_arrays(
         esm.source, esm.track, esm.time + 0.5, esm.position, esm.velocity, esm.acceleration, esm.covariance
     )
-    with pytest.raises(ValueError, match=r"local: time 2\.5 s is not a scan time of system"):
+    with pytest.raises(ValueError, match=r"local: time 0\.5 s is not a scan time of system"):
         wavelet.associate(local=shifted, system=radar)
     positions_only = pa.TrackTable.from_arrays(radar.source, radar.track, radar.time, radar.position)
-    with pytest.raises(ValueError, match="system: the method reads the velocity, acceleration, covariance"):
+    with pytest.raises(ValueError, match=r"system: raw reports \(no velocity column\) need each report's covariance"):
         wavelet.associate(local=esm, system=positions_only)
+    no_acceleration = pa.TrackTable.from_arrays(radar.source, radar.track, radar.time, radar.position, radar.velocity)
+    with pytest.raises(ValueError, match="system: the method reads the acceleration, covariance"):
+        wavelet.associate(local=esm, system=no_acceleration)
     with pytest.raises(ValueError, match="local: the method reads the covariance"):
         pa.Chi2TrackAssociator().associate(
             local=pa.TrackTable.from_arrays(esm.source, esm.track, esm.time, esm.position), system=radar

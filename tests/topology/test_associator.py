@@ -205,7 +205,14 @@ def test_correcting_the_estimated_bias_rescues_nearest_neighbour() -> None:
     # Measured at this seed: 0.938 before, over 0.99 after.
     assert near_before.f1 < 0.95 < 0.99 < near_after.f1
     twice = pa.TopologyAssociator(correct_bias=True).associate(local=local, system=system)
-    assert twice.bias == first.bias and len(twice.pairs) > 0.9 * len(local)
+    assert len(twice.pairs) > 0.9 * len(local)
+    # The bias reported is the final pass's: the first pass's turn composed with what the
+    # second found left; it agrees with the first pass's within their spreads.
+    truth = scenario.true_biases - scenario.true_biases[0]  # type: ignore[attr-defined]
+    for radar, b in twice.bias.items():
+        assert b != first.bias[radar]
+        assert abs(b.rotation - first.bias[radar].rotation) <= 3 * max(b.rotation_std, first.bias[radar].rotation_std)
+        assert abs(b.rotation - truth[radar]) <= 3 * b.rotation_std, radar
 
 
 def test_topology_vectors_refuse_what_they_cannot_use() -> None:

@@ -40,8 +40,9 @@ DESCRIPTION = (
     "Associate the tracks of local sensors with the system picture, scan by scan: by reference "
     "topology, which azimuth bias does not move (METHODS §4, --method topology); by least "
     "position distance within the tracks' covariance gate (--method nearest: unbiased sensors); "
-    "or, radar (SYSTEM) against ESM (LOCAL) tracks, by wavelets and fuzzy factors (METHODS §5, "
-    "--method wavelet) or the weighted chi-square test on the states (--method chi2)."
+    "or, radar (SYSTEM) against ESM (LOCAL) tracks or raw reports, by wavelets and fuzzy factors (METHODS §5, "
+    "--method wavelet), the weighted chi-square test on the states (--method chi2), or the wavelet gate "
+    "then the chi-square test (--method combined)."
 )
 _METHODS: dict[str, Any] = TRACK_METHODS
 
@@ -60,7 +61,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         + "\nexamples:\n  passive-assoc associate-tracks examples/topology_local.csv --system "
         "examples/topology_system.csv --method topology --out out/\n"
         "  passive-assoc associate-tracks examples/wavelet_esm.csv --system examples/wavelet_radar.csv "
-        "--method wavelet --process-noise 169 --out out/"
+        "--method wavelet --out out/"
     )
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.add_argument("local", metavar="LOCAL", type=input_file, help="local (or ESM) tracks CSV")

@@ -294,11 +294,13 @@ def add_parameter_options(
         first = kinds[0]
         intervals = [c for c in kinds if isinstance(c, Interval)]
         if isinstance(first, Options) and intervals:  # a word or a number, e.g. reference
+            text = "none" if None in allowed else None
             group.add_argument(
                 flag,
-                type=_word_or_number(first, intervals[0]),
+                type=_word_or_number(first, intervals[0], text),
                 metavar="VALUE",
-                help=f"{about}[{first.describe()} or {intervals[0].describe()}; default {default}]",
+                help=f"{about}[{first.describe()} or {intervals[0].describe()}{' or none' if text else ''};"
+                f" default {default}]",
             )
         elif isinstance(first, Boolean):
             group.add_argument(flag, type=_boolean, metavar="{true,false}", help=f"{about}[default {default}]")
@@ -373,9 +375,10 @@ def _boolean(text: str) -> bool:
 _boolean.bad_values = ["maybe", "", "2"]  # type: ignore[attr-defined]
 
 
-def _word_or_number(options: Options, interval: Interval) -> Callable[[str], Any]:
-    """argparse type: one of ``options``' words, or a number ``interval`` accepts."""
-    number = _number(interval, None)
+def _word_or_number(options: Options, interval: Interval, none_text: str | None = None) -> Callable[[str], Any]:
+    """argparse type: one of ``options``' words, or a number ``interval`` accepts (or
+    ``none_text`` for None)."""
+    number = _number(interval, none_text)
 
     def parse(text: str) -> Any:
         return text if text in options.choices else number(text)

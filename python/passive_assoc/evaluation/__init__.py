@@ -14,7 +14,7 @@ from .metrics import (
     same_cluster_pairs,
 )
 from .references import perfect_association_fit, target_crlbs
-from .track_scores import track_association_scores
+from .track_scores import track_association_scores, track_pair_scores
 from .track_truth import track_targets
 
 __all__ = [
@@ -29,5 +29,6 @@ __all__ = [
     "same_cluster_pairs",
     "target_crlbs",
     "track_association_scores",
+    "track_pair_scores",
     "track_targets",
 ]

@@ -10,7 +10,7 @@ from ..data import TrackTable
 from ..track_association import TrackAssociation
 from .metrics import PairwiseScores, pairwise_scores
 
-__all__ = ["track_association_scores"]
+__all__ = ["track_association_scores", "track_pair_scores"]
 
 Decision = tuple[float, int, int, int]  # time, local source, local track, system track
 
@@ -45,6 +45,47 @@ def track_association_scores(
         if match is not None:
             true.add((t, src, track, match))
     return pairwise_scores(predicted, true)
+
+
+def track_pair_scores(
+    association: TrackAssociation, local: TrackTable, system: TrackTable, *, min_share: float = 0.5
+) -> PairwiseScores:
+    """Precision, recall and F1 of whole-track decisions: a (local track, system track) pair is
+    *declared* when the association paired the two on at least ``min_share`` of the scans at
+    which both have a state, and *true* when their truth labels (≥ 0) agree on most of those
+    scans. Pairs of tracks that never share a scan are neither.
+
+    The per-scan score (:func:`track_association_scores`) counts every scan of a long pair; this
+    one counts the pair once, as an operator reading the fused picture would.
+    """
+    for name, table in (("local", local), ("system", system)):
+        if table.truth is None:
+            raise ValueError(f"{name}: scoring needs the truth column of simulated tracks")
+    if not 0.0 < min_share <= 1.0:
+        raise ValueError(f"min_share: must be in (0, 1], got {min_share}")
+    system_at: dict[float, list[tuple[int, int]]] = {}
+    for t, k, label in zip(system.time, system.track, _truth(system), strict=True):
+        system_at.setdefault(float(t), []).append((int(k), int(label)))
+    common: dict[tuple[int, int, int], int] = {}
+    agree: dict[tuple[int, int, int], int] = {}
+    for t, src, a, label in zip(local.time, local.source, local.track, _truth(local), strict=True):
+        for b, other in system_at.get(float(t), ()):
+            key = (int(src), int(a), b)
+            common[key] = common.get(key, 0) + 1
+            if label >= 0 and label == other:
+                agree[key] = agree.get(key, 0) + 1
+    paired: dict[tuple[int, int, int], int] = {}
+    p = association.pairs
+    for src, a, b in zip(p.source, p.local_track, p.system_track, strict=True):
+        key = (int(src), int(a), int(b))
+        paired[key] = paired.get(key, 0) + 1
+    declared = {key for key, n in paired.items() if key in common and n >= min_share * common[key]}
+    true = {key for key, n in agree.items() if 2 * n > common[key]}
+    return pairwise_scores(declared, true)
+
+
+def _truth(table: TrackTable) -> list[int]:
+    return (table.truth if table.truth is not None else np.full(len(table), -1)).tolist()
 
 
 def _labels(table: TrackTable) -> dict[tuple[float, int, int], int]:

@@ -388,6 +388,7 @@ def main(args: argparse.Namespace) -> int:
         raise SystemExit("--runs must be at least 1")
     initiator = FuzzyTrackInitiator(
         n_threads=1 if args.workers > 1 else None,
+        candidates="paper",
         refine_passes=args.refine_passes,
         candidate_scans=args.candidate_scans,
         descent_scaling=args.descent_scaling,

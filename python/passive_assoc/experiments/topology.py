@@ -5,8 +5,18 @@
 (biased) range/azimuth reports, with track ids shuffled; radar 0's tracks are the system
 picture and every other radar's tracks are associated with it every scan. Scored per scan
 from the first scan at which the window is full: precision, recall and F1 of every
-(local, system) decision, for the topology associator and nearest neighbour on the same data,
-and the RMS error of each radar's estimated relative bias.
+(local, system) decision, and the error of each radar's estimated relative bias, for
+
+* ``paper rule``: the published method, :meth:`TopologyAssociator.paper` (the closeness,
+  each system track taking its best local track above λ, every pair scored);
+* ``topology``: the closeness with one-to-one assignment, every pair scored — the
+  configuration that reproduces the paper's figure (the library's default before the fused
+  decision);
+* ``fused``: the library's default :class:`TopologyAssociator` (topology, then bias, then
+  distance: docs/methods.md §4);
+* ``nearest``: nearest neighbour on the same data.
+
+``--scenario ring`` runs the scene the defaults were not tuned on instead (:mod:`.topology_ring`).
 """
 
 from __future__ import annotations
@@ -18,68 +28,29 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..data import TrackTable
-from ..estimation.kalman import KalmanFilter
 from ..evaluation.track_scores import track_association_scores
 from ..roles import TrackAssociator
-from ..simulation.topology import RadarScenario, paper_topology_scenario
+from ..simulation.topology import paper_topology_scenario
 from ..topology import TopologyAssociator
 from ..track_association import NearestNeighbourAssociator
 from .common import finite_float, map_runs, output_file, positive_int, print_rows, run_seeds, seed_int, write_json
+from .topology_tracks import GROSS_BIAS_DEG, PROCESS_NOISE, local_tracks
 
 #: The paper's precision, recall and F1 (%); its text swaps precision and recall (METHODS §4).
 PAPER = {"precision": 99.9034, "recall": 99.5362, "f1": 99.7195}
-#: White-acceleration spectral density of the local trackers (m²/s³). The targets fly
-#: straight at constant speed (the truth's q is 0); 0.1 lets the velocity wander ~0.3 m/s per
-#: 10 s scan. docs/experiments.md shows the result barely depends on it (0.01 to 1).
-PROCESS_NOISE = 0.1
 SYSTEM_RADAR = 0
 #: The nearest-neighbour baseline's gate, metres, on the window-averaged distance (no χ² gate).
 NEAREST_GATE = 60e3
-#: A bias estimate further than this from the truth (degrees) is counted as a gross failure.
-GROSS_BIAS_DEG = 1.0
-
-
-def local_tracks(scenario: RadarScenario, rng: np.random.Generator, process_noise: float = PROCESS_NOISE) -> TrackTable:
-    """Every radar's tracks: a CV EKF per (radar, target) on its own range/azimuth reports,
-    positions in the radar's own biased frame, ids shuffled per radar. (The radar's own
-    report-to-track assignment is taken as given: it is not the method under test.)"""
-    m = scenario.measurements
-    groups, track_ids = [], []
-    for radar in range(len(scenario.radars)):
-        rows_of_radar = np.flatnonzero(m.radar == radar)
-        targets = np.unique(m.truth[rows_of_radar])
-        shuffled = rng.permutation(len(targets))
-        for k, target in enumerate(targets):
-            rows = rows_of_radar[m.truth[rows_of_radar] == target]
-            groups.append(rows[np.argsort(m.time[rows], kind="stable")])
-            track_ids.append(int(shuffled[k]))
-    radar_at = np.array([r.position for r in scenario.radars])[m.radar]
-    noise = np.array([[r.sigma_range, r.sigma_azimuth] for r in scenario.radars])[m.radar]
-    kf = KalmanFilter(motion="cv", measurement="polar", process_noise=process_noise, n_threads=1)
-    out = kf.filter(m.time, np.column_stack([m.range, m.azimuth]), groups, noise=noise, sensor_positions=radar_at)
-    rows = np.concatenate(groups)
-    track = np.concatenate([np.full(len(g), tid) for g, tid in zip(groups, track_ids, strict=True)])
-    keep = out.has_state[rows]
-    rows, track = rows[keep], track[keep]
-    return TrackTable.from_arrays(
-        m.radar[rows],
-        track,
-        m.time[rows],
-        out.states[rows, :2],
-        velocity=out.states[rows, 2:4],
-        truth=m.truth[rows],
-        sort=True,
-    )
 
 
 @dataclass(frozen=True)
 class RunScores:
-    """One run at one bias level: (precision, recall, F1) per method, and per local radar the
-    estimated minus the true relative bias (rad)."""
+    """One run at one bias level: (precision, recall, F1) per method, and per method and
+    local radar the estimated minus the true relative bias (rad) and its standard deviation."""
 
     scores: dict[str, tuple[float, float, float]]
-    bias_error: NDArray[np.float64]
+    bias_error: dict[str, NDArray[np.float64]]
+    bias_std: dict[str, NDArray[np.float64]]
 
 
 @dataclass(frozen=True)
@@ -93,30 +64,51 @@ class Settings:
     process_noise: float
 
 
+#: The methods compared, in print order (module docs).
+METHODS = ("paper rule", "topology", "fused", "nearest")
+#: The methods whose bias estimates are printed.
+BIAS_METHODS = ("topology", "fused")
+
+
+def methods(settings: Settings) -> dict[str, TrackAssociator]:
+    """The associators compared (module docs), one thread each."""
+    threshold, window = settings.threshold, settings.window
+    return {
+        "paper rule": TopologyAssociator.paper(threshold=threshold, window=window, gate=settings.gate, n_threads=1),
+        "topology": TopologyAssociator(
+            decision="assignment", gate=settings.gate, threshold=threshold, window=window, n_threads=1
+        ),
+        "fused": TopologyAssociator(
+            threshold=threshold, window=window, gate="auto" if settings.gate is None else settings.gate, n_threads=1
+        ),
+        "nearest": NearestNeighbourAssociator(
+            gate=NEAREST_GATE, window=settings.window, gate_probability=None, n_threads=1
+        ),
+    }
+
+
 def run_once(seed: np.random.SeedSequence, bias_deg: float, settings: Settings) -> RunScores:
     rng = np.random.default_rng(seed)
     scenario = paper_topology_scenario(rng, bias_deg=bias_deg, coverage=settings.coverage)  # type: ignore[arg-type]
     tracks = local_tracks(scenario, rng, settings.process_noise)
-    window = settings.window
     system = tracks.of(SYSTEM_RADAR)
     local = tracks.select(np.flatnonzero(tracks.source != SYSTEM_RADAR))
-    since = float(scenario.scan_times[window - 1])
-    methods: dict[str, TrackAssociator] = {
-        "topology": TopologyAssociator(threshold=settings.threshold, window=window, gate=settings.gate, n_threads=1),
-        "nearest": NearestNeighbourAssociator(gate=NEAREST_GATE, window=window, gate_probability=None, n_threads=1),
-    }
+    since = float(scenario.scan_times[settings.window - 1])
     scores: dict[str, tuple[float, float, float]] = {}
-    bias_error = np.full(len(scenario.radars) - 1, np.nan)
-    for name, method in methods.items():
+    radars = [r for r in range(len(scenario.radars)) if r != SYSTEM_RADAR]
+    bias_error = {name: np.full(len(radars), np.nan) for name in BIAS_METHODS}
+    bias_std = {name: np.full(len(radars), np.nan) for name in BIAS_METHODS}
+    truth = scenario.true_biases - scenario.true_biases[SYSTEM_RADAR]
+    for name, method in methods(settings).items():
         result = method.associate(local=local, system=system)
         s = track_association_scores(result, local, system, since=since)
         scores[name] = (s.precision, s.recall, s.f1)
-        if name == "topology":
-            truth = scenario.true_biases - scenario.true_biases[SYSTEM_RADAR]
-            for k, radar in enumerate(r for r in range(len(scenario.radars)) if r != SYSTEM_RADAR):
+        if name in BIAS_METHODS:
+            for k, radar in enumerate(radars):
                 if (b := result.bias.get(radar)) is not None:
-                    bias_error[k] = b.rotation - truth[radar]
-    return RunScores(scores, bias_error)
+                    bias_error[name][k] = b.rotation - truth[radar]
+                    bias_std[name][k] = b.rotation_std
+    return RunScores(scores, bias_error, bias_std)
 
 
 def run_experiment(
@@ -137,13 +129,17 @@ def summarise(results: dict[float, list[RunScores]]) -> dict[str, Any]:
     rows = []
     for bias, runs in results.items():
         row: dict[str, Any] = {"bias_deg": bias}
-        for method in ("topology", "nearest"):
+        for method in METHODS:
             values = np.array([r.scores[method] for r in runs]) * 100
             row[method] = dict(zip(("precision", "recall", "f1"), values.mean(axis=0).tolist(), strict=True))
-        errors = np.degrees(np.array([r.bias_error for r in runs]))
-        row["bias_rms_deg"] = np.sqrt(np.nanmean(errors**2, axis=0)).tolist()  # per local radar
-        row["bias_median_abs_deg"] = float(np.nanmedian(np.abs(errors)))
-        row["bias_gross_fraction"] = float(np.mean(np.abs(errors[np.isfinite(errors)]) > GROSS_BIAS_DEG))
+        for method in BIAS_METHODS:
+            errors = np.degrees(np.array([r.bias_error[method] for r in runs]))
+            stds = np.degrees(np.array([r.bias_std[method] for r in runs]))
+            found = np.isfinite(errors)
+            row[method]["bias_rms_deg"] = np.sqrt(np.nanmean(errors**2, axis=0)).tolist()  # per local radar
+            row[method]["bias_median_abs_deg"] = float(np.nanmedian(np.abs(errors)))
+            row[method]["bias_gross_fraction"] = float(np.mean(np.abs(errors[found]) > GROSS_BIAS_DEG))
+            row[method]["bias_within_3_std"] = float(np.mean(np.abs(errors[found]) <= 3 * stds[found]))
         rows.append(row)
     return {"rows": rows, "paper": PAPER}
 
@@ -154,26 +150,48 @@ def print_report(summary: dict[str, Any], settings: dict[str, Any]) -> None:
     )
     print("precision / recall / F1 in %, scored from the first full window; paper (either order of P and R):")
     print(f"  {PAPER['precision']:.4f} / {PAPER['recall']:.4f} / {PAPER['f1']:.4f}")
-    header = ["bias", "topology P", "R", "F1", "nearest P", "R", "F1", "bias RMS° max", "median |err|°", "gross"]
-    table = [header]
+    table = [["bias", *(f"{m} F1" for m in METHODS)]]
     for row in summary["rows"]:
-        t, n = row["topology"], row["nearest"]
+        table.append([f"±{row['bias_deg']:g}°", *(f"{row[m]['f1']:.3f}" for m in METHODS)])
+    print_rows(table, [6, *(max(10, len(m) + 4) for m in METHODS)])
+    table = [["bias", *(f"{m} P/R" for m in METHODS)]]
+    for row in summary["rows"]:
         table.append(
-            [
-                f"±{row['bias_deg']:g}°",
-                *(f"{t[k]:.3f}" for k in ("precision", "recall", "f1")),
-                *(f"{n[k]:.3f}" for k in ("precision", "recall", "f1")),
-                f"{np.nanmax(row['bias_rms_deg']):.3f}",
-                f"{row['bias_median_abs_deg']:.3f}",
-                f"{100 * row['bias_gross_fraction']:.1f} %",
-            ]
+            [f"±{row['bias_deg']:g}°", *(f"{row[m]['precision']:.3f}/{row[m]['recall']:.3f}" for m in METHODS)]
         )
-    print_rows(table, [6, 11, 7, 7, 10, 7, 7, 14, 14, 8])
+    print_rows(table, [6, *(max(15, len(m) + 5) for m in METHODS)])
+    table = [["bias", "method", "bias RMS° max", "median |err|°", "gross", "within 3 std"]]
+    for row in summary["rows"]:
+        for m in BIAS_METHODS:
+            r = row[m]
+            table.append(
+                [
+                    f"±{row['bias_deg']:g}°",
+                    m,
+                    f"{np.nanmax(r['bias_rms_deg']):.3f}",
+                    f"{r['bias_median_abs_deg']:.3f}",
+                    f"{100 * r['bias_gross_fraction']:.1f} %",
+                    f"{100 * r['bias_within_3_std']:.1f} %",
+                ]
+            )
+    print_rows(table, [6, 9, 14, 14, 8, 13])
     print("bias: each radar's estimated minus true rotation relative to the system radar; 'RMS max' is the")
-    print(f"largest per-radar RMS over the runs, 'gross' the share of estimates off by more than {GROSS_BIAS_DEG:g}°")
+    print(f"largest per-radar RMS over the runs, 'gross' the share of estimates off by more than {GROSS_BIAS_DEG:g}°,")
+    print("'within 3 std' the share within three of the estimate's own standard deviations")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--scenario",
+        choices=["paper", "ring"],
+        default="paper",
+        help="the paper's scenario (default), or the ring scene every radar pair is associated on"
+        " (simulation.topology.ring_radar_scenario; --runs, --seed, --workers, --bias and --json apply)",
+    )
+    parser.add_argument(
+        "--stonesoup", action="store_true", help="--scenario ring: add Stone Soup's associators (slow; extra stonesoup)"
+    )
+    parser.add_argument("--scans", type=positive_int, default=90, help="--scenario ring: scans per run (default 90)")
     parser.add_argument("--runs", type=positive_int, default=20, help="Monte-Carlo runs per bias level (default 20)")
     parser.add_argument("--seed", type=seed_int, default=1, help="base seed (default 1)")
     parser.add_argument("--workers", type=positive_int, default=1, help="worker processes (default 1)")
@@ -197,6 +215,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.scenario == "ring":
+        from . import topology_ring
+
+        return topology_ring.main(args)
     if args.runs < 1:
         raise SystemExit("--runs must be at least 1")
     if args.window < 1 or not 0.0 <= args.threshold <= 1.0 or args.process_noise < 0:

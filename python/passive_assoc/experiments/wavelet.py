@@ -77,6 +77,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help=f"trackers' white-jerk density q, m²/s⁵ (default {PROCESS_NOISE:.0f}: the targets' maneuver power)",
     )
     parser.add_argument(
+        "--init",
+        choices=["single_point", "differencing"],
+        default="single_point",
+        help="how the trackers start a track: from a prior at its first report (default), or from its first"
+        " three reports (the former default)",
+    )
+    parser.add_argument(
         "--window", type=int_at_least(6), default=None, help="coarse window, scans (default: all so far, at most 32)"
     )
     parser.add_argument(
@@ -102,10 +109,10 @@ def main(args: argparse.Namespace) -> int:
         raise SystemExit("--gate-probability must be in (0, 1)")
     print(
         f"wavelet (METHODS §5): {args.runs} runs per level, seed {args.seed}, 10 targets, 30 scans, x axis, "
-        f"noise variance 0.5 km², CA trackers q = {args.process_noise:g} m²/s⁵"
+        f"noise variance 0.5 km², CA trackers q = {args.process_noise:g} m²/s⁵, started by {args.init}"
     )
     with worker_pool(args.workers) as pool:
-        settings = Settings(args.process_noise, args.window, args.gate_probability)
+        settings = Settings(args.process_noise, args.window, args.gate_probability, init=args.init)
         levels = run_experiment(pool, args.runs, args.seed, args.clutter, settings)
         for n_clutter, summary in levels.items():
             print_level(n_clutter, summary)
@@ -114,7 +121,7 @@ def main(args: argparse.Namespace) -> int:
         record: dict[str, Any] = {
             "settings": {
                 k: getattr(args, k)
-                for k in ("runs", "seed", "clutter", "process_noise", "window", "gate_probability", "demo_runs")
+                for k in ("runs", "seed", "clutter", "process_noise", "init", "window", "gate_probability", "demo_runs")
             },
             "paper": PAPER,
             "levels": {str(c): s for c, s in levels.items()},
@@ -127,7 +134,7 @@ def main(args: argparse.Namespace) -> int:
     if args.plot:
         from ..plots import plot_wavelet
 
-        tracks = filter_reports(paper_wavelet_scenario(args.seed).measurements, args.process_noise)
-        _, radar_2d, _, passive = demo_tracks(args.seed, args.process_noise)
+        tracks = filter_reports(paper_wavelet_scenario(args.seed).measurements, args.process_noise, init=args.init)
+        _, radar_2d, _, passive = demo_tracks(args.seed, args.process_noise, args.init)
         plot_wavelet((tracks.of(0), tracks.of(1)), record, args.plot, (radar_2d, passive, ESM_SITES))
     return 0

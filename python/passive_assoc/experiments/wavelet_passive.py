@@ -19,12 +19,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._settings import KalmanInit
 from ..data import MeasurementTable, SensorNetwork, TrackTable
-from ..estimation import fit_ml
-from ..radar_esm import filter_reports
+from ..radar_esm import bearing_fixes, filter_reports
 from ..simulation.radar_esm import RadarEsmScenario, paper_wavelet_scenario
 from .common import print_rows, run_seeds
-from .wavelet_runs import METHODS, RunScores, Settings, map_seeds, methods, score, summarise
+from .wavelet_runs import METHODS, RAW, RunScores, Settings, map_seeds, methods, score, summarise
 
 #: The three ESM sites (m): a triangle about 50 km around the targets' [0, 20] km square.
 ESM_SITES = np.array([[-40e3, -30e3], [60e3, -30e3], [10e3, 60e3]])
@@ -37,38 +37,30 @@ def passive_fixes(
     scenario: RadarEsmScenario, rng: np.random.Generator, sites: NDArray[np.float64] = ESM_SITES
 ) -> TrackTable:
     """Per target and scan, the ML position fix from one noisy bearing per ESM site, with its
-    covariance; track ids shuffled."""
+    covariance (:func:`~passive_assoc.radar_esm.bearing_fixes`); track ids shuffled."""
     truth = scenario.true_position  # (n, K, 2)
     n, k, _ = truth.shape
     delta = truth[:, :, None, :] - sites[None, None, :, :]  # (n, K, S, 2)
     bearing = np.arctan2(delta[..., 1], delta[..., 0]) + BEARING_STD * rng.standard_normal((n, k, len(sites)))
     sensor = np.broadcast_to(np.arange(len(sites)), bearing.shape)
     time = np.broadcast_to(scenario.scan_times[None, :, None], bearing.shape)
-    table = MeasurementTable(sensor.ravel(), time.ravel(), np.angle(np.exp(1j * bearing.ravel())))
-    network = SensorNetwork.planar(sites, BEARING_STD)
-    groups = np.arange(table.sensor.size).reshape(n * k, len(sites))
-    fit = fit_ml(table, network, groups, motion="static", n_threads=1)
+    target = np.broadcast_to(np.arange(n)[:, None, None], bearing.shape).ravel()
+    table = MeasurementTable(sensor.ravel(), time.ravel(), np.angle(np.exp(1j * bearing.ravel())), truth=target)
     ids = rng.permutation(n)
-    return TrackTable.from_arrays(
-        np.full(n * k, PASSIVE_SOURCE),
-        np.repeat(ids, k),
-        np.tile(scenario.scan_times, n),
-        fit.estimates,
-        covariance=fit.covariances,
-        truth=np.repeat(np.arange(n), k),
-        sort=True,
+    return bearing_fixes(
+        table, SensorNetwork.planar(sites, BEARING_STD), ids[target], source=PASSIVE_SOURCE, n_threads=1
     )
 
 
 def demo_tracks(
-    seed: int | np.random.SeedSequence, process_noise: float
+    seed: int | np.random.SeedSequence, process_noise: float, init: KalmanInit = "single_point"
 ) -> tuple[RadarEsmScenario, TrackTable, TrackTable, TrackTable]:
     """One demo run: the scenario, the radar's tracks, the passive fixes and the passive tracks."""
     rng = np.random.default_rng(seed)
     scenario = paper_wavelet_scenario(rng, ndim=2)
-    radar = filter_reports(scenario.measurements.of(0), process_noise, n_threads=1)
+    radar = filter_reports(scenario.measurements.of(0), process_noise, init=init, n_threads=1)
     fixes = passive_fixes(scenario, rng)
-    return scenario, radar, fixes, filter_reports(fixes, process_noise, n_threads=1)
+    return scenario, radar, fixes, filter_reports(fixes, process_noise, init=init, n_threads=1)
 
 
 def _fix_rms(scenario: RadarEsmScenario, fixes: TrackTable) -> float:
@@ -80,11 +72,13 @@ def _fix_rms(scenario: RadarEsmScenario, fixes: TrackTable) -> float:
 
 def demo_run(seed: np.random.SeedSequence, settings: Settings) -> tuple[RunScores, float]:
     """One demo run's scores (as :func:`.wavelet_runs.run_once`'s) and its fixes' RMS error (m)."""
-    scenario, radar, fixes, passive = demo_tracks(seed, settings.process_noise)
+    scenario, radar, fixes, passive = demo_tracks(seed, settings.process_noise, settings.init)
     correct, keeps = {}, {}
     for name, method in methods(settings).items():
+        # The raw-input methods take the radar's reports and the fixes as they are.
+        sides = (scenario.measurements.of(0), fixes) if name in RAW else (radar, passive)
         correct[name], keeps[name] = score(
-            method.associate(local=passive, system=radar), radar, passive, scenario.scan_times
+            method.associate(local=sides[1], system=sides[0]), sides[0], sides[1], scenario.scan_times
         )
     return RunScores(correct, keeps), _fix_rms(scenario, fixes)
 

@@ -54,9 +54,12 @@ def print_summary(levels: dict[int, Any], runs: int) -> None:
             f"scan 15 on {clean['wavelet']['min_15_30']:.3f}, ahead of nearest neighbour by {ours - nearest:+.3f}"
         )
     print("'gate keeps': share of true pairs inside the method's gate over scans 6-30 (nominal 0.99);")
+    print("'combined': the wavelet coarse gate, then the χ² test on the whole state (the project's extension)")
     print("ablations, run without false tracks only:")
+    print("'τ = 0.5': wavelet-fuzzy with METHODS' reading of τ (WaveletFuzzyAssociator.paper())")
     print("'per-scan Σ': wavelet-fuzzy with Σ diagonal in time (no cross-time covariance; ablation)")
     print("'literal stat.': wavelet-fuzzy with the paper's unwhitened coarse statistic (ablation)")
+    print("'reports': wavelet-fuzzy and the combined decision given the raw reports, filtered inside")
 
 
 def print_losses(levels: dict[int, Any]) -> None:

@@ -18,9 +18,16 @@ import numpy as np
 from numpy.typing import NDArray
 from tqdm import tqdm
 
+from .._settings import KalmanInit
 from ..data import TrackTable
 from ..distributed import current_client
-from ..radar_esm import Chi2TrackAssociator, RadarEsmAssociation, WaveletFuzzyAssociator, filter_reports
+from ..radar_esm import (
+    Chi2TrackAssociator,
+    RadarEsmAssociation,
+    WaveletChi2Associator,
+    WaveletFuzzyAssociator,
+    filter_reports,
+)
 from ..radar_esm.baselines import position_gate_pairs
 from ..simulation.radar_esm import PAPER_WAVELET_PHASES, PAPER_WAVELET_TARGETS, paper_wavelet_scenario
 from ..track_association import NearestNeighbourAssociator, TrackAssociation
@@ -29,16 +36,23 @@ from .common import map_runs
 #: The paper's correct-association probabilities (its §5), as ranges over scans.
 PAPER = {"wavelet": (0.88, 0.93), "nearest": (0.72, 0.85)}
 #: The ablations: run on the scenes without false tracks (and in the 2-D demo) only, where the
-#: acceptance reads them; the clutter sweep compares the three methods.
-ABLATIONS = ("wavelet_per_scan", "wavelet_literal")
+#: acceptance reads them; the clutter sweep compares the four methods.
+ABLATIONS = ("wavelet_paper", "wavelet_per_scan", "wavelet_literal", "wavelet_raw", "combined_raw")
 #: Methods in print order, with their column titles.
 METHODS = {
     "wavelet": "wavelet-fuzzy",
     "nearest": "nearest nb.",
     "chi2": "χ² test",
+    "combined": "combined",
+    "wavelet_paper": "τ = 0.5",
     "wavelet_per_scan": "per-scan Σ",
     "wavelet_literal": "literal stat.",
+    "wavelet_raw": "w.-f., reports",
+    "combined_raw": "comb., reports",
 }
+#: The methods given the sensors' raw reports instead of the filtered tracks (they filter them
+#: themselves, and their coarse gate reads the reports).
+RAW = ("wavelet_raw", "combined_raw")
 N_TARGETS = len(PAPER_WAVELET_TARGETS)
 #: Scans 6–30 (1-based): the mean the paper's range is compared with.
 SCORED = slice(5, None)
@@ -63,12 +77,14 @@ class Associator(Protocol):
 
 @dataclass(frozen=True)
 class Settings:
-    """What a run needs besides its seed and clutter level."""
+    """What a run needs besides its seed and clutter level: the trackers' q and start, the
+    coarse window and gate probability, and whether the ablations run."""
 
     process_noise: float = PROCESS_NOISE
     window: int | None = None
     gate_probability: float = 0.99
     ablations: bool = True
+    init: KalmanInit = "single_point"
 
 
 #: The nearest-neighbour baseline's position χ² gate.
@@ -76,28 +92,34 @@ NEAREST_GATE_PROBABILITY = 0.99
 
 
 def methods(settings: Settings) -> dict[str, Associator]:
-    """The associators compared, one thread each (runs are parallel instead). The
-    wavelet-fuzzy method is given the trackers' q, so that its window covariance includes the
-    filtered errors' scan-to-scan correlation; the two ablations are without it: Σ diagonal in
-    time (whitened), and the paper's literal scalar statistic."""
+    """The associators compared, one thread each (runs are parallel instead), all with their
+    defaults but the coarse window and gate probability: the wavelet-fuzzy method reads its
+    process noise back from the tracks (the trackers' q, so that its window covariance includes
+    the filtered errors' scan-to-scan correlation); the combined decision (the project's
+    extension); ``τ = 0.5`` the wavelet-fuzzy method with METHODS' reading of τ
+    (:meth:`WaveletFuzzyAssociator.paper`); the two gate ablations: Σ diagonal in time
+    (whitened), and the paper's literal scalar statistic; and the wavelet-fuzzy method and the
+    combined decision given the raw reports (filtered inside with the trackers' q)."""
 
-    def wavelet(whitened: bool, process_noise: float | None) -> WaveletFuzzyAssociator:
+    def wavelet(**changes: object) -> WaveletFuzzyAssociator:
         return WaveletFuzzyAssociator(
-            window=settings.window,
-            gate_probability=settings.gate_probability,
-            whitened=whitened,
-            process_noise=process_noise,
-            n_threads=1,
+            **{"window": settings.window, "gate_probability": settings.gate_probability, "n_threads": 1, **changes}  # type: ignore[arg-type]
         )
 
     compared: dict[str, Associator] = {
-        "wavelet": wavelet(whitened=True, process_noise=settings.process_noise),
+        "wavelet": wavelet(),
         "nearest": NearestNeighbourAssociator(gate_probability=NEAREST_GATE_PROBABILITY, n_threads=1),
         "chi2": Chi2TrackAssociator(),
+        "combined": WaveletChi2Associator(window=settings.window, n_threads=1),
     }
     if settings.ablations:
-        compared["wavelet_per_scan"] = wavelet(whitened=True, process_noise=None)
+        compared["wavelet_paper"] = wavelet(tau=0.5)
+        compared["wavelet_per_scan"] = wavelet(process_noise=None)
         compared["wavelet_literal"] = wavelet(whitened=False, process_noise=None)
+        compared["wavelet_raw"] = wavelet(process_noise=settings.process_noise)
+        compared["combined_raw"] = WaveletChi2Associator(
+            window=settings.window, process_noise=settings.process_noise, n_threads=1
+        )
     return compared
 
 
@@ -157,10 +179,15 @@ def score(
 
 def run_once(seed: np.random.SeedSequence, n_clutter: int, settings: Settings) -> RunScores:
     scenario = paper_wavelet_scenario(np.random.default_rng(seed), n_clutter=n_clutter)
-    tracks = filter_reports(scenario.measurements, settings.process_noise, n_threads=1)
+    tracks = filter_reports(scenario.measurements, settings.process_noise, init=settings.init, n_threads=1)
     radar, esm = tracks.of(0), tracks.of(1)
     correct, keeps, above = {}, {}, None
     for name, method in methods(settings).items():
+        if name in RAW:
+            raw_radar, raw_esm = scenario.measurements.of(0), scenario.measurements.of(1)
+            result = method.associate(local=raw_esm, system=raw_radar)
+            correct[name], keeps[name] = score(result, raw_radar, raw_esm, scenario.scan_times)
+            continue
         result = method.associate(local=esm, system=radar)
         correct[name], keeps[name] = score(result, radar, esm, scenario.scan_times)
         if name == "wavelet":

@@ -11,9 +11,10 @@ from .initiator import (
     LimitWarning,
     initiate_tracks,
 )
-from .score import track_scores
+from .score import MIN_SCORE, track_scores
 
 __all__ = [
+    "MIN_SCORE",
     "ClosenessOptima",
     "FuzzyTrackInitiator",
     "InitiatedTrack",

@@ -27,14 +27,12 @@ from .._validation import as_int_array
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
 from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, empty_stage, warn_if_no_candidate
-from .score import track_scores
+from .score import MIN_SCORE, track_scores
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
 CHI2_2DOF_999 = 13.815510557964274
 
-#: The default ``min_score``: docs/methods.md §1 (*Track score*) has the calibration.
-MIN_SCORE = 20.0
 
 #: A finite number > 0.
 POSITIVE = Interval(float, 0.0, None, closed="neither")

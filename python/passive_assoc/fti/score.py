@@ -28,6 +28,10 @@ from numpy.typing import NDArray
 
 from ..data import MeasurementTable, SensorNetwork
 
+#: The default ``min_score`` of :class:`FuzzyTrackInitiator`: no true track scored below it on
+#: the calibration scenes (docs/methods.md §1, *Track score*).
+MIN_SCORE = 20.0
+
 __all__ = ["track_scores"]
 
 

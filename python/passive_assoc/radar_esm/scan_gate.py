@@ -5,9 +5,11 @@ tracks of one age are tested in one call of the Rust gate. Σ over the window is
 
 * *per scan* (diagonal in time): each scan's filtered position variance — the gate's
   per-scan-variance form, :func:`gate_diagonal`; or
-* *whole* (``process_noise`` given): the filtered sequence's full covariance with its
+* *whole* (a process noise per side): the filtered sequence's full covariance with its
   scan-to-scan correlation (:mod:`.window`), each track's ``C = (I ⊗ W) Σ (I ⊗ W)ᵀ`` built in
-  NumPy (O(n) per scan) and the O(n²) pair test in Rust, :func:`gate_full`.
+  NumPy (O(n) per scan) and the O(n²) pair test in Rust, :func:`gate_full`; or
+* *reports* (the sequences are raw reports): each report's own covariance, block-diagonal in
+  time — exact, since report errors are independent — through the same :func:`gate_full`.
 
 A window shorter than the wavelet allows (6 scans for sym2) is tested at level 0: W = I, the
 positions themselves.
@@ -16,7 +18,8 @@ positions themselves.
 from __future__ import annotations
 
 import functools
-from typing import Protocol
+from collections.abc import Callable
+from typing import Literal, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -51,7 +54,7 @@ class GateConfig(Protocol):
     @property
     def whitened(self) -> bool: ...
     @property
-    def process_noise(self) -> float | None: ...
+    def process_noise(self) -> float | str | None: ...
     @property
     def n_threads(self) -> int | None: ...
 
@@ -74,20 +77,37 @@ def _operator(config: GateConfig, length: int) -> NDArray[np.float64]:
     return operator
 
 
+#: How Σ over one side's window is taken: the filtered sequence's whole covariance with this
+#: process noise, or ``"reports"``: each scan's own covariance, block-diagonal in time.
+SideSigma = float | Literal["reports"]
+#: Σ of both sides (radar, ESM), or ``"per_scan"``: each scan's variances, the gate's
+#: per-scan form (:func:`gate_diagonal`, which the literal statistic needs).
+Sigma = Literal["per_scan"] | tuple[SideSigma, SideSigma]
+
+
 def coarse_by_scan(
-    config: GateConfig, radar: AlignedTracks, esm: AlignedTracks, times: NDArray[np.float64] | None
+    config: GateConfig,
+    radar: AlignedTracks,
+    esm: AlignedTracks,
+    times: NDArray[np.float64] | None,
+    sigma: Sigma | None = None,
 ) -> NDArray[np.bool_]:
-    """Which (radar, ESM) pairs pass the coarse gate at each scan, ``(K, n_r, n_e)``."""
+    """Which (radar, ESM) pairs pass the coarse gate at each scan, ``(K, n_r, n_e)``.
+    ``sigma`` (module docs) defaults to the whole covariance with ``config.process_noise`` on
+    both sides when it is a number, else per scan."""
+    if sigma is None:
+        q = config.process_noise
+        sigma = (float(q), float(q)) if isinstance(q, float | int) else "per_scan"
     cap = config.window if config.window is not None else WINDOW_CAP
     n_scans = radar.present.shape[1]
     passed = np.zeros((n_scans, len(radar), len(esm)), dtype=bool)
     age_r, age_e = _ages(radar.present, cap), _ages(esm.present, cap)
-    if config.process_noise is None:
+    if sigma == "per_scan":
         test = _diagonal_tests(config, radar, esm)
     else:
-        if times is None:
+        if times is None and any(not isinstance(side, str) for side in sigma):
             raise ValueError("times: the scan times are needed with process_noise")
-        test = _full_tests(config, radar, esm, times, cap)
+        test = _whole_tests(config, (radar, esm), times, cap, sigma)
     for k in range(n_scans):
         for length, rows, cols, exact in _pair_windows(age_r[:, k], age_e[:, k]):
             ok = test(k, length, rows, cols)
@@ -120,23 +140,59 @@ def _diagonal_tests(config: GateConfig, radar: AlignedTracks, esm: AlignedTracks
     return test
 
 
-def _full_tests(
-    config: GateConfig, radar: AlignedTracks, esm: AlignedTracks, times: NDArray[np.float64], cap: int
+def _whole_tests(
+    config: GateConfig,
+    sides: tuple[AlignedTracks, AlignedTracks],
+    times: NDArray[np.float64] | None,
+    cap: int,
+    sigma: tuple[SideSigma, SideSigma],
 ) -> _Test:
-    assert config.process_noise is not None
-    rolling = [RollingWindow(t, filter_transitions(t, times, config.process_noise), cap) for t in (radar, esm)]
+    """Each side's coefficients with their full covariance ``C = (I ⊗ W) Σ (I ⊗ W)ᵀ``, Σ as
+    ``sigma`` says for that side, and the pair test in Rust."""
+    windows: list[Callable[[int, int, NDArray[np.intp], NDArray[np.float64]], NDArray[np.float64]]] = []
+    for tracks, side in zip(sides, sigma, strict=True):
+        if isinstance(side, str):
+            blocks = np.nan_to_num(tracks.block_covariance(0))
+
+            def by_scan(
+                k: int,
+                length: int,
+                which: NDArray[np.intp],
+                w: NDArray[np.float64],
+                blocks: NDArray[np.float64] = blocks,
+            ) -> NDArray[np.float64]:
+                # C[x c, y c'] = Σ_t W[c, t] W[c', t] P_t[x, y].
+                c = np.einsum("ct,et,ntxy->nxcye", w, w, blocks[which, k - length + 1 : k + 1])
+                n, d, m = c.shape[0], c.shape[1], c.shape[2]
+                out: NDArray[np.float64] = c.reshape(n, d * m, d * m)
+                return out
+
+            windows.append(by_scan)
+        else:
+            assert times is not None
+            rolling = RollingWindow(tracks, filter_transitions(tracks, times, side), cap)
+
+            def whole(
+                k: int, length: int, which: NDArray[np.intp], w: NDArray[np.float64], rolling: RollingWindow = rolling
+            ) -> NDArray[np.float64]:
+                rolling.advance_to(k)
+                return coefficient_covariance(rolling.covariance(which, length), w)
+
+            windows.append(whole)
 
     def test(k: int, length: int, rows: NDArray[np.intp], cols: NDArray[np.intp]) -> NDArray[np.bool_]:
-        for window in rolling:
-            window.advance_to(k)
         span = slice(k - length + 1, k + 1)
         operator = _operator(config, length)
-        sides = []
-        for tracks, window, which in ((radar, rolling[0], rows), (esm, rolling[1], cols)):
+        out = []
+        for tracks, window, which in zip(sides, windows, (rows, cols), strict=True):
             coefficients = _window(tracks.position, which, span) @ operator.T
-            covariance = coefficient_covariance(window.covariance(which, length), operator)
-            sides.append((np.ascontiguousarray(coefficients.reshape(len(which), -1)), covariance))
-        return gate_full(config, sides[0], sides[1])
+            out.append(
+                (
+                    np.ascontiguousarray(coefficients.reshape(len(which), -1)),
+                    np.ascontiguousarray(window(k, length, which, operator)),
+                )
+            )
+        return gate_full(config, out[0], out[1])
 
     return test
 

@@ -39,6 +39,7 @@ from .scenario import ConstantVelocityTarget, Seed, _check_seed
 __all__ = [
     "RadarScenario",
     "paper_topology_scenario",
+    "ring_radar_scenario",
     "AREA_HALF_WIDTH",
     "PARTIAL_COVERAGE_RADIUS",
 ]
@@ -90,27 +91,37 @@ class RadarScenario:
     in_coverage: NDArray[np.bool_]
 
 
-def _radars(rng: np.random.Generator, bias_deg: float, coverage_radius: float) -> tuple[Radar, ...]:
-    phase = rng.uniform(0.0, 2 * math.pi / N_RADARS)
-    bearing = phase + 2 * math.pi * np.arange(N_RADARS) / N_RADARS
-    radius = rng.uniform(*RING_RADIUS, N_RADARS)
-    bias_deg_each = bias_deg * rng.uniform(-1.0, 1.0, N_RADARS)
-    sigma_azimuth_deg = rng.uniform(*SIGMA_AZIMUTH_DEG, N_RADARS)
-    sigma_range = rng.uniform(*SIGMA_RANGE, N_RADARS)
+def _ring(rng: np.random.Generator, n: int, bias_deg: float, coverage_radius: float) -> tuple[Radar, ...]:
+    """``n`` radars on the ring, at bearings ``φ + 2πj/n`` from the centre."""
+    phase = rng.uniform(0.0, 2 * math.pi / n)
+    bearing = phase + 2 * math.pi * np.arange(n) / n
+    radius = rng.uniform(*RING_RADIUS, n)
+    bias_deg_each = bias_deg * rng.uniform(-1.0, 1.0, n)
+    sigma_azimuth_deg = rng.uniform(*SIGMA_AZIMUTH_DEG, n)
+    sigma_range = rng.uniform(*SIGMA_RANGE, n)
     positions = radius[:, None] * np.column_stack([np.cos(bearing), np.sin(bearing)])
     return tuple(
         Radar.from_degrees(positions[j], sigma_range[j], sigma_azimuth_deg[j], bias_deg_each[j], coverage_radius)
-        for j in range(N_RADARS)
+        for j in range(n)
     )
 
 
-def _targets(rng: np.random.Generator, t_mid: float) -> tuple[list[ConstantVelocityTarget], NDArray[np.int64]]:
-    area = [[-AREA_HALF_WIDTH, AREA_HALF_WIDTH]] * 2
-    targets = scattered_targets(N_SCATTERED, area, SPEED_RANGE, rng, t0=t_mid)
+def _radars(rng: np.random.Generator, bias_deg: float, coverage_radius: float) -> tuple[Radar, ...]:
+    return _ring(rng, N_RADARS, bias_deg, coverage_radius)
+
+
+def _targets(
+    rng: np.random.Generator,
+    t_mid: float,
+    half_width: float = AREA_HALF_WIDTH,
+    speed_range: tuple[float, float] = SPEED_RANGE,
+) -> tuple[list[ConstantVelocityTarget], NDArray[np.int64]]:
+    area = [[-half_width, half_width]] * 2
+    targets = scattered_targets(N_SCATTERED, area, speed_range, rng, t0=t_mid)
     formation = [-1] * N_SCATTERED
     for f in range(N_FORMATIONS):
-        centre = rng.uniform(-AREA_HALF_WIDTH, AREA_HALF_WIDTH, 2)
-        heading, speed = rng.uniform(-math.pi, math.pi), rng.uniform(*SPEED_RANGE)
+        centre = rng.uniform(-half_width, half_width, 2)
+        heading, speed = rng.uniform(-math.pi, math.pi), rng.uniform(*speed_range)
         targets += line_abreast_formation(FORMATION_SIZE, centre, heading, FORMATION_SPACING, speed, t0=t_mid)
         formation += [f] * FORMATION_SIZE
     return targets, np.array(formation, dtype=np.int64)
@@ -159,6 +170,85 @@ def paper_topology_scenario(
     scan_times = np.arange(n_scans) * period
     radars = _radars(rng, bias, math.inf if coverage == "full" else PARTIAL_COVERAGE_RADIUS)
     targets, formation = _targets(rng, t_mid=float(scan_times[-1]) / 2)
+    measurements = simulate_radars(radars, targets, scan_times, rng, pd=pd)
+    positions = true_positions(targets, scan_times)
+    return RadarScenario(
+        radars=radars,
+        targets=targets,
+        scan_times=readonly(scan_times),
+        measurements=measurements,
+        true_positions=readonly(positions),
+        true_biases=readonly(np.array([radar.azimuth_bias for radar in radars])),
+        formation=readonly(formation),
+        in_coverage=readonly(np.stack([radar.covers(positions) for radar in radars])),
+    )
+
+
+def ring_radar_scenario(
+    seed: Seed,
+    *,
+    bias_deg: float = 5.0,
+    n_radars: int = 8,
+    coverage_radius: float = 300e3,
+    area_half_width: float = 50e3,
+    speed_range: tuple[float, float] = (150.0, 300.0),
+    n_scans: int = 90,
+    scan_period: float = 10.0,
+    pd: float = 1.0,
+) -> RadarScenario:
+    """A track-to-track scene the topology defaults were not tuned on: a ring of radars that
+    each see only part of a wide area, so that radar pairs share all, some or none of their
+    targets, and targets enter and leave the pictures.
+
+    ``n_radars`` radars sit on a ring of radius U[200, 260] km (as the paper's, with one
+    random phase); each sees ``coverage_radius`` around itself. 5 scattered targets and 3
+    line-abreast formations of 5 at 20 km spacing fly straight at ``speed_range``; at mid-run
+    each scattered target and each formation's centre is uniform in the square
+    ±``area_half_width`` around the ring's centre, with a uniform heading, so over the run
+    they cross a good part of the ring (up to 300 m/s × 450 s = 135 km either way). Azimuth
+    bias ``B·u``, ``u ~ U(−1, 1)`` per radar (drawn whatever ``bias_deg`` is, so runs at
+    different levels share everything else); noise as the paper's (azimuth std U[0.5°, 1°],
+    range std U[500, 1000] m per radar).
+
+    Parameters
+    ----------
+    seed : int or numpy.random.Generator
+        Required; draws the radars, the targets and the noise, in that order.
+    bias_deg : float
+        B, degrees.
+    n_radars : int
+        Radars on the ring, at least 2.
+    coverage_radius : float
+        How far every radar sees, metres (> 0; ``inf`` for everywhere).
+    area_half_width : float
+        Half-width of the square holding the targets at mid-run, metres (> 0).
+    speed_range : (float, float)
+        Target speeds, m/s.
+    n_scans, scan_period, pd
+        As :func:`paper_topology_scenario`'s.
+
+    Returns
+    -------
+    RadarScenario
+    """
+    bias = as_float_scalar("bias_deg", bias_deg, finite=True)
+    if bias < 0:
+        raise ValueError(f"bias_deg: must be >= 0, got {bias_deg!r}")
+    n_radars = as_int_scalar("n_radars", n_radars, minimum=2)
+    coverage = as_float_scalar("coverage_radius", coverage_radius)
+    if not coverage > 0:
+        raise ValueError(f"coverage_radius: must be > 0 (inf for everywhere), got {coverage_radius!r}")
+    half = as_float_scalar("area_half_width", area_half_width, finite=True)
+    if half <= 0:
+        raise ValueError(f"area_half_width: must be > 0, got {area_half_width!r}")
+    n_scans = as_int_scalar("n_scans", n_scans, minimum=1)
+    period = as_float_scalar("scan_period", scan_period, finite=True)
+    if period <= 0:
+        raise ValueError(f"scan_period: must be > 0, got {scan_period!r}")
+    rng = _check_seed(seed)
+    scan_times = np.arange(n_scans) * period
+    radars = _ring(rng, n_radars, bias, coverage)
+    targets, formation = _targets(rng, float(scan_times[-1]) / 2, half, speed_range)
     measurements = simulate_radars(radars, targets, scan_times, rng, pd=pd)
     positions = true_positions(targets, scan_times)
     return RadarScenario(

@@ -76,8 +76,14 @@ class NearestNeighbourAssociator(StreamingTrackAssociator, Configurable):
             threshold=-self.gate if self.gate is not None else 0.0,
             window=self.window,
             gate=self.gate,
+            auto_gate=False,
             chi2_gate=chi2_gate,
             decision="assignment",
+            # The bias bound of the reported bias estimate's reliability (TopologyAssociator's).
+            max_bias_deg=5.0,
+            max_range=400e3,
+            gate_probability=0.999,
+            topology_weight=0.0,
             n_threads=self.n_threads,
         )
 

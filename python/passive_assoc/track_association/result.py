@@ -57,15 +57,23 @@ class BiasEstimate:
     ``p`` a local track's position and ``q`` its system partner's (so
     :func:`~passive_assoc.topology.unbias` turns ``p`` back as ``R(−rotation)(p − translation)``).
 
-    ``rotation`` is the relative azimuth bias in radians (counter-clockwise), with its
-    standard deviation; ``translation`` in metres; ``pairs`` is how many associated pairs it
-    was fitted to (a rigid fit of every pair so far).
+    ``rotation`` is the relative azimuth bias in radians (counter-clockwise); ``translation``
+    in metres. The streaming associators fit it to every scan of the (local, system) track
+    pairs they believe are one target after the latest scan (trimmed rigid least squares):
+    ``pairs`` is how many positions the fit kept, ``tracks`` how many track pairs they come
+    from. ``rotation_std`` is honest: it counts each track pair's scans as one correlated
+    sample (cluster-robust), widened for few track pairs (Student's t), so the truth lies
+    within 3 standard deviations as often as a normal law's ±3σ (99.7 %). ``reliable`` is
+    False for an estimate not to be used: fewer than 3 track pairs, a standard deviation above
+    1°, or outside the associator's bias bound.
     """
 
     rotation: float
     rotation_std: float
     translation: tuple[float, float]
     pairs: int
+    tracks: int = 0
+    reliable: bool = True
 
     @property
     def rotation_deg(self) -> float:
@@ -75,7 +83,7 @@ class BiasEstimate:
     def _from_core(cls, bias: _core.Bias | None) -> BiasEstimate | None:
         if bias is None:
             return None
-        return cls(bias.rotation, bias.rotation_std, bias.translation, bias.pairs)
+        return cls(bias.rotation, bias.rotation_std, bias.translation, bias.pairs, bias.tracks, bias.reliable)
 
 
 @dataclass(frozen=True)

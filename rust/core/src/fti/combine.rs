@@ -35,6 +35,10 @@ const WORK_PER_CANDIDATE: usize = 200;
 /// First pairs tested together in parallel: their survivors are held until fitted.
 const BLOCK: usize = 64;
 
+/// Survivors pushed to the fits between two polls of the stop flag within a block (about a
+/// batch's worth of fits, tens of milliseconds).
+const POLL_EVERY: usize = 16_384;
+
 /// Below this many reaches along the scene's longest side the index prunes too little to pay.
 const MIN_CELLS_ACROSS: f64 = 4.0;
 
@@ -114,6 +118,10 @@ pub(super) fn combine_with(
                     });
                 }
                 batch.push([pair, f, l], set)?;
+                // A block's survivors can be millions without gates: poll between fits.
+                if set.counts.v_max % POLL_EVERY == 0 && problem.stopped() {
+                    return Ok(());
+                }
             }
         }
     }

@@ -47,6 +47,7 @@ mod descent;
 mod descent_options;
 mod detection;
 mod detection_order;
+mod meeting;
 mod merge;
 mod motion_gate;
 mod options;

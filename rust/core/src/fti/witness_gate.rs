@@ -14,14 +14,12 @@
 //! 99 % ellipse of that prediction supports the candidate; at least half the witness scans
 //! (rounded up) must, so a target missed once by another sensor still passes.
 
+use super::meeting::{Located3, Matrix};
 use super::ray_pairs::RayPair;
-use super::round_gate::Located3;
 use super::support::{in_box, ScanAngles};
 use crate::geometry::angles::wrap;
 use crate::geometry::los::closest_points;
 use crate::geometry::model::{predict, Space};
-
-type Matrix = [[f64; 3]; 3];
 
 /// χ²(2) at 99 %, `−2 ln 0.01`: the gate on a witness's two angles. A true target is missed
 /// by one witness scan in a hundred. The wider 99.9 % gate fitted 1.8× the candidates of the
@@ -45,6 +43,11 @@ impl<'t> Witnesses<'t> {
             scans,
             gate: CHI2_2DOF_99,
         }
+    }
+
+    /// Whether there is a witness scan to ask.
+    pub(super) fn asks(&self) -> bool {
+        self.need > 0
     }
 
     /// Whether enough witness scans see the candidate of `first` and `last` (meetings

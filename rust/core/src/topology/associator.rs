@@ -1,13 +1,16 @@
 //! The streaming associator of one local source against the system picture: every scan,
 //! score the candidate (local, system) pairs, average the scores over the window, decide the
-//! pairs, and pool the pairs' positions for the bias estimate.
+//! pairs (on the closeness alone, or fused with the registered distance: `fusion.rs`), and
+//! refit the bias to the pairs believed so far (`memory.rs`).
 
-use super::bias::{BiasAccumulator, BiasEstimate};
-use super::candidates::{gated_pairs, pair_distances, Candidates};
+use super::bias::BiasEstimate;
+use super::candidates::{auto_gated, chi2_gated, gated_pairs, pair_distances, Candidates};
 use super::closeness::pair_closeness;
 use super::decision::decide;
+use super::fusion::{fused_pairs, reliable, Scan};
 use super::history::ScoreHistory;
-use super::options::{DecisionOptions, Reference, TopologyOptions};
+use super::memory::PairMemory;
+use super::options::{Decision, DecisionOptions, Gate, Reference, TopologyOptions};
 use super::scan::ScanTracks;
 use super::vectors::topology_vectors;
 use crate::error::{CoreError, CoreResult};
@@ -50,7 +53,9 @@ pub struct Associator {
     scoring: Scoring,
     decision: DecisionOptions,
     history: ScoreHistory,
-    bias: BiasAccumulator,
+    memory: PairMemory,
+    /// The rigid estimate after the latest scan, its `reliable` flag from the bounds.
+    estimate: Option<BiasEstimate>,
 }
 
 impl Associator {
@@ -59,7 +64,8 @@ impl Associator {
             scoring,
             decision,
             history: ScoreHistory::new(decision.window()),
-            bias: BiasAccumulator::default(),
+            memory: PairMemory::default(),
+            estimate: None,
         }
     }
 
@@ -74,8 +80,27 @@ impl Associator {
         } else {
             MAX_PAIRS
         };
-        let gates = (self.decision.gate(), self.decision.chi2_gate());
-        let pairs = gated_pairs(local, system, gates, cap)?;
+        let chi2 = self.decision.chi2_gate();
+        let pairs = match self.decision.gate() {
+            Gate::Off => gated_pairs(local, system, (None, chi2), cap)?,
+            Gate::Distance(g) => gated_pairs(local, system, (Some(g), chi2), cap)?,
+            Gate::Auto => {
+                let near = auto_gated(local, system, self.decision.max_offset());
+                let pairs = match chi2 {
+                    Some(threshold) => chi2_gated(local, system, &near, threshold)?,
+                    None => near,
+                };
+                if pairs.len() > cap {
+                    return Err(CoreError::CapExceeded {
+                        what: "track pairs in one scan",
+                        count: pairs.len(),
+                        cap,
+                        hint: "give a smaller bias bound or range, or a position gate: too many pairs lie within the automatic gate",
+                    });
+                }
+                pairs
+            }
+        };
         let mut scores = self.scores(local, system, &pairs)?;
         if crate::parallel::interrupted() {
             return Err(CoreError::Interrupted); // the scores may be partial: decide nothing
@@ -87,22 +112,43 @@ impl Associator {
             // Distances without a gate in metres: every allowed pair is worth more than any
             // sum of distances, so the decision makes the most pairs, then the least total
             // distance (the classic gated assignment).
-            (Scoring::Distance, None) => -(1.0 + 2.0 * scores.iter().map(|s| s.abs()).sum::<f64>()),
+            (Scoring::Distance, Gate::Off | Gate::Auto) => {
+                -(1.0 + 2.0 * scores.iter().map(|s| s.abs()).sum::<f64>())
+            }
             _ => self.decision.threshold(),
         };
-        let decided = match decide(
-            &pairs,
-            &scores,
-            (local.len(), system.len()),
-            threshold,
-            self.decision.decision(),
-        ) {
+        self.memory.record(local, system);
+        let dims = (local.len(), system.len());
+        let decided = match (self.scoring, self.decision.decision()) {
+            (Scoring::Topology(grid), Decision::Fused) => {
+                let topology = match decide(&pairs, &scores, dims, threshold, Decision::Assignment)
+                {
+                    Err(CoreError::Interrupted) => return Err(self.stopped()),
+                    topology => topology?,
+                };
+                let cells = grid.cells() as f64;
+                let closeness: Vec<f64> = scores.iter().map(|s| s / cells).collect();
+                let scan = Scan {
+                    local,
+                    system,
+                    pairs: &pairs,
+                    closeness: &closeness,
+                    topology: &topology,
+                    lambda: threshold / cells,
+                };
+                fused_pairs(&scan, &self.memory, self.estimate.as_ref(), &self.decision)
+            }
+            (_, decision) => decide(&pairs, &scores, dims, threshold, decision),
+        };
+        let decided = match decided {
             Err(CoreError::Interrupted) => return Err(self.stopped()),
             decided => decided?,
         };
-        for &(i, j) in &decided {
-            self.bias.add(local.position(i), system.position(j));
-        }
+        self.memory.commit(local, system, &decided);
+        self.estimate = self.memory.fit(&self.memory.believed(), None).map(|mut e| {
+            e.reliable = reliable(&e, &self.decision);
+            e
+        });
         let kept = decided
             .iter()
             .map(|&(i, j)| scores[pairs.index_of(i, j)])
@@ -115,20 +161,27 @@ impl Associator {
 
     /// A scan stopped once its scores entered the window: a history holding (part of) a
     /// scan that decided nothing would bias every later average, so the window starts afresh
-    /// (the bias estimate, which only decided pairs feed, is kept).
+    /// (the bias estimate and the believed pairs, which only decided scans feed, are kept).
     fn stopped(&mut self) -> CoreError {
         self.history = ScoreHistory::new(self.decision.window());
         CoreError::Interrupted
     }
 
-    /// The rigid bias estimate from every pair decided so far.
+    /// The rigid bias estimate, fitted to every scan of the pairs believed after the latest
+    /// scan (`memory.rs`); `reliable` says whether it rests on enough track pairs, with a
+    /// small honest spread, within the bias bound.
     pub fn bias(&self) -> Option<BiasEstimate> {
-        self.bias.rigid()
+        self.estimate
     }
 
-    /// The rotation-only bias estimate about `centre` (the local radar).
+    /// The rotation-only bias estimate about `centre` (the local radar), from the same pairs.
     pub fn bias_about(&self, centre: [f64; 2]) -> Option<BiasEstimate> {
-        self.bias.about(centre)
+        self.memory
+            .fit(&self.memory.believed(), Some(centre))
+            .map(|mut e| {
+                e.reliable = reliable(&e, &self.decision);
+                e
+            })
     }
 
     fn scores(

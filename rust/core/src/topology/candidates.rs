@@ -283,3 +283,45 @@ pub fn pair_distances(
         })
         .collect()
 }
+
+/// The candidates of the bias-bound gate (`Gate::Auto`): the pairs within
+/// `offset + 3·sqrt(tr P_i + tr P_j)` metres in the plane, P the planar blocks of the tracks'
+/// position covariances (`offset` alone where a scan has none).
+pub fn auto_gated(local: &ScanTracks<'_>, system: &ScanTracks<'_>, offset: f64) -> Candidates {
+    let spread = |tracks: &ScanTracks<'_>, k: usize| -> f64 {
+        tracks.covariance(k).map_or(0.0, |c| {
+            let d = tracks.dim();
+            (c[0] + c[d + 1]).max(0.0)
+        })
+    };
+    let widest = |tracks: &ScanTracks<'_>| {
+        (0..tracks.len())
+            .map(|k| spread(tracks, k))
+            .fold(0.0_f64, f64::max)
+    };
+    let reach = offset + 3.0 * (widest(local) + widest(system)).sqrt();
+    let tree = RTree::bulk_load(
+        (0..system.len() as u32)
+            .map(|j| Located::new(system.position(j as usize), j))
+            .collect(),
+    );
+    let mut pairs = Vec::new();
+    let mut near = Vec::new();
+    for i in 0..local.len() {
+        let p = local.position(i);
+        near.clear();
+        near.extend(
+            tree.locate_within_distance(p, reach * reach)
+                .map(|q| q.data)
+                .filter(|&j| {
+                    let q = system.position(j as usize);
+                    let limit =
+                        offset + 3.0 * (spread(local, i) + spread(system, j as usize)).sqrt();
+                    (p[0] - q[0]).hypot(p[1] - q[1]) <= limit
+                }),
+        );
+        near.sort_unstable();
+        pairs.extend(near.iter().map(|&j| (i as u32, j)));
+    }
+    Candidates::Listed(pairs)
+}

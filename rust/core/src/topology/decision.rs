@@ -27,7 +27,8 @@ pub fn decide(
             (i, j, s)
         });
     match decision {
-        Decision::Assignment => max_margin(n_local, n_system, threshold, allowed),
+        // The fused decision (fusion.rs) assigns on its own scores through this rule.
+        Decision::Assignment | Decision::Fused => max_margin(n_local, n_system, threshold, allowed),
         Decision::PerSystemTrack => Ok(per_system_track(n_local, n_system, allowed)),
     }
 }

@@ -10,9 +10,12 @@
 //!    pair, or of those within the position gate;
 //! 3. `history` — W averaged over a sliding window of scans, so a wrong pairing is undone;
 //! 4. `decision` — one-to-one pairs maximising the total closeness above λ (or the paper's
-//!    per-system-track rule);
-//! 5. `bias` — each radar's rotation (and translation) relative to the system picture, from
-//!    the pooled pairs (beyond the paper).
+//!    per-system-track rule); by default `fusion` — topology, then bias, then distance: the
+//!    topology pairs register the pictures, and the pairs are decided on the registered
+//!    Mahalanobis distance with the closeness (beyond the paper);
+//! 5. `bias` — each radar's rotation (and translation) relative to the system picture, fitted
+//!    to every scan of the pairs believed so far (`memory`; beyond the paper), with an honest
+//!    standard deviation.
 //!
 //! `associator::Associator` runs the five for one source; `scan::ScanTracks` is its input.
 
@@ -21,7 +24,9 @@ mod bias;
 mod candidates;
 mod closeness;
 mod decision;
+mod fusion;
 mod history;
+mod memory;
 mod options;
 mod scan;
 mod vectors;
@@ -30,13 +35,19 @@ mod vectors;
 mod tests;
 
 pub use associator::{Associator, ScanPairs, Scoring, MAX_PAIRS, MAX_REMEMBERED_PAIRS};
-pub use bias::{BiasAccumulator, BiasEstimate, TRIM_SIGMAS};
-pub use candidates::{candidate_pairs, chi2_gated, gated_pairs, Candidates};
+pub use bias::{student_3sigma, BiasAccumulator, BiasEstimate, MIN_CLUSTERS, TRIM_SIGMAS};
+pub use candidates::{auto_gated, candidate_pairs, chi2_gated, gated_pairs, Candidates};
 pub use closeness::{closeness, pair_closeness};
 pub use decision::decide;
+pub use fusion::{
+    fused_pairs, reliable, Transform, MAX_HYPOTHESIS_PAIRS, MAX_ROUNDS, RELIABLE_ROTATION_STD,
+    TOP_PROPOSALS,
+};
 pub use history::ScoreHistory;
+pub use memory::{Entry, PairMemory, Picture, HISTORY, MAX_FIT_POINTS, RECENT_SCANS};
 pub use options::{
-    Decision, DecisionOptions, Diffusion, Reference, TopologyOptions, MAX_CELLS, THRESHOLD_FRACTION,
+    Decision, DecisionOptions, Diffusion, Gate, Reference, TopologyOptions, MAX_CELLS,
+    THRESHOLD_FRACTION,
 };
 pub use scan::ScanTracks;
 pub use vectors::topology_vectors;

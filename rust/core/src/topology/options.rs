@@ -46,8 +46,13 @@ impl std::str::FromStr for Diffusion {
 /// How one scan's pairs are chosen from the (window-averaged) scores.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Decision {
-    /// One-to-one pairs maximising the total score, each above the threshold (default).
+    /// Topology, then bias, then distance (the project's extension, METHODS §4 in
+    /// docs/methods.md): the topology pairs register the local picture on the system's, and
+    /// the pairs are decided on the registered positions' Mahalanobis distance and the
+    /// closeness together (`fusion.rs`). Default.
     #[default]
+    Fused,
+    /// One-to-one pairs maximising the total closeness, each above the threshold.
     Assignment,
     /// The paper's rule: each system track takes its best local track if that beats the
     /// threshold; a local track claimed twice goes to the higher score.
@@ -57,14 +62,33 @@ pub enum Decision {
 impl std::str::FromStr for Decision {
     type Err = UnknownOption;
 
-    /// `"assignment"` or `"per_system_track"`.
+    /// `"fused"`, `"assignment"` or `"per_system_track"`.
     fn from_str(value: &str) -> Result<Self, UnknownOption> {
         let choices = [
+            ("fused", Self::Fused),
             ("assignment", Self::Assignment),
             ("per_system_track", Self::PerSystemTrack),
         ];
-        parse_option(value, &choices, "'assignment' or 'per_system_track'")
+        parse_option(
+            value,
+            &choices,
+            "'fused', 'assignment' or 'per_system_track'",
+        )
     }
+}
+
+/// Which (local, system) pairs a scan scores at all.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Gate {
+    /// Every pair (the paper's).
+    Off,
+    /// The pairs within this many metres (in 3-D where the scans carry heights).
+    Distance(f64),
+    /// The pairs the sensors' bias bound and the tracks' covariances allow: within
+    /// `2·max_bias·max_range + 3·sqrt(tr P_i + tr P_j)` metres (planar; without covariances,
+    /// the first term alone). Default.
+    #[default]
+    Auto,
 }
 
 /// The reference-topology grid and its diffusion (METHODS §4).
@@ -209,7 +233,8 @@ impl TopologyOptions {
 ///
 /// ```
 /// use passive_assoc_core::topology::DecisionOptions;
-/// let o = DecisionOptions::default().with_window(3).unwrap().with_gate(Some(60e3)).unwrap();
+/// use passive_assoc_core::topology::Gate;
+/// let o = DecisionOptions::default().with_window(3).unwrap().with_gate(Gate::Distance(60e3)).unwrap();
 /// assert_eq!(o.window(), 3);
 /// assert!(DecisionOptions::default().with_window(0).is_err());
 /// ```
@@ -217,9 +242,13 @@ impl TopologyOptions {
 pub struct DecisionOptions {
     threshold: f64,
     window: usize,
-    gate: Option<f64>,
+    gate: Gate,
     chi2_gate: Option<f64>,
     decision: Decision,
+    max_bias_deg: f64,
+    max_range: f64,
+    gate_probability: f64,
+    topology_weight: f64,
 }
 
 impl Default for DecisionOptions {
@@ -236,27 +265,35 @@ pub const THRESHOLD_FRACTION: f64 = 0.7;
 impl DecisionOptions {
     /// The project's defaults for the topology associator, the Python package's
     /// (`TopologyAssociator`): threshold λ·M·N with λ = [`THRESHOLD_FRACTION`] on the
-    /// recommended 4 × 12 grid (33.6; with another grid, set λ·M·N), a window of 6 scans, no
-    /// position gate, one-to-one assignment. The nearest-neighbour baseline scores minus
-    /// distances: give it `threshold = −gate`.
+    /// recommended 4 × 12 grid (33.6; with another grid, set λ·M·N), a window of 6 scans, the
+    /// [`Gate::Auto`] gate from a bias bound of 5° per sensor and a 400 km range, the
+    /// [`Decision::Fused`] decision with a 0.999 Mahalanobis gate and a topology weight of 10.
+    /// The nearest-neighbour baseline scores minus distances: give it `threshold = −gate` and
+    /// its own gate.
     pub fn recommended() -> Self {
         let grid = TopologyOptions::recommended();
         Self {
             threshold: THRESHOLD_FRACTION * grid.rings as f64 * grid.sectors as f64,
             window: 6,
-            gate: None,
+            gate: Gate::Auto,
             chi2_gate: None,
-            decision: Decision::Assignment,
+            decision: Decision::Fused,
+            max_bias_deg: 5.0,
+            max_range: 400e3,
+            gate_probability: 0.999,
+            topology_weight: 10.0,
         }
     }
 
-    /// The published decision (METHODS §4): differs from [`recommended`](Self::recommended)
-    /// in the paper's per-system-track rule. The paper gives no λ and keeps no window (its
-    /// "association quality" has no rule; the window is the project's reading): those are
-    /// the recommended ones.
+    /// The published decision (METHODS §4): the paper's per-system-track rule on the
+    /// closeness alone, every pair scored (no gate). The paper gives no λ and keeps no window
+    /// (its "association quality" has no rule; the window is the project's reading): those
+    /// are the recommended ones, as are the fused decision's settings, which it does not
+    /// read.
     pub fn paper() -> Self {
         Self {
             decision: Decision::PerSystemTrack,
+            gate: Gate::Off,
             ..Self::recommended()
         }
     }
@@ -281,9 +318,10 @@ impl DecisionOptions {
         Ok(self)
     }
 
-    /// Pairs farther apart than this (metres, > 0) are never made; `None` = no gate.
-    pub fn with_gate(mut self, gate: Option<f64>) -> CoreResult<Self> {
-        if let Some(g) = gate {
+    /// Which pairs are scored: every pair, those within a distance (metres, finite and > 0),
+    /// or those the bias bound and covariances allow.
+    pub fn with_gate(mut self, gate: Gate) -> CoreResult<Self> {
+        if let Gate::Distance(g) = gate {
             if !(g.is_finite() && g > 0.0) {
                 return Err(CoreError::out_of_range(
                     "gate",
@@ -292,6 +330,57 @@ impl DecisionOptions {
             }
         }
         self.gate = gate;
+        Ok(self)
+    }
+
+    /// Each sensor's largest azimuth bias, degrees, in [0, 45]: two sensors' pictures are
+    /// turned by at most twice this relative to each other.
+    pub fn with_max_bias_deg(mut self, max_bias_deg: f64) -> CoreResult<Self> {
+        if !(0.0..=45.0).contains(&max_bias_deg) {
+            return Err(CoreError::out_of_range(
+                "max_bias_deg",
+                format!("{max_bias_deg} must be in [0, 45]"),
+            ));
+        }
+        self.max_bias_deg = max_bias_deg;
+        Ok(self)
+    }
+
+    /// The sensors' range, metres (finite, > 0): the lever of the bias bound.
+    pub fn with_max_range(mut self, max_range: f64) -> CoreResult<Self> {
+        if !(max_range.is_finite() && max_range > 0.0) {
+            return Err(CoreError::out_of_range(
+                "max_range",
+                format!("{max_range} must be finite and > 0"),
+            ));
+        }
+        self.max_range = max_range;
+        Ok(self)
+    }
+
+    /// The fused decision's Mahalanobis gate, as the probability (in (0, 1)) that a true
+    /// pair's registered positions pass it.
+    pub fn with_gate_probability(mut self, gate_probability: f64) -> CoreResult<Self> {
+        if !(gate_probability > 0.0 && gate_probability < 1.0) {
+            return Err(CoreError::out_of_range(
+                "gate_probability",
+                format!("{gate_probability} must be in (0, 1)"),
+            ));
+        }
+        self.gate_probability = gate_probability;
+        Ok(self)
+    }
+
+    /// κ, the weight of the closeness fraction W/(M·N) in the fused score `κ·W/(M·N) − m/2`
+    /// (finite, ≥ 0; 0 decides on the registered distance alone).
+    pub fn with_topology_weight(mut self, topology_weight: f64) -> CoreResult<Self> {
+        if !(topology_weight.is_finite() && topology_weight >= 0.0) {
+            return Err(CoreError::out_of_range(
+                "topology_weight",
+                format!("{topology_weight} must be finite and >= 0"),
+            ));
+        }
+        self.topology_weight = topology_weight;
         Ok(self)
     }
 
@@ -323,8 +412,42 @@ impl DecisionOptions {
         self.window
     }
 
-    pub fn gate(&self) -> Option<f64> {
+    pub fn gate(&self) -> Gate {
         self.gate
+    }
+
+    /// Each sensor's bias bound, degrees.
+    pub fn max_bias_deg(&self) -> f64 {
+        self.max_bias_deg
+    }
+
+    /// The largest relative rotation of two pictures, radians: twice the bias bound.
+    pub fn max_rotation(&self) -> f64 {
+        2.0 * self.max_bias_deg.to_radians()
+    }
+
+    pub fn max_range(&self) -> f64 {
+        self.max_range
+    }
+
+    /// The largest offset the two sensors' biases put between a track and its partner,
+    /// metres: twice the chord `2·max_range·sin(max_bias/2)` by which a rotation of the bound
+    /// moves a point at the sensors' range (≈ 70 km at 5° and 400 km).
+    pub fn max_offset(&self) -> f64 {
+        2.0 * 2.0 * (self.max_bias_deg.to_radians() / 2.0).sin() * self.max_range
+    }
+
+    pub fn gate_probability(&self) -> f64 {
+        self.gate_probability
+    }
+
+    /// The Mahalanobis gate's χ² value for planar positions: `−2 ln(1 − p)`.
+    pub fn fused_gate(&self) -> f64 {
+        -2.0 * (1.0 - self.gate_probability).ln()
+    }
+
+    pub fn topology_weight(&self) -> f64 {
+        self.topology_weight
     }
 
     pub fn chi2_gate(&self) -> Option<f64> {

@@ -5,6 +5,7 @@ mod candidates;
 mod missed;
 mod progress;
 mod reference;
+mod rounds;
 pub(super) mod sim;
 
 use super::candidate::Candidate;
@@ -330,7 +331,8 @@ fn bad_input_is_reported_with_the_argument() {
         defaults().with_v_max(Some(-1.0)),
         Err(CoreError::OutOfRange { arg: "v_max", .. })
     ));
-    let capped = rules_off().with_max_candidates(5).expect("valid");
+    // Past the cap the formation stops with what it found (the default), or refuses:
+    let capped = (rules_off().with_max_candidates(5).expect("valid")).with_stop_at_limit(false);
     assert!(matches!(
         reason(capped),
         CoreError::CapExceeded { cap: 5, .. }

@@ -215,6 +215,64 @@ pub fn planar(seed: u64, noisy: bool, clutter: usize, n_scans: usize) -> Scenari
     sc
 }
 
+/// Three sensors on a 30 km ring (not colinear, 0–400 m high), σ = 4 mrad, asynchronous scans
+/// every 15 s (offsets 0, 5, 10 s), `n_targets` targets spread over a 3-D box, detected with
+/// probability `pd`, `clutter` rays per sensor and scan over the whole sky.
+pub fn ring(seed: u64, n_targets: usize, pd: f64, clutter: usize, n_scans: usize) -> Scenario {
+    let sigma = 4e-3;
+    let mut rng = Rng::new(seed);
+    let mut positions = Vec::new();
+    for j in 0..3 {
+        let angle = 2.0 * PI * j as f64 / 3.0 + 0.3 * (rng.uniform() - 0.5);
+        positions.extend([
+            30e3 * angle.cos(),
+            30e3 * angle.sin(),
+            400.0 * rng.uniform(),
+        ]);
+    }
+    let targets: Vec<Vec<f64>> = (0..n_targets)
+        .map(|_| {
+            let speed = 100.0 + 200.0 * rng.uniform();
+            let heading = 2.0 * PI * rng.uniform();
+            let climb = 0.2 * (rng.uniform() - 0.5);
+            vec![
+                40e3 * (rng.uniform() - 0.5),
+                40e3 * (rng.uniform() - 0.5),
+                500.0 + 9500.0 * rng.uniform(),
+                speed * heading.cos(),
+                speed * heading.sin(),
+                speed * climb,
+            ]
+        })
+        .collect();
+    let mut sc = empty(Space::Spatial, positions, sigma, targets.clone());
+    let layout = StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 });
+    for k in 0..n_scans {
+        for j in 0..3 {
+            let time = 15.0 * k as f64 + 5.0 * j as f64;
+            let p = [
+                sc.positions[3 * j],
+                sc.positions[3 * j + 1],
+                sc.positions[3 * j + 2],
+            ];
+            for (i, target) in targets.iter().enumerate() {
+                if rng.uniform() >= pd {
+                    continue;
+                }
+                let [a, e] = predict(Space::Spatial, &p, &layout.position(target, time));
+                let angles = [a + sigma * rng.normal(), e + sigma * rng.normal()];
+                sc.push(j, time, angles, i as i64);
+            }
+            for _ in 0..clutter {
+                let angles = [PI * (2.0 * rng.uniform() - 1.0), 0.5 * PI * rng.uniform()];
+                sc.push(j, time, angles, -1);
+            }
+        }
+    }
+    sc.shuffle(&mut rng);
+    sc
+}
+
 /// The constant-velocity problem of a table in its sensors' space, epoch 0 (the simulations'
 /// t0).
 pub fn problem<'a>(sensors: Sensors<'a>, measurements: Measurements<'a>) -> Problem<'a> {

@@ -6,6 +6,7 @@ use rand_chacha::ChaCha8Rng;
 
 mod bias;
 mod caps;
+mod fusion;
 mod history;
 
 use super::*;
@@ -54,15 +55,20 @@ fn ids(n: usize) -> Vec<i64> {
     (0..n as i64).collect()
 }
 
-/// The default grid with λ = 0.5: these tests check the decision logic, not the threshold
-/// (a full-sector rotation brings a true pair's W down to about 0.6·M·N on these scenes).
+/// The default grid with λ = 0.5, the closeness alone deciding (one-to-one assignment) on
+/// every pair: these tests check the topology decision logic, not the threshold (a
+/// full-sector rotation brings a true pair's W down to about 0.6·M·N on these scenes) nor the
+/// fused decision (`tests/fusion.rs`).
 fn topology(window: usize) -> Associator {
     let options = TopologyOptions::default();
     let decision = DecisionOptions::default()
         .with_threshold(0.5 * options.cells() as f64)
         .unwrap()
         .with_window(window)
-        .unwrap();
+        .unwrap()
+        .with_gate(Gate::Off)
+        .unwrap()
+        .with_decision(Decision::Assignment);
     Associator::new(Scoring::Topology(options), decision)
 }
 
@@ -270,7 +276,7 @@ fn nearest_neighbour_pairs_within_the_gate() {
     let decision = DecisionOptions::default()
         .with_window(1)
         .unwrap()
-        .with_gate(Some(5e3))
+        .with_gate(Gate::Distance(5e3))
         .unwrap();
     let threshold = decision.with_threshold(-5e3).unwrap();
     let mut nn = Associator::new(Scoring::Distance, threshold);

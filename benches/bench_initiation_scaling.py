@@ -1,0 +1,115 @@
+"""How one initiation's time grows with the number of targets, for 3, 4 and 5 sensors, and
+where the time goes: `ring_scenario` (3-D sensors on a ring, targets in a box, Pd 0.9,
+clutter 2 N a sensor scan, 8 scans) with the defaults of `FuzzyTrackInitiator` (the rounds
+formation). The box grows with √N (``--density``, the default: the targets' density stays the
+paper scale's) or stays 40 × 40 km (``--fixed-box``: denser with N). The exponent is the slope
+of log median time against log N between the smallest and largest N of at least 20, by least
+squares.
+
+    python3 benches/bench_initiation_scaling.py                       # 10 -> 200 targets, 3/4/5 sensors
+    python3 benches/bench_initiation_scaling.py --sensors 5 --targets 20 50 100 200 --seeds 3
+    python3 benches/bench_initiation_scaling.py --fixed-box
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import statistics
+import subprocess
+import sys
+from typing import Any
+
+import numpy as np
+
+#: The columns of where the time goes.
+STAGES = ("candidates", "fit", "support", "descent", "final", "other")
+
+CASE = r"""
+import json, resource, statistics, sys, time
+import numpy as np
+import passive_assoc as pa
+from passive_assoc.evaluation import track_targets
+
+s, n, seeds, half = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
+rows = []
+for seed in range(seeds):
+    sc = pa.ring_scenario(seed, n_sensors=s, n_targets=n, half_width=half, radius=1.5 * half)
+    start = time.perf_counter()
+    r = pa.FuzzyTrackInitiator().initiate(sc.measurements, sc.sensors, t0=sc.t0, progress=False)
+    seconds = time.perf_counter() - start
+    held = track_targets(r.labels, sc.measurements.truth)
+    rows.append({
+        "seconds": seconds, "found": len(set(held.tolist()) - {-1}), "false": int(np.sum(held < 0)),
+        "stages": r.diagnostics.stage_seconds, "fitted": r.diagnostics.stage_counts.get("fitted", 0),
+    })
+print(json.dumps({"rows": rows, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def run(sensors: int, targets: int, seeds: int, half_width: float, cap: float) -> dict[str, Any] | None:
+    """The case's figures, or None past `cap` seconds."""
+    try:
+        out = subprocess.run(
+            [sys.executable, "-c", CASE, str(sensors), str(targets), str(seeds), str(half_width)],
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=cap,
+        )
+    except subprocess.TimeoutExpired:
+        return None
+    result: dict[str, Any] = json.loads(out.stdout.strip().splitlines()[-1])
+    return result
+
+
+def exponent(ns: list[int], seconds: list[float]) -> float:
+    """Least-squares slope of log time against log N over N >= 20."""
+    points = [(math.log(n), math.log(t)) for n, t in zip(ns, seconds, strict=True) if n >= 20 and t > 0]
+    if len(points) < 2:
+        return float("nan")
+    x, y = np.array(points).T
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--sensors", type=int, nargs="+", default=[3, 4, 5])
+    parser.add_argument("--targets", type=int, nargs="+", default=[10, 20, 50, 100, 200])
+    parser.add_argument("--seeds", type=int, default=2)
+    parser.add_argument("--cap", type=float, default=600.0, help="seconds per case (all its seeds) before giving up")
+    parser.add_argument("--fixed-box", action="store_true", help="keep the 40 x 40 km box at every N")
+    args = parser.parse_args()
+    print(
+        "| sensors | targets | box km | found | false / scene | median s | candidates s | fit s | support s "
+        "| descent s | final fit s | other s | fitted | peak RSS MB |"
+    )
+    print("|---" * 14 + "|")
+    for s in args.sensors:
+        ns, medians = [], []
+        for n in args.targets:
+            half = 20e3 if args.fixed_box else 20e3 * math.sqrt(n / 20)
+            r = run(s, n, args.seeds, half, args.cap)
+            if r is None:
+                print(f"| {s} | {n} | {2 * half / 1e3:.0f} | over {args.cap:g} s |" + " |" * 10, flush=True)
+                break
+            rows = r["rows"]
+            med = statistics.median(x["seconds"] for x in rows)
+            ns.append(n)
+            medians.append(med)
+            stage = {k: statistics.median(x["stages"][k] for x in rows) for k in rows[0]["stages"]}
+            # Setup, detection, the score and building the result.
+            stage["other"] = statistics.median(x["seconds"] - sum(x["stages"].values()) for x in rows)
+            print(
+                f"| {s} | {n} | {2 * half / 1e3:.0f} | {sum(x['found'] for x in rows)}/{n * len(rows)} | "
+                f"{sum(x['false'] for x in rows) / len(rows):.2f} | {med:.3f} | "
+                + " | ".join(f"{stage.get(k, 0.0):.3f}" for k in STAGES)
+                + f" | {statistics.median(x['fitted'] for x in rows):.0f} | {r['peak_rss_mb']:.0f} |",
+                flush=True,
+            )
+        print(f"<!-- {s} sensors: time ~ N^{exponent(ns, medians):.2f} over N >= 20 -->", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,92 @@
+"""Initiation beyond the paper (METHODS §1, project extensions): the formation ``auto``
+picks, the rounds formation on a ring of sensors, the candidate limit that stops instead of
+refusing, and the track score that drops clutter tracks."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import passive_assoc as pa
+import pytest
+from passive_assoc.evaluation import track_targets
+from passive_assoc.fti import FuzzyTrackInitiator, InitiationResult, track_scores
+
+PartitionCheck = Callable[[InitiationResult, int], None]
+
+
+def test_auto_picks_rounds_in_3d_with_three_sensors_and_the_paper_otherwise() -> None:
+    ring = pa.ring_scenario(0, n_targets=4)
+    paper = pa.paper_fti_scenario(0)
+    planar = pa.bearing_only_2d_scenario(0, n_targets=3)
+    for scenario, expected in ((ring, "rounds"), (paper, "paper"), (planar, "paper")):
+        result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors, progress=False)
+        assert result.diagnostics.candidates == expected
+    forced = FuzzyTrackInitiator(candidates="paper").initiate(ring.measurements, ring.sensors, progress=False)
+    assert forced.diagnostics.candidates == "paper"
+
+
+def test_ring_of_three_sensors_at_20_targets(assert_partition: PartitionCheck) -> None:
+    """A scene the paper did not tune: sensors on a ring at different heights, targets in a 3-D
+    box, asynchronous clocks, Pd 0.9, clutter twice the targets."""
+    found = false_tracks = 0
+    for seed in range(3):
+        scenario = pa.ring_scenario(seed, n_sensors=3, n_targets=20)
+        table = scenario.measurements
+        result = FuzzyTrackInitiator().initiate(table, scenario.sensors, t0=scenario.t0, progress=False)
+        assert result.success and result.termination == "completed"
+        assert_partition(result, len(table))
+        held = track_targets(result.labels, table.truth)
+        found += len(set(held.tolist()) - {-1})
+        false_tracks += int(np.sum(held < 0))
+        assert all(track.score >= pa.fti.MIN_SCORE for track in result.tracks)
+    assert found >= 58, f"found {found} of 60"
+    assert false_tracks <= 1
+
+
+def test_a_reached_limit_returns_the_tracks_found_with_a_warning(assert_partition: PartitionCheck) -> None:
+    scenario = pa.ring_scenario(1, n_targets=8)
+    table = scenario.measurements
+    with pytest.warns(pa.LimitWarning, match="max_candidates"):
+        result = FuzzyTrackInitiator(max_candidates=30).initiate(table, scenario.sensors, progress=False)
+    assert result.termination == "candidate_limit"
+    assert not result.success
+    assert result.diagnostics.limit is not None and "max_candidates" in result.message
+    assert_partition(result, len(table))
+    full = FuzzyTrackInitiator().initiate(table, scenario.sensors, progress=False)
+    assert len(result.tracks) < len(full.tracks)
+    with pytest.raises(ValueError, match="max_candidates"):
+        FuzzyTrackInitiator(max_candidates=30, on_limit="raise").initiate(table, scenario.sensors, progress=False)
+
+
+def test_tracks_below_min_score_return_their_rows_to_clutter(assert_partition: PartitionCheck) -> None:
+    """A short 2-D window in heavy clutter: the search threads clutter into tracks, and their
+    score tells them apart."""
+    scenario = pa.bearing_only_2d_scenario(1, n_targets=4, clutter_ratio=4.0, n_scans=5)
+    table = scenario.measurements
+    every = FuzzyTrackInitiator(min_score=None).initiate(table, scenario.sensors, progress=False)
+    kept = FuzzyTrackInitiator().initiate(table, scenario.sensors, progress=False)
+    scores = np.array([t.score for t in every.tracks])
+    low = scores < pa.fti.MIN_SCORE
+    assert kept.diagnostics.below_min_score == int(low.sum()) >= 5
+    assert every.diagnostics.below_min_score == 0
+    # Every low track is clutter, every kept one a target.
+    held = track_targets(every.labels, table.truth)
+    assert np.all(held[low] == -1)
+    assert sorted(track_targets(kept.labels, table.truth).tolist()) == [0, 1, 2, 3]
+    # The kept tracks are the others, in order, and the dropped tracks' rows are clutter.
+    assert [t.measurements.tolist() for t in kept.tracks] == [
+        t.measurements.tolist() for t, is_low in zip(every.tracks, low, strict=True) if not is_low
+    ]
+    dropped = np.concatenate([t.measurements for t, is_low in zip(every.tracks, low, strict=True) if is_low])
+    assert set(dropped.tolist()) <= set(kept.clutter.tolist())
+    assert_partition(kept, len(table))
+    # The scores are the documented function of the labels and fit chi2.
+    chi2 = np.array([t.chi2 for t in every.tracks])
+    np.testing.assert_allclose(track_scores(every.labels, chi2, table, scenario.sensors, 0.9), scores)
+
+
+def test_initial_epoch_must_be_a_usable_time() -> None:
+    scenario = pa.paper_fti_scenario(0)
+    with pytest.raises(ValueError, match="t0"):
+        FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors, t0=1e300)
