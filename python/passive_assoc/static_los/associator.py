@@ -28,6 +28,7 @@ from ..outcome import COMPLETED, Outcome
 from .candidates import DEFAULT_GATE_SIGMAS, _per_sensor, enumerate_validated
 from .diagnostics import SolverDiagnostics, StaticDiagnostics, intensity_diagnostics, stage_counts
 from .prior import PricedCandidates, check_region, priced
+from .scan_window import check_one_scan
 
 __all__ = [
     "DEFAULT_METHOD",
@@ -160,6 +161,12 @@ class StaticAssociator(SdParameters):
     n_threads : int, optional
         Threads for the enumeration and the intensity method's chains (None: all cores);
         results are identical for any value.
+    scan_window : float, optional
+        Seconds: reports this close in time are one scan (real clocks jitter). In
+        :func:`associate_scans` and ``passive-assoc associate`` it groups the table into scans
+        by :func:`~passive_assoc.static_los.window_scans`'s rule; :meth:`associate` refuses a
+        table whose times span more than it. Default None: one scan has one time, and
+        :meth:`associate` warns when a table has several.
 
     """
 
@@ -179,6 +186,7 @@ class StaticAssociator(SdParameters):
     combination: Combination = "simple"
     region: Sequence[float] | None = None
     target_density: Annotated[float | None, POSITIVE, None] = None
+    scan_window: Annotated[float | None, Interval(float, 0.0, None), None] = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -219,7 +227,14 @@ class StaticAssociator(SdParameters):
         -------
         StaticAssociation
             Every input row is in exactly one accepted target or in the clutter set.
+
+        Warns
+        -----
+        UserWarning
+            When the table holds several distinct times and no ``scan_window`` is set: it is
+            treated as one scan, which is right only if the targets did not move between them.
         """
+        check_one_scan(measurements, self.scan_window)
         enumerated = self.candidates(measurements, sensors)
         cands: Candidates | PricedCandidates = enumerated
         priced_count = None
