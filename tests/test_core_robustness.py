@@ -76,6 +76,9 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     t0 = kw.pop("t0")
     settings = SimpleNamespace(
         **kw,
+        candidates="paper",
+        prefit_gates=True,
+        on_limit="raise",
         detection_order="membership",
         descent_scaling="whitened",
         refine_passes=2,

@@ -24,7 +24,7 @@ use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{RTree, AABB};
 
 use super::ray_pairs::RayPair;
-use super::witness_gate::Witnesses;
+use super::witness_gate::{Located3, Witnesses};
 use crate::geometry::model::Space;
 
 /// A meeting looser than this (metres, the root of its covariance's trace) says too little
@@ -47,14 +47,6 @@ const GATE_2D: f64 = 13.815_510_557_964_274 * MARGIN;
 
 type Matrix = [[f64; 3]; 3];
 type Located = GeomWithData<Rectangle<[f64; 3]>, usize>;
-
-/// A meeting with its covariance and time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Located3 {
-    pub(super) point: [f64; 3],
-    pub(super) covariance: Matrix,
-    pub(super) time: f64,
-}
 
 /// The meetings of one round of a sensor pair, each indexed by the box its gate may reach
 /// (its own spread at the gate).

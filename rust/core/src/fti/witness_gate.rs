@@ -15,13 +15,20 @@
 //! (rounded up) must, so a target missed once by another sensor still passes.
 
 use super::ray_pairs::RayPair;
-use super::round_gate::Located3;
 use super::support::{in_box, ScanAngles};
 use crate::geometry::angles::wrap;
 use crate::geometry::los::closest_points;
 use crate::geometry::model::{predict, Space};
 
 type Matrix = [[f64; 3]; 3];
+
+/// A meeting with its covariance and time (module `round_gate` finds them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Located3 {
+    pub(super) point: [f64; 3],
+    pub(super) covariance: Matrix,
+    pub(super) time: f64,
+}
 
 /// χ²(2) at 99 %, `−2 ln 0.01`: the gate on a witness's two angles. A true target is missed
 /// by one witness scan in a hundred. The wider 99.9 % gate fitted 1.8× the candidates of the

@@ -1,0 +1,107 @@
+"""The fuzzy track initiator as a Stone Soup ``Initiator``, so that a Stone Soup tracker
+carries the tracks it initiates on (optional extra ``stonesoup``; importing this module needs
+it).
+
+:class:`PassiveInitiator` collects the detections a tracker did not associate; once they span
+``window`` seconds it runs :class:`~passive_assoc.FuzzyTrackInitiator` on them and returns
+each initiated track as a Stone Soup ``Track`` whose one ``GaussianState`` is the
+constant-velocity state (interleaved, ``[x, vx, y, vy(, z, vz)]``) at the current time. The
+detections the new tracks hold are forgotten, and so is every detection older than the
+window. Each detection needs ``metadata["sensor"]`` and a bearing (or elevation, bearing)
+vector, as :func:`~passive_assoc.interop.stonesoup.to_detections` makes them; a detection
+whose model is translated away from its sensor's position (a moving platform) is taken from
+there.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import warnings
+from typing import Any
+
+import numpy as np
+from stonesoup.base import Property
+from stonesoup.initiator.base import Initiator
+from stonesoup.types.state import GaussianState
+from stonesoup.types.track import Track
+
+from ..data import MeasurementTable, SensorNetwork
+from ..data.conventions import covariance_to_interleaved, to_interleaved
+from ..fti import FuzzyTrackInitiator
+
+__all__ = ["PassiveInitiator"]
+
+
+class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no types
+    """Stone Soup ``Initiator`` running passive_assoc's fuzzy track initiation over a window
+    of unassociated detections (module doc)."""
+
+    sensors: SensorNetwork = Property(doc="The network the detections come from.")
+    window: float = Property(default=60.0, doc="Seconds of detections an initiation takes.")
+    initiator: Any = Property(default=None, doc="A FuzzyTrackInitiator (default: its defaults).")
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        if not isinstance(self.sensors, SensorNetwork):
+            raise TypeError(f"sensors: expected a SensorNetwork, got {type(self.sensors).__name__}")
+        if not (isinstance(self.window, (int, float)) and self.window > 0):
+            raise ValueError(f"window: must be > 0 seconds, got {self.window!r}")
+        if self.initiator is None:
+            self.initiator = FuzzyTrackInitiator()
+        elif not isinstance(self.initiator, FuzzyTrackInitiator):
+            raise TypeError(f"initiator: expected a FuzzyTrackInitiator, got {type(self.initiator).__name__}")
+        self._pending: list[Any] = []
+        self._epoch: dt.datetime | None = None
+
+    def initiate(self, detections: set[Any], timestamp: dt.datetime, **kwargs: Any) -> set[Any]:
+        """New tracks once the pending detections span the window; an empty set before."""
+        if self._epoch is None:
+            self._epoch = timestamp
+        self._pending.extend(detections)
+        self._pending = [d for d in self._pending if (timestamp - d.timestamp).total_seconds() <= self.window]
+        if not self._pending:
+            return set()
+        first = min(d.timestamp for d in self._pending)
+        if (timestamp - first).total_seconds() < self.window:
+            return set()
+        ordered = sorted(self._pending, key=lambda d: d.timestamp)
+        table = self._table(ordered)
+        t0 = (timestamp - self._epoch).total_seconds()
+        with warnings.catch_warnings():  # a window of clutter alone is the tracker's normal case
+            warnings.filterwarnings("ignore", message=r"no candidate survived", category=UserWarning)
+            result = self.initiator.initiate(table, self.sensors, t0=t0, progress=False)
+        used = set(np.flatnonzero(result.labels >= 0).tolist())
+        self._pending = [d for k, d in enumerate(ordered) if k not in used]
+        ndim = self.sensors.ndim
+        tracks = set()
+        for initiated in result.tracks:
+            mean = to_interleaved(initiated.state, ndim=ndim, blocks=2).reshape(-1, 1)
+            covar = covariance_to_interleaved(initiated.covariance, ndim=ndim, blocks=2)
+            tracks.add(Track([GaussianState(mean, covar, timestamp=timestamp)]))
+        return tracks
+
+    def _table(self, detections: list[Any]) -> MeasurementTable:
+        """The detections as a table, in their order, with each one's sensor position where
+        its model is translated away from the network's (a moving platform)."""
+        assert self._epoch is not None
+        if any("sensor" not in d.metadata for d in detections):
+            raise ValueError("detections: every detection needs metadata['sensor'] (the sensor index)")
+        vectors = [np.asarray(d.state_vector, dtype=float).ravel() for d in detections]
+        sensor = np.array([int(d.metadata["sensor"]) for d in detections], dtype=np.int64)
+        where = np.full((len(detections), 3), np.nan)
+        for k, d in enumerate(detections):
+            offset = getattr(d.measurement_model, "translation_offset", None)
+            point = np.zeros(3)
+            if offset is not None:
+                point[: len(offset)] = np.asarray(offset, dtype=float).ravel()[:3]
+                if not np.allclose(point, self.sensors.positions[sensor[k]]):
+                    where[k] = point
+        if self.sensors.ndim == 2:
+            where[:, 2] = np.where(np.isnan(where[:, 0]), np.nan, 0.0)
+        return MeasurementTable.from_arrays(
+            sensor,
+            [(d.timestamp - self._epoch).total_seconds() for d in detections],
+            [v[-1] for v in vectors],
+            [v[0] for v in vectors] if self.sensors.ndim == 3 else None,
+            sensor_position=None if np.isnan(where).all() else where,
+        )

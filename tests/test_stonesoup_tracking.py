@@ -1,0 +1,54 @@
+"""The hand-off to a tracker: passive_assoc's initiation as a Stone Soup ``Initiator`` inside a
+Stone Soup EKF tracker that carries the tracks on for ten more minutes
+(``examples/track_with_stonesoup.py``), and the initiator's own checks."""
+
+from __future__ import annotations
+
+import datetime as dt
+import runpy
+from pathlib import Path
+
+import numpy as np
+import passive_assoc as pa
+import pytest
+
+pytest.importorskip("stonesoup")
+
+from passive_assoc.interop.stonesoup import to_detections
+from passive_assoc.interop.stonesoup_tracking import PassiveInitiator
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "track_with_stonesoup.py"
+
+
+def test_a_stone_soup_tracker_carries_the_initiated_tracks_for_ten_minutes(tmp_path: Path) -> None:
+    example = runpy.run_path(str(EXAMPLE), run_name="example")
+    result = example["run"](minutes=11.0, seed=5)
+    seconds, distance, tracks = result["seconds"], result["gospa"], result["tracks"]
+    assert len(seconds) == 198  # 66 scans of 3 sites
+    early, late = seconds < 50.0, seconds >= 120.0
+    assert (tracks[early] == 0).all()  # nothing before the initiator's minute of bearings
+    assert (tracks[late] == 4).all(), np.unique(tracks[late])
+    # Four ships each missed cost c^2/2: GOSPA sqrt(4 * 2000^2 / 2) = 2828 m before initiation.
+    np.testing.assert_allclose(distance[early], np.sqrt(4 * 2000.0**2 / 2))
+    assert distance[late].mean() < 250.0 and distance[late].max() < 500.0, (distance[late].mean(), distance[late].max())
+    example["plot"](result, str(tmp_path / "gospa.png"))
+    assert (tmp_path / "gospa.png").stat().st_size > 10_000
+
+
+def test_the_initiator_checks_its_settings_and_reads_a_moving_platform() -> None:
+    network = pa.SensorNetwork.planar([[0.0, 0.0], [10e3, 0.0]], 1e-3)
+    with pytest.raises(TypeError, match=r"^sensors: expected a SensorNetwork"):
+        PassiveInitiator(sensors="net")
+    with pytest.raises(ValueError, match=r"^window: must be > 0 seconds"):
+        PassiveInitiator(sensors=network, window=0.0)
+    with pytest.raises(TypeError, match=r"^initiator: expected a FuzzyTrackInitiator"):
+        PassiveInitiator(sensors=network, initiator=object())
+    table = pa.MeasurementTable.from_arrays(
+        [0, 1], [0.0, 0.0], [1.0, 2.0], sensor_position=[[np.nan] * 3, [12e3, 500.0, 0.0]]
+    )
+    detections = to_detections(table, network, epoch=dt.datetime(2026, 1, 1))
+    initiator = PassiveInitiator(sensors=network, window=30.0)
+    assert initiator.initiate(set(detections), detections[0].timestamp) == set()  # less than a window
+    back = initiator._table(sorted(detections, key=lambda d: d.metadata["sensor"]))
+    assert back.sensor_position is not None
+    assert np.isnan(back.sensor_position[0]).all() and back.sensor_position[1].tolist() == [12e3, 500.0, 0.0]
