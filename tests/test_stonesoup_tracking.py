@@ -5,6 +5,7 @@ Stone Soup EKF tracker that carries the tracks on for ten more minutes
 from __future__ import annotations
 
 import datetime as dt
+import json
 import runpy
 from pathlib import Path
 
@@ -52,3 +53,27 @@ def test_the_initiator_checks_its_settings_and_reads_a_moving_platform() -> None
     back = initiator._table(sorted(detections, key=lambda d: d.metadata["sensor"]))
     assert back.sensor_position is not None
     assert np.isnan(back.sensor_position[0]).all() and back.sensor_position[1].tolist() == [12e3, 500.0, 0.0]
+
+
+def test_the_track_command_initiates_then_tracks_through_the_file(tmp_path: Path) -> None:
+    from passive_assoc.cli import main as cli_main
+    from passive_assoc.evaluation.track_truth import track_targets
+    from passive_assoc.simulation import simulate
+
+    example = runpy.run_path(str(EXAMPLE), run_name="example")
+    network = pa.SensorNetwork.planar(example["SITES"], np.radians(0.2))
+    times = [np.arange(66) * 10.0 + j for j in range(3)]
+    scene = simulate(network, example["SHIPS"], times, pd=0.9, clutter_per_scan=1, t0=0.0, seed=5)
+    scene.measurements.to_csv(tmp_path / "reports.csv")
+    network.to_csv(tmp_path / "sites.csv")
+    argv = ["track", str(tmp_path / "reports.csv"), "--sensors", str(tmp_path / "sites.csv"), "--out", str(tmp_path)]
+    assert cli_main(argv) == 0
+    summary = json.loads((tmp_path / "reports.track.json").read_text())
+    assert len(summary["tracks"]) == 4
+    for track in summary["tracks"]:
+        assert track["times"][-1] == 652.0  # held to the last report time
+    labels = np.loadtxt(tmp_path / "reports.track.csv", delimiter=",", skiprows=1)[:, -1].astype(int)
+    assert scene.measurements.truth is not None
+    assert sorted(track_targets(labels, scene.measurements.truth).tolist()) == [0, 1, 2, 3]
+    true_rows = scene.measurements.truth >= 0
+    assert (labels[true_rows] >= 0).mean() > 0.95 and (labels[~true_rows] >= 0).mean() < 0.1

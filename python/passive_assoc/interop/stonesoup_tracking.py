@@ -20,16 +20,17 @@ import warnings
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 from stonesoup.base import Property
 from stonesoup.initiator.base import Initiator
 from stonesoup.types.state import GaussianState
 from stonesoup.types.track import Track
 
-from ..data import MeasurementTable, SensorNetwork
-from ..data.conventions import covariance_to_interleaved, to_interleaved
+from ..data import MeasurementTable, SensorNetwork, TrackTable
+from ..data.conventions import covariance_from_interleaved, covariance_to_interleaved, from_interleaved, to_interleaved
 from ..fti import FuzzyTrackInitiator
 
-__all__ = ["PassiveInitiator"]
+__all__ = ["PassiveInitiator", "track_measurements"]
 
 
 class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no types
@@ -52,6 +53,8 @@ class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no 
             raise TypeError(f"initiator: expected a FuzzyTrackInitiator, got {type(self.initiator).__name__}")
         self._pending: list[Any] = []
         self._epoch: dt.datetime | None = None
+        #: The detections each track returned so far was initiated from.
+        self.initiated_from: dict[Any, list[Any]] = {}
 
     def initiate(self, detections: set[Any], timestamp: dt.datetime, **kwargs: Any) -> set[Any]:
         """New tracks once the pending detections span the window; an empty set before."""
@@ -77,7 +80,9 @@ class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no 
         for initiated in result.tracks:
             mean = to_interleaved(initiated.state, ndim=ndim, blocks=2).reshape(-1, 1)
             covar = covariance_to_interleaved(initiated.covariance, ndim=ndim, blocks=2)
-            tracks.add(Track([GaussianState(mean, covar, timestamp=timestamp)]))
+            new = Track([GaussianState(mean, covar, timestamp=timestamp)])
+            self.initiated_from[new] = [ordered[m] for m in initiated.measurements.tolist()]
+            tracks.add(new)
         return tracks
 
     def _table(self, detections: list[Any]) -> MeasurementTable:
@@ -105,3 +110,93 @@ class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no 
             [v[0] for v in vectors] if self.sensors.ndim == 3 else None,
             sensor_position=None if np.isnan(where).all() else where,
         )
+
+
+def track_measurements(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    *,
+    window: float = 60.0,
+    process_noise: float = 0.05,
+    missed_distance: float = 4.0,
+    delete_after: int = 12,
+    initiator: FuzzyTrackInitiator | None = None,
+) -> tuple[TrackTable, NDArray[np.int64]]:
+    """Initiation, then a Stone Soup tracker, over a whole table.
+
+    The reports go to a Stone Soup ``MultiTargetTracker`` time by time: a constant-velocity
+    extended Kalman filter (``process_noise``: the acceleration noise density, m²/s³, per
+    axis), global-nearest-neighbour association with a Mahalanobis gate of
+    ``missed_distance``, tracks deleted after ``delete_after`` steps without an update, and a
+    :class:`PassiveInitiator` over ``window`` seconds for new tracks.
+
+    Returns
+    -------
+    tracks : TrackTable
+        Every track's state after each step it lived (source 0, one id per track, the
+        table's times): position, velocity and covariance, block order.
+    labels : ndarray of int, shape (N,)
+        Each row's track id (initiated from it, or updated with it), or −1.
+    """
+    from stonesoup.dataassociator.neighbour import GNNWith2DAssignment
+    from stonesoup.deleter.time import UpdateTimeStepsDeleter
+    from stonesoup.hypothesiser.distance import DistanceHypothesiser
+    from stonesoup.measures import Mahalanobis
+    from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity
+    from stonesoup.predictor.kalman import ExtendedKalmanPredictor
+    from stonesoup.tracker.simple import MultiTargetTracker
+    from stonesoup.updater.kalman import ExtendedKalmanUpdater
+
+    from .stonesoup import EPOCH, to_detections
+
+    for name, value in (("process_noise", process_noise), ("missed_distance", missed_distance)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+            raise ValueError(f"{name}: must be a number > 0, got {value!r}")
+    if isinstance(delete_after, bool) or not isinstance(delete_after, int) or delete_after < 1:
+        raise ValueError(f"delete_after: must be an int >= 1, got {delete_after!r}")
+    ndim = sensors.ndim
+    steps: dict[dt.datetime, set[Any]] = {}
+    for d in to_detections(measurements, sensors, epoch=EPOCH):
+        steps.setdefault(d.timestamp, set()).add(d)
+    start = EPOCH + dt.timedelta(seconds=float(measurements.time.min())) if len(measurements) else EPOCH
+    passive = PassiveInitiator(sensors=sensors, window=window, initiator=initiator)
+    passive._epoch = start  # the initiator's t0 in the table's seconds
+    transition = CombinedLinearGaussianTransitionModel([ConstantVelocity(process_noise)] * ndim)
+    predictor = ExtendedKalmanPredictor(transition)
+    updater = ExtendedKalmanUpdater(measurement_model=None)
+    hypothesiser = DistanceHypothesiser(predictor, updater, measure=Mahalanobis(), missed_distance=missed_distance)
+    tracker = MultiTargetTracker(
+        initiator=passive,
+        deleter=UpdateTimeStepsDeleter(time_steps_since_update=delete_after),
+        detector=sorted(steps.items(), key=lambda item: item[0]),
+        data_associator=GNNWith2DAssignment(hypothesiser),
+        updater=updater,
+    )
+    ids: dict[Any, int] = {}
+    rows: dict[str, list[Any]] = {"track": [], "time": [], "state": [], "covariance": []}
+    labels = np.full(len(measurements), -1, dtype=np.int64)
+    for time, tracks in tracker:
+        for track in tracks:
+            k = ids.setdefault(track, len(ids))
+            state = track.state
+            rows["track"].append(k)
+            rows["time"].append((time - EPOCH).total_seconds())
+            rows["state"].append(from_interleaved(np.asarray(state.state_vector, float).ravel(), ndim=ndim, blocks=2))
+            rows["covariance"].append(covariance_from_interleaved(np.asarray(state.covar, float), ndim=ndim, blocks=2))
+            measurement = getattr(getattr(state, "hypothesis", None), "measurement", None)
+            if measurement is not None and "row" in getattr(measurement, "metadata", {}):
+                labels[int(measurement.metadata["row"])] = k
+    for track, detections in passive.initiated_from.items():
+        if track in ids:
+            labels[[int(d.metadata["row"]) for d in detections]] = ids[track]
+    state = np.array(rows["state"]).reshape(-1, 2 * ndim)
+    table = TrackTable.from_arrays(
+        np.zeros(len(rows["track"]), dtype=np.int64),
+        rows["track"],
+        rows["time"],
+        state[:, :ndim],
+        state[:, ndim:],
+        covariance=np.array(rows["covariance"]).reshape(-1, 2 * ndim, 2 * ndim),
+        sort=True,
+    )
+    return table, labels
