@@ -22,7 +22,7 @@ from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
 from .associator import DEFAULT_METHOD, Method, StaticAssociator, _associator
 from .candidates import _per_sensor
-from .scan_window import window_scans
+from .scan_window import motion_inflated, window_scans
 
 __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
 
@@ -109,6 +109,8 @@ def associate_scans(
     if associator.method == "exact" and associator.exact_backend == "highs":
         raise ValueError("exact_backend: associate_scans runs the core's branch-and-bound, not HiGHS")
     keys, scan_index = scan_keys(table, scan, window=associator.scan_window)
+    if associator.v_max is not None and associator.min_range is not None and len(table):
+        table = motion_inflated(table, network, scan_index, associator.v_max, associator.min_range)
     order, offsets = scan_rows(scan_index, len(keys))
     n = network.n_sensors
     density = None  # each scan's default, computed by the core from its reports

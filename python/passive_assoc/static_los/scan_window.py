@@ -12,6 +12,13 @@ A scan therefore never spans more than ``w``, the grouping does not depend on th
 and two reports further apart than ``w`` are never in one scan. Its key is its opening time.
 Choose ``w`` above the clock jitter and the sensors' offsets, and below the time between
 scans.
+
+The static methods take a scan's reports as simultaneous. Targets move while the reports of
+one window come in: at speed ``v`` and range ``r`` a report ``Δt`` from the scan's middle sees
+its target up to ``v·Δt/r`` radians away from where the others see it. Given the fastest
+target ``v_max`` and the nearest range ``min_range``, :func:`motion_inflated` widens each
+report's angle noise to ``√(σ² + (v_max·Δt/min_range)²)`` (its own σ, or its sensor's), so
+the gates and costs allow that motion; without them nothing is widened.
 """
 
 from __future__ import annotations
@@ -21,9 +28,9 @@ import warnings
 import numpy as np
 from numpy.typing import NDArray
 
-from ..data import MeasurementTable
+from ..data import MeasurementTable, SensorNetwork
 
-__all__ = ["check_one_scan", "window_scans"]
+__all__ = ["check_one_scan", "motion_inflated", "window_scans"]
 
 
 def window_scans(time: NDArray[np.float64], window: float) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -70,3 +77,28 @@ def check_one_scan(measurements: MeasurementTable, scan_window: float | None) ->
             f"measurements: times span {span:g} s, more than scan_window = {scan_window:g} s: not one scan; "
             "associate_scans splits a table into scans"
         )
+
+
+def motion_inflated(
+    measurements: MeasurementTable,
+    sensors: SensorNetwork,
+    scan: NDArray[np.int64],
+    v_max: float,
+    min_range: float,
+) -> MeasurementTable:
+    """``measurements`` with each report's angle noise widened for the targets' motion within
+    its scan (module doc); ``scan`` is each row's scan index. Reports at their scan's middle
+    time keep their noise."""
+    n_scans = int(scan.max()) + 1 if len(scan) else 0
+    first = np.full(n_scans, np.inf)
+    last = np.full(n_scans, -np.inf)
+    np.minimum.at(first, scan, measurements.time)
+    np.maximum.at(last, scan, measurements.time)
+    dt = np.abs(measurements.time - 0.5 * (first[scan] + last[scan]))
+    extra = v_max * dt / min_range
+    sigma_az, sigma_el = measurements.report_sigmas(sensors)
+    columns = measurements.to_arrays()
+    columns["sigma_azimuth"] = np.minimum(np.hypot(sigma_az, extra), np.pi)
+    if sensors.ndim == 3:
+        columns["sigma_elevation"] = np.minimum(np.hypot(sigma_el, extra), np.pi)
+    return MeasurementTable.from_columns(columns, check_angle_unit=False)
