@@ -330,7 +330,8 @@ fn bad_input_is_reported_with_the_argument() {
         defaults().with_v_max(Some(-1.0)),
         Err(CoreError::OutOfRange { arg: "v_max", .. })
     ));
-    let capped = rules_off().with_max_candidates(5).expect("valid");
+    // Refused, not stopped at the cap, when the caller asks for that.
+    let capped = (rules_off().with_max_candidates(5).expect("valid")).with_stop_at_limit(false);
     assert!(matches!(
         reason(capped),
         CoreError::CapExceeded { cap: 5, .. }
