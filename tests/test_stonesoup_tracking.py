@@ -77,3 +77,71 @@ def test_the_track_command_initiates_then_tracks_through_the_file(tmp_path: Path
     assert sorted(track_targets(labels, scene.measurements.truth).tolist()) == [0, 1, 2, 3]
     true_rows = scene.measurements.truth >= 0
     assert (labels[true_rows] >= 0).mean() > 0.95 and (labels[~true_rows] >= 0).mean() < 0.1
+
+
+def test_the_static_associator_as_a_feeder_gives_a_linear_kalman_tracker_positions() -> None:
+    """Bearings → located targets (one Stone Soup position Detection each, with its ML
+    covariance) per 2.5 s scan → a Stone Soup linear Kalman tracker (measured: from minute 2,
+    GOSPA 574 m on average, four tracks in 45 of 54 steps, three in the others)."""
+    from passive_assoc.evaluation import gospa
+    from passive_assoc.interop.stonesoup import EPOCH
+    from passive_assoc.interop.stonesoup_tracking import StaticAssociationFeeder
+    from passive_assoc.simulation import simulate
+    from stonesoup.dataassociator.neighbour import GNNWith2DAssignment
+    from stonesoup.deleter.time import UpdateTimeStepsDeleter
+    from stonesoup.hypothesiser.distance import DistanceHypothesiser
+    from stonesoup.initiator.simple import MultiMeasurementInitiator
+    from stonesoup.measures import Mahalanobis
+    from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity
+    from stonesoup.predictor.kalman import KalmanPredictor
+    from stonesoup.tracker.simple import MultiTargetTracker
+    from stonesoup.types.state import GaussianState
+    from stonesoup.updater.kalman import KalmanUpdater
+
+    example = runpy.run_path(str(EXAMPLE), run_name="example")
+    network = pa.SensorNetwork.planar(example["SITES"], np.radians(0.2))
+    times = [np.arange(66) * 10.0 + j for j in range(3)]
+    scene = simulate(network, example["SHIPS"], times, pd=0.9, clutter_per_scan=1, t0=0.0, seed=5)
+    steps: dict[dt.datetime, set[object]] = {}
+    for d in to_detections(scene.measurements, network):
+        steps.setdefault(d.timestamp, set()).add(d)
+    reader = sorted(steps.items(), key=lambda item: item[0])
+    scans = list(StaticAssociationFeeder(reader=reader, sensors=network, scan_window=2.5))
+    assert len(scans) == 66
+    near = []
+    for time, located in scans:
+        t = (time - EPOCH).total_seconds()
+        ships = np.array([ship.position(np.array([t]))[0] for ship in example["SHIPS"]])
+        points = np.array([np.asarray(d.state_vector, float).ravel() for d in located]).reshape(-1, 2)
+        near.append(np.mean([np.min(np.hypot(*(points - s).T), initial=np.inf) < 500.0 for s in ships]))
+        assert all(len(d.metadata["rows"]) >= 2 for d in located)
+    assert np.mean(near) > 0.7, np.mean(near)  # measured: 0.72 (a missed report or a ghost)
+
+    predictor = KalmanPredictor(CombinedLinearGaussianTransitionModel([ConstantVelocity(0.05)] * 2))
+    updater = KalmanUpdater(measurement_model=None)
+    hypothesiser = DistanceHypothesiser(predictor, updater, measure=Mahalanobis(), missed_distance=4.0)
+    prior = GaussianState(np.zeros((4, 1)), np.diag([1e6, 100.0, 1e6, 100.0]))
+    initiator = MultiMeasurementInitiator(
+        prior_state=prior,
+        measurement_model=None,
+        deleter=UpdateTimeStepsDeleter(3),
+        data_associator=GNNWith2DAssignment(hypothesiser),
+        updater=updater,
+        min_points=3,
+    )
+    tracker = MultiTargetTracker(
+        initiator=initiator,
+        deleter=UpdateTimeStepsDeleter(3),
+        detector=StaticAssociationFeeder(reader=reader, sensors=network, scan_window=2.5),
+        data_associator=GNNWith2DAssignment(hypothesiser),
+        updater=updater,
+    )
+    distance, counts = [], []
+    for time, tracks in tracker:
+        t = (time - EPOCH).total_seconds()
+        ships = np.array([ship.position(np.array([t]))[0] for ship in example["SHIPS"]])
+        points = np.array([[tr.state_vector[0, 0], tr.state_vector[2, 0]] for tr in tracks]).reshape(-1, 2)
+        distance.append(gospa(points, ships, c=2000.0).total)
+        counts.append(len(tracks))
+    late = slice(12, None)
+    assert np.mean(distance[late]) < 700.0 and np.median(counts[late]) == 4, (np.mean(distance[late]), counts)

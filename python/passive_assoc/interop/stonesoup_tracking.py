@@ -22,15 +22,47 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 from stonesoup.base import Property
+from stonesoup.buffered_generator import BufferedGenerator
+from stonesoup.feeder.base import DetectionFeeder
 from stonesoup.initiator.base import Initiator
+from stonesoup.models.measurement.linear import LinearGaussian
+from stonesoup.types.detection import Detection
 from stonesoup.types.state import GaussianState
 from stonesoup.types.track import Track
 
 from ..data import MeasurementTable, SensorNetwork, TrackTable
 from ..data.conventions import covariance_from_interleaved, covariance_to_interleaved, from_interleaved, to_interleaved
 from ..fti import FuzzyTrackInitiator
+from ..static_los import StaticAssociator
 
-__all__ = ["PassiveInitiator", "track_measurements"]
+__all__ = ["PassiveInitiator", "StaticAssociationFeeder", "detections_table", "track_measurements"]
+
+
+def detections_table(detections: list[Any], sensors: SensorNetwork, epoch: dt.datetime) -> MeasurementTable:
+    """Detections as a table, in their order (times in seconds after ``epoch``), with each
+    one's sensor position where its model is translated away from the network's (a moving
+    platform)."""
+    if any("sensor" not in d.metadata for d in detections):
+        raise ValueError("detections: every detection needs metadata['sensor'] (the sensor index)")
+    vectors = [np.asarray(d.state_vector, dtype=float).ravel() for d in detections]
+    sensor = np.array([int(d.metadata["sensor"]) for d in detections], dtype=np.int64)
+    where = np.full((len(detections), 3), np.nan)
+    for k, d in enumerate(detections):
+        offset = getattr(d.measurement_model, "translation_offset", None)
+        point = np.zeros(3)
+        if offset is not None:
+            point[: len(offset)] = np.asarray(offset, dtype=float).ravel()[:3]
+            if not np.allclose(point, sensors.positions[sensor[k]]):
+                where[k] = point
+    if sensors.ndim == 2:
+        where[:, 2] = np.where(np.isnan(where[:, 0]), np.nan, 0.0)
+    return MeasurementTable.from_arrays(
+        sensor,
+        [(d.timestamp - epoch).total_seconds() for d in detections],
+        [v[-1] for v in vectors],
+        [v[0] for v in vectors] if sensors.ndim == 3 else None,
+        sensor_position=None if np.isnan(where).all() else where,
+    )
 
 
 class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no types
@@ -86,30 +118,70 @@ class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no 
         return tracks
 
     def _table(self, detections: list[Any]) -> MeasurementTable:
-        """The detections as a table, in their order, with each one's sensor position where
-        its model is translated away from the network's (a moving platform)."""
         assert self._epoch is not None
-        if any("sensor" not in d.metadata for d in detections):
-            raise ValueError("detections: every detection needs metadata['sensor'] (the sensor index)")
-        vectors = [np.asarray(d.state_vector, dtype=float).ravel() for d in detections]
-        sensor = np.array([int(d.metadata["sensor"]) for d in detections], dtype=np.int64)
-        where = np.full((len(detections), 3), np.nan)
-        for k, d in enumerate(detections):
-            offset = getattr(d.measurement_model, "translation_offset", None)
-            point = np.zeros(3)
-            if offset is not None:
-                point[: len(offset)] = np.asarray(offset, dtype=float).ravel()[:3]
-                if not np.allclose(point, self.sensors.positions[sensor[k]]):
-                    where[k] = point
-        if self.sensors.ndim == 2:
-            where[:, 2] = np.where(np.isnan(where[:, 0]), np.nan, 0.0)
-        return MeasurementTable.from_arrays(
-            sensor,
-            [(d.timestamp - self._epoch).total_seconds() for d in detections],
-            [v[-1] for v in vectors],
-            [v[0] for v in vectors] if self.sensors.ndim == 3 else None,
-            sensor_position=None if np.isnan(where).all() else where,
-        )
+        return detections_table(detections, self.sensors, self._epoch)
+
+
+def _detection_key(d: Any) -> tuple[Any, ...]:
+    return (d.timestamp, int(d.metadata["sensor"]), *np.asarray(d.state_vector, dtype=float).ravel().tolist())
+
+
+class StaticAssociationFeeder(DetectionFeeder):  # type: ignore[misc]  # Stone Soup ships no types
+    """Stone Soup ``DetectionFeeder`` that turns bearings into located targets: it groups its
+    reader's ``(time, detections)`` into scans (a scan opens at its first time and takes every
+    step up to ``scan_window`` seconds later), associates each scan with
+    :class:`~passive_assoc.StaticAssociator`, and yields ``(the scan's last time, one position
+    Detection per target)``, each with a ``LinearGaussian`` model of its ML covariance on an
+    interleaved constant-velocity state and ``metadata["rows"]``, the detections it holds
+    (their ``metadata["row"]`` where they have one). A Stone Soup linear Kalman tracker then
+    tracks the targets' positions."""
+
+    sensors: SensorNetwork = Property(doc="The network the bearings come from.")
+    scan_window: float = Property(default=0.0, doc="Seconds one scan's bearings may span.")
+    associator: Any = Property(default=None, doc="A StaticAssociator (default: its defaults).")
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        if not isinstance(self.sensors, SensorNetwork):
+            raise TypeError(f"sensors: expected a SensorNetwork, got {type(self.sensors).__name__}")
+        if not (isinstance(self.scan_window, (int, float)) and self.scan_window >= 0):
+            raise ValueError(f"scan_window: must be >= 0 seconds, got {self.scan_window!r}")
+        if self.associator is None:
+            self.associator = StaticAssociator(scan_window=float(self.scan_window))
+        elif not isinstance(self.associator, StaticAssociator):
+            raise TypeError(f"associator: expected a StaticAssociator, got {type(self.associator).__name__}")
+
+    @BufferedGenerator.generator_method  # type: ignore[untyped-decorator]
+    def data_gen(self) -> Any:
+        pending: list[Any] = []
+        start = last = None
+        for time, detections in self.reader:
+            if start is not None and (time - start).total_seconds() > self.scan_window:
+                yield last, self._located(pending, start)
+                pending, start = [], None
+            if start is None:
+                start = time
+            pending.extend(detections)
+            last = time
+        if start is not None:
+            yield last, self._located(pending, start)
+
+    def _located(self, detections: list[Any], start: dt.datetime) -> set[Any]:
+        # A set's order is its members' addresses': sorted, the answer does not depend on it.
+        ordered = sorted(detections, key=_detection_key)
+        found = self.associator.associate(detections_table(ordered, self.sensors, start), self.sensors)
+        ndim = self.sensors.ndim
+        time = ordered[-1].timestamp if ordered else start
+        out = set()
+        for t in range(len(found.positions)):
+            model = LinearGaussian(
+                ndim_state=2 * ndim, mapping=tuple(range(0, 2 * ndim, 2)), noise_covar=found.covariances[t]
+            )
+            held = [ordered[m] for m in found.rows[t][found.rows[t] >= 0].tolist()]
+            rows = [d.metadata.get("row") for d in held]
+            vector = np.asarray(found.positions[t], dtype=float).reshape(-1, 1)
+            out.add(Detection(vector, timestamp=time, measurement_model=model, metadata={"rows": rows}))
+        return out
 
 
 def track_measurements(
