@@ -81,7 +81,7 @@ def test_examples_are_found() -> None:
     """The extraction sees the examples it must (so a broken pattern cannot pass silently)."""
     assert len(HELP) >= 15 and len(README) >= 6
     commands = {shlex.split(line)[1] for line in EXAMPLES}
-    assert commands == {"demo", "initiate", "associate", "locate", "associate-tracks", "reproduce"}
+    assert commands == {"demo", "initiate", "associate", "locate", "associate-tracks", "track", "reproduce"}
     assert {shlex.split(line)[2] for line in EXAMPLES if " reproduce " in f" {line}"} >= {
         "fti",
         "intensity",

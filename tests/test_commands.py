@@ -240,19 +240,25 @@ def test_outputs_get_the_mode_the_umask_gives_a_new_file(tmp_path: Path, umask: 
     assert [stat.S_IMODE(p.stat().st_mode) for p in outputs] == [plain, plain]
 
 
-def test_degrees_read_as_radians_are_pointed_at_once_as_the_option(tmp_path: Path) -> None:
-    """Bearings in degrees without --degrees find nothing; the warning says which option fixes
-    it, once (the library's own, naming its Python argument, came twice)."""
+def test_degrees_read_as_radians_are_an_error_said_once_as_the_option(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Bearings in degrees read as radians found nothing with exit 0: now the run stops (exit
+    2) before any work, saying once which option fixes it; --no-angle-check keeps them."""
     sensors, meas = tmp_path / "s.csv", tmp_path / "m.csv"
     sensors.write_text("sensor,x,y,sigma_azimuth_deg\n0,-20000,0,0.3\n1,20000,0,0.3\n2,0,-25000,0.3\n")
     meas.write_text("sensor,time,azimuth\n0,0,45\n1,0,135\n2,0,90\n")
     argv = ["associate", str(meas), "--sensors", str(sensors), "--out", str(tmp_path / "out")]
-    with pytest.warns(UserWarning) as caught:
-        assert cli_main(argv) == 0
-    assert [str(w.message) for w in caught] == [
-        "MEAS: azimuth values up to 135 are beyond ±2π radians: if they are degrees, add --degrees"
-    ]
+    with pytest.raises(SystemExit) as stop:
+        cli_main(argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("beyond ±2π radians") == 1 and "add --angle-unit deg" in err and str(meas) in err
+    assert not (tmp_path / "out").exists()
     with warnings.catch_warnings():
         warnings.simplefilter("error")
+        assert cli_main([*argv, "--angle-unit", "deg"]) == 0
+        assert json.loads((tmp_path / "out" / "m.associate.json").read_text())["targets"][0]["rows"] == [0, 1, 2]
         assert cli_main([*argv, "--degrees"]) == 0
-    assert json.loads((tmp_path / "out" / "m.associate.json").read_text())["targets"][0]["rows"] == [0, 1, 2]
+        assert json.loads((tmp_path / "out" / "m.associate.json").read_text())["targets"][0]["rows"] == [0, 1, 2]
+    assert cli_main([*argv, "--no-angle-check"]) == 0  # kept as radians: the user's call

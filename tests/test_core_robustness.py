@@ -20,7 +20,7 @@ F64 = np.float64
 I64 = np.int64
 
 
-MEASUREMENT_KEYS = ("sensor", "time", "azimuth", "elevation")
+MEASUREMENT_KEYS = ("sensor", "time", "azimuth", "elevation", "sensor_position")
 SENSOR_KEYS = {"sensor_positions": "positions", "sigma_azimuth": "sigma_azimuth", "sigma_elevation": "sigma_elevation"}
 
 
@@ -55,6 +55,13 @@ def _fit(args: dict[str, Any], kw: dict[str, Any]) -> Any:
 def _crlb(args: dict[str, Any], kw: dict[str, Any]) -> Any:
     _, network, rest = _objects(args, kw["ndim"])
     return _core.crlb(network, rest["truth"], rest["sensor_index"], rest["times"], kw["motion"], 0.0)
+
+
+def _crlb_reports(args: dict[str, Any], kw: dict[str, Any]) -> Any:
+    """The CRLB with each report's sensor position and noise (a moving sensor)."""
+    _, network, rest = _objects(args, kw["ndim"])
+    reports = (rest["report_position"], rest["report_sigma_azimuth"], rest["report_sigma_elevation"])
+    return _core.crlb(network, rest["truth"], rest["sensor_index"], rest["times"], kw["motion"], 0.0, *reports)
 
 
 def _closeness(args: dict[str, Any], kw: dict[str, Any]) -> Any:
@@ -189,6 +196,31 @@ CASES: dict[str, tuple[Any, dict[str, Any], dict[str, Any]]] = {
     "fit_batch": (
         _fit,
         {**_measurement_args(), "indices": np.arange(4, dtype=I64), "offsets": np.array([0, 4], I64)},
+        dict(ndim=3, motion="cv"),
+    ),
+    "fit_batch_moving": (
+        _fit,
+        {
+            **_measurement_args(),
+            "sensor_position": np.array([[0.0, 0, 0], [2e4, 10, 0], [50.0, 0, 0], [np.nan] * 3]),
+            "indices": np.arange(4, dtype=I64),
+            "offsets": np.array([0, 4], I64),
+        },
+        dict(ndim=3, motion="cv"),
+    ),
+    "crlb_reports": (
+        _crlb_reports,
+        dict(
+            sensor_positions=np.array([[0.0, 0, 0], [2e4, 0, 0]]),
+            sigma_azimuth=np.array([5e-3, 5e-3]),
+            sigma_elevation=np.array([5e-3, 5e-3]),
+            sensor_index=np.array([0, 1, 0, 1], I64),
+            times=np.array([0.0, 5, 15, 20]),
+            truth=np.array([1e3, 1e4, 1e3, 100, 0, 0.0]),
+            report_position=np.array([[0.0, 0, 0], [2e4, 10, 0], [np.nan] * 3, [2e4, 500, 0]]),
+            report_sigma_azimuth=np.array([1e-3, np.nan, 2e-3, 3e-3]),
+            report_sigma_elevation=np.array([1e-3, 1e-3, np.nan, 3e-3]),
+        ),
         dict(ndim=3, motion="cv"),
     ),
     "crlb": (

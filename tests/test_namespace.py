@@ -13,6 +13,7 @@ import pytest
 
 #: Top-level names the package keeps for its users (the compatibility promise).
 TOP_LEVEL_NAMES = [
+    "SensorTrack",
     "StaticAssociation",
     "associate_static",
     "enumerate_candidates",

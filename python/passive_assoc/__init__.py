@@ -27,7 +27,7 @@ from ._core import __version__
 #: (tests/test_lazy_import.py compares them).
 _EXPORTS: dict[str, tuple[str, ...]] = {
     "assignment": ("SdAssignment", "assign_sd", "linear_assignment"),
-    "data": ("MeasurementTable", "SensorNetwork", "TrackTable"),
+    "data": ("MeasurementTable", "SensorNetwork", "SensorTrack", "TrackTable"),
     "estimation": (
         "TERMINATION_NAMES",
         "FitResult",
@@ -99,7 +99,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # what the names are, for type checkers and readers
     from . import evidence
     from .assignment import SdAssignment, assign_sd, linear_assignment
-    from .data import MeasurementTable, SensorNetwork, TrackTable
+    from .data import MeasurementTable, SensorNetwork, SensorTrack, TrackTable
     from .estimation import TERMINATION_NAMES, FitResult, KalmanFilter, KalmanResult, crlb, fisher_and_crlb, fit_ml
     from .formation import FormationLocator, FormationResult, locate_formation
     from .fti import (
@@ -172,6 +172,7 @@ __all__ = [
     "KalmanResult",
     "MeasurementTable",
     "SensorNetwork",
+    "SensorTrack",
     "TrackTable",
     "PAPER_FTI_TARGETS",
     "ConstantVelocityTarget",

@@ -264,6 +264,9 @@ def crlb(
     times: NDArray[np.float64],
     motion: _Motion,
     t0: float,
+    sensor_position: NDArray[np.float64] | None = None,
+    sigma_azimuth: NDArray[np.float64] | None = None,
+    sigma_elevation: NDArray[np.float64] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 def initiate(
     measurements: MeasurementTable,

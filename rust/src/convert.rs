@@ -11,7 +11,7 @@ use numpy::{
 use pyo3::prelude::*;
 
 use super::errors::{value_error, BindResult};
-use passive_assoc_core::data::{Measurements, Sensors};
+use passive_assoc_core::data::{Measurements, ReportOverrides, Sensors};
 use passive_assoc_core::geometry::model::{MotionKind, Space, StateLayout};
 
 /// The NumPy arrays the bindings return (owned by Python, filled without a copy).
@@ -128,13 +128,46 @@ impl SensorsArg<'_> {
     }
 }
 
-/// A `MeasurementTable`, read by attribute: the four core columns.
+/// A `MeasurementTable`, read by attribute: the four core columns, and the optional
+/// per-report sensor positions `(N, 3)` and noise stds (None, or absent: the sensors').
 #[derive(FromPyObject)]
 pub struct MeasurementsArg<'py> {
     sensor: PyReadonlyArray1<'py, i64>,
     time: PyReadonlyArray1<'py, f64>,
     azimuth: PyReadonlyArray1<'py, f64>,
     elevation: PyReadonlyArray1<'py, f64>,
+    #[pyo3(default)]
+    sensor_position: Option<PyReadonlyArray2<'py, f64>>,
+    #[pyo3(default)]
+    sigma_azimuth: Option<PyReadonlyArray1<'py, f64>>,
+    #[pyo3(default)]
+    sigma_elevation: Option<PyReadonlyArray1<'py, f64>>,
+}
+
+/// The borrowed per-report columns (the elevation std only in 3-D), validated by the core.
+pub fn overrides<'a>(
+    space: Space,
+    position: &'a Option<PyReadonlyArray2<'_, f64>>,
+    sigma_azimuth: &'a Option<PyReadonlyArray1<'_, f64>>,
+    sigma_elevation: &'a Option<PyReadonlyArray1<'_, f64>>,
+) -> BindResult<ReportOverrides<'a>> {
+    Ok(ReportOverrides {
+        positions: position
+            .as_ref()
+            .map(|a| slice2("sensor_position", a, 3))
+            .transpose()?,
+        sigma_azimuth: sigma_azimuth
+            .as_ref()
+            .map(|a| slice1("sigma_azimuth", a))
+            .transpose()?,
+        sigma_elevation: match space {
+            Space::Planar => None,
+            Space::Spatial => sigma_elevation
+                .as_ref()
+                .map(|a| slice1("sigma_elevation", a))
+                .transpose()?,
+        },
+    })
 }
 
 /// The measurement columns as the core reads them. A planar network's elevation column (NaN
@@ -146,6 +179,7 @@ pub struct Columns<'a> {
     azimuth: &'a [f64],
     elevation: Vec<f64>,
     table_elevation: &'a [f64],
+    overrides: ReportOverrides<'a>,
 }
 
 impl MeasurementsArg<'_> {
@@ -161,6 +195,12 @@ impl MeasurementsArg<'_> {
             azimuth: slice1("azimuth", &self.azimuth)?,
             elevation,
             table_elevation: slice1("elevation", &self.elevation)?,
+            overrides: overrides(
+                space,
+                &self.sensor_position,
+                &self.sigma_azimuth,
+                &self.sigma_elevation,
+            )?,
         })
     }
 }
@@ -181,13 +221,10 @@ impl Columns<'_> {
             Space::Planar => &self.elevation,
             Space::Spatial => self.table_elevation,
         };
-        Ok(Measurements::new(
-            sensors,
-            self.sensor,
-            time,
-            self.azimuth,
-            elevation,
-        )?)
+        Ok(
+            Measurements::new(sensors, self.sensor, time, self.azimuth, elevation)?
+                .with_overrides(sensors, self.overrides)?,
+        )
     }
 
     pub fn len(&self) -> usize {

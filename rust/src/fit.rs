@@ -5,7 +5,8 @@ use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
 use super::convert::{
-    count, layout, row_major, slice1, threads, to_numpy, F64Array, MeasurementsArg, SensorsArg,
+    count, layout, overrides, row_major, slice1, threads, to_numpy, F64Array, MeasurementsArg,
+    SensorsArg,
 };
 use super::errors::BindResult;
 use super::interrupt;
@@ -92,8 +93,14 @@ pub fn fit_batch<'py>(
 
 /// Fisher information and CRLB of `truth` seen by `sensor_index` at `times`; returns
 /// (fisher, crlb), each `dim × dim`.
+/// The optional per-report `sensor_position` `(N, 3)`, `sigma_azimuth` and `sigma_elevation`
+/// (a moving sensor, the reports' own noise) are read as a table's.
 #[pyfunction]
-#[pyo3(signature = (sensors, truth, sensor_index, times, motion, t0))]
+#[pyo3(signature = (
+    sensors, truth, sensor_index, times, motion, t0,
+    sensor_position=None, sigma_azimuth=None, sigma_elevation=None
+))]
+#[allow(clippy::too_many_arguments)]
 pub fn crlb<'py>(
     py: Python<'py>,
     sensors: SensorsArg<'py>,
@@ -102,6 +109,9 @@ pub fn crlb<'py>(
     times: PyReadonlyArray1<'py, f64>,
     motion: &str,
     t0: f64,
+    sensor_position: Option<PyReadonlyArray2<'py, f64>>,
+    sigma_azimuth: Option<PyReadonlyArray1<'py, f64>>,
+    sigma_elevation: Option<PyReadonlyArray1<'py, f64>>,
 ) -> BindResult<(F64Array<'py>, F64Array<'py>)> {
     let layout = layout(sensors.space()?, motion, t0)?;
     let network = sensors.view()?;
@@ -110,7 +120,14 @@ pub fn crlb<'py>(
         slice1("times", &times)?,
         slice1("truth", &truth)?,
     );
-    let bound = py.detach(|| fisher::crlb(&layout, &network, sensor_index, times, truth))?;
+    let overrides = overrides(
+        layout.space,
+        &sensor_position,
+        &sigma_azimuth,
+        &sigma_elevation,
+    )?;
+    let bound =
+        py.detach(|| fisher::crlb(&layout, &network, sensor_index, times, &overrides, truth))?;
     let d = layout.dim();
     Ok((
         to_numpy(py, bound.fisher, &[d, d])?,

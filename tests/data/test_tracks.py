@@ -291,8 +291,9 @@ def test_from_csv_reports_bad_content(tmp_path: Path) -> None:
     }
     for text, pattern in cases.items():
         path.write_text(text)
-        with pytest.raises(ValueError, match=pattern):
+        with pytest.raises(ValueError, match=pattern) as raised:
             TrackTable.from_csv(path)
+        assert str(raised.value).endswith(f"(file {str(path)!r})"), raised.value  # every error names the file
     path.write_text("source,track,time,x\n0,0,1.0,1.0\n0,0,0.0,2.0\n")
     assert TrackTable.from_csv(path, sort=True).position.ravel().tolist() == [2.0, 1.0]
 

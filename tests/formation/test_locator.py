@@ -173,7 +173,7 @@ def test_per_sensor_and_per_report_stds_equal_the_per_attribute_ones() -> None:
 
 @pytest.mark.parametrize("one_to_one", [False, True])
 def test_an_absurd_azimuth_leaves_its_report_unassociated(one_to_one: bool) -> None:
-    """An azimuth of 1e300 rad (only a UserWarning at the table) keeps no digits of its angle:
+    """An azimuth of 1e300 rad (refused at the table unless the caller keeps it) keeps no digits of its angle:
     the set holding it once came back ``associated`` with a NaN position and covariance. An
     associated report now always has a finite position; the others are as without the bad
     report, and every row ends in exactly one group or the clutter."""
@@ -181,8 +181,9 @@ def test_an_absurd_azimuth_leaves_its_report_unassociated(one_to_one: bool) -> N
     columns = scene.measurements.to_arrays()
     columns["azimuth"] = columns["azimuth"].copy()
     columns["azimuth"][0] = 1e300  # the baseline sensor's first report
-    with pytest.warns(UserWarning, match="beyond ±2π"):
-        table = pa.MeasurementTable.from_columns(columns)
+    with pytest.raises(ValueError, match="beyond ±2π"):
+        pa.MeasurementTable.from_columns(columns)
+    table = pa.MeasurementTable.from_columns(columns, check_angle_unit=False)
     result = pa.locate_formation(table, scene.sensors, attribute_std=scene.attribute_std, one_to_one=one_to_one)
     assert not result.associated[0]
     assert result.associated[1:].all()

@@ -2,7 +2,10 @@
 scan of the user's measurement file.
 
 Rows are grouped into scans by ``--scan-column`` (default ``time``: rows with the same time
-form a scan; or any attribute column of the file, e.g. a scan number). Each scan is
+form a scan; or any attribute column of the file, e.g. a scan number). With
+``--scan-window SECONDS`` reports within that window form a scan
+(:func:`passive_assoc.static_los.window_scans`' rule): the clocks of real sensors jitter. A
+time column that gives no scan with two sensors is refused with that advice. Each scan is
 associated on its own. Writes, in ``--out`` (``<prefix>``: MEAS's file name without its
 extension, or ``--prefix``):
 
@@ -17,6 +20,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
+import warnings
 from typing import Any
 
 import numpy as np
@@ -37,6 +41,7 @@ from .common import (
     plan_outputs,
     read_inputs,
     row_columns,
+    with_geodetic,
     write_atomically,
     write_outputs,
 )
@@ -84,7 +89,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME",
         type=column_name,
         default="time",
-        help="rows with equal values in this column form one scan: 'time' (default) or an attribute column",
+        help="rows with equal values in this column form one scan: 'time' (default) or an attribute column; "
+        "with --scan-window, reports within that many seconds form a scan",
     )
     parser.add_argument(
         "--plot", metavar="FILE", type=output_path, help="save a figure of the sensors, lines of sight and targets"
@@ -109,13 +115,32 @@ def column_name(text: str) -> str:
 column_name.bad_values = ["", "  "]  # type: ignore[attr-defined]
 
 
+def check_scans_have_two_sensors(table: Any, scan: Any, n_scans: int) -> None:
+    """A ValueError when exact times give no scan with two sensors (jittered clocks: nothing
+    could be associated), naming the option that groups them."""
+    sensors_per_scan = np.zeros(n_scans, dtype=np.int64)
+    pairs = np.unique(np.column_stack([scan, table.sensor]), axis=0)
+    np.add.at(sensors_per_scan, pairs[:, 0], 1)
+    if len(np.unique(table.sensor)) >= 2 and n_scans and sensors_per_scan.max() < 2:
+        raise ValueError(
+            f"MEAS: rows grouped by exact time give {n_scans} scan(s), none with reports of two sensors, so "
+            "nothing can be associated: are the clocks jittered? Group reports close in time with "
+            "--scan-window SECONDS (or name a scan column with --scan-column)"
+        )
+
+
 def main(args: argparse.Namespace) -> int:
     files = plan_outputs(args, {"MEAS": args.measurements, "SENS": args.sensors})
     table, sensors = read_inputs(args)
-    keys, scan = scan_keys(table, args.scan_column, name="--scan-column")
+    window = args.scan_window
+    keys, scan = scan_keys(table, args.scan_column, name="--scan-column", window=window)
+    if args.scan_column == "time" and window is None:
+        check_scans_have_two_sensors(table, scan, len(keys))
     order, offsets = scan_rows(scan, len(keys))
     groups = [order[offsets[k] : offsets[k + 1]] for k in range(len(keys))]
     associator = StaticAssociator(**given_parameters(args, args.parameter_names))
+    if args.scan_column != "time":  # the user named the scans: their times may differ
+        warnings.filterwarnings("ignore", message=r"measurements: \d+ distinct times")
     target = np.full(len(table), -1, dtype=np.int64)
     targets: list[dict[str, Any]] = []
     outcomes: list[dict[str, Any]] = []
@@ -143,13 +168,18 @@ def main(args: argparse.Namespace) -> int:
         args,
         files,
         row_columns(table, target, label_name="target", scan=scan),
-        {
-            "method": associator.method,
-            "success": all(o["success"] for o in outcomes),
-            "scans": len(groups),
-            "scan_outcomes": outcomes,
-            "targets": targets,
-        },
+        with_geodetic(
+            {
+                "method": associator.method,
+                "success": all(o["success"] for o in outcomes),
+                "scans": len(groups),
+                "scan_outcomes": outcomes,
+                "targets": targets,
+            },
+            "targets",
+            sensors,
+            np.array([t["position"] for t in targets]).reshape(-1, sensors.ndim),
+        ),
         f"{len(groups)} scan(s), {len(targets)} target(s), {false_alarms} of {len(table)} reports false alarms",
     )
     if args.plot:

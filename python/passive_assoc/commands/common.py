@@ -15,15 +15,14 @@ import math
 import os
 import re
 import sys
-import warnings
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 from .._params import Boolean, Constraint, Interval, Options
-from ..data import MeasurementTable, SensorNetwork
+from ..data import MeasurementTable, SensorNetwork, SensorTrack
 from ..data._io import write_atomically, write_csv
-from ..data.measurement_files import AngleUnit
+from ..data.angles import AngleUnit
 from ..experiments.common import _jsonable
 
 __all__ = [
@@ -43,6 +42,7 @@ __all__ = [
     "write_atomically",
     "write_json",
     "write_outputs",
+    "with_geodetic",
 ]
 
 EXAMPLE_FORMATS = """input files (CSV with a header row; spaces around names are fine):
@@ -52,7 +52,9 @@ EXAMPLE_FORMATS = """input files (CSV with a header row; spaces around names are
   measurements: one row per report
     sensor,time,azimuth                     (add elevation in 3-D; other numeric columns
     0,0.0,45.0                               are kept as attributes)
-angles are counter-clockwise from +x (east), elevation up; radians unless --degrees.
+angles are counter-clockwise from +x (east), elevation up, radians, unless declared otherwise
+(--angle-unit deg, --azimuth-convention compass). Header aliases are read: sensor_id, t or
+timestamp (seconds or ISO 8601), bearing, sigma_bearing / sigma_az (per-report noise).
 """
 
 
@@ -61,7 +63,31 @@ def add_file_arguments(parser: argparse.ArgumentParser, command: str) -> None:
         "measurements", metavar="MEAS", type=input_file, help="measurements CSV file (or .parquet, with pyarrow)"
     )
     parser.add_argument("--sensors", metavar="SENS", type=input_file, required=True, help="sensors CSV file")
-    parser.add_argument("--degrees", action="store_true", help="azimuth and elevation in MEAS are in degrees")
+    angles = parser.add_argument_group("angle convention of MEAS (declared once, for every angle column)")
+    angles.add_argument(
+        "--angle-unit",
+        choices=("rad", "deg"),
+        default="rad",
+        help="unit of azimuth, elevation and the sigma_* columns (default rad)",
+    )
+    angles.add_argument("--degrees", action="store_true", help="the same as --angle-unit deg")
+    angles.add_argument(
+        "--azimuth-convention",
+        choices=("math", "compass"),
+        default="math",
+        help="math: counter-clockwise from east (default); compass: bearing clockwise from north",
+    )
+    parser.add_argument(
+        "--platforms",
+        metavar="FILE",
+        type=input_file,
+        help="moving sensors: fixes sensor,time,x,y[,z] (or lat,lon[,alt]) interpolated at the report times",
+    )
+    angles.add_argument(
+        "--no-angle-check",
+        action="store_true",
+        help="keep radian angles beyond ±2π (±π/2 elevation) instead of refusing them as degrees",
+    )
     add_output_arguments(parser, command, "MEAS")
 
 
@@ -157,32 +183,49 @@ input_file.bad_values = ["", "/nonexistent-directory/in.csv"]  # type: ignore[at
 
 
 def read_inputs(args: argparse.Namespace) -> tuple[MeasurementTable, SensorNetwork]:
+    """The sensor and measurement files in the declared angle convention, with the moving
+    sensors' positions of ``--platforms``; geodetic files in the sensor file's frame. Angles
+    beyond ±2π (±π/2) radians are an error naming the option that fixes it, said once, unless
+    ``--no-angle-check``."""
     sensors = SensorNetwork.from_csv(args.sensors)
-    unit: AngleUnit = "deg" if args.degrees else "rad"
-    if not args.degrees:
-        # The library's degrees hint names its Python argument, at each check of the run: said
-        # below, once, as --degrees (the command line's main() undoes the filter at the end).
-        warnings.filterwarnings("ignore", message=r"(azimuth|elevation)\[\d+\] = .* rad is beyond ")
-    if str(args.measurements).endswith(".parquet"):  # Parquet through the 'parquet' extra
-        table = MeasurementTable.from_parquet(args.measurements, angle_unit=unit)
-    else:
-        table = MeasurementTable.from_csv(args.measurements, angle_unit=unit)
+    unit: AngleUnit = "deg" if args.degrees else args.angle_unit
+    read = MeasurementTable.from_parquet if str(args.measurements).endswith(".parquet") else MeasurementTable.from_csv
+    table = read(
+        args.measurements,
+        angle_unit=unit,
+        azimuth_convention=args.azimuth_convention,
+        check_angle_unit=False,
+        frame=sensors.frame,
+    )
+    if args.platforms is not None:
+        table = SensorTrack.from_csv(args.platforms, frame=sensors.frame).attach(table)
     table.validate_against(sensors)
-    if not args.degrees:
+    if unit == "rad" and not args.no_angle_check:
         for name, values, limit, text in (
             ("azimuth", table.azimuth, 2 * math.pi, "±2π"),
             ("elevation", table.elevation, math.pi / 2, "±π/2"),
         ):
             largest = max((abs(float(v)) for v in values if math.isfinite(v)), default=0.0)
             if largest > limit * (1 + 1e-12):
-                warnings.warn(
-                    f"MEAS: {name} values up to {largest:g} are beyond {text} radians: if they are degrees, "
-                    "add --degrees",
-                    UserWarning,
-                    stacklevel=2,
+                raise ValueError(
+                    f"MEAS {str(args.measurements)!r}: {name} values up to {largest:g} are beyond {text} radians: "
+                    "if they are degrees, add --angle-unit deg (to keep them as radians: --no-angle-check)"
                 )
-                break
     return table, sensors
+
+
+def with_geodetic(record: dict[str, Any], items: str, sensors: SensorNetwork, positions: Any) -> dict[str, Any]:
+    """``record`` with, when the sensor file was geodetic, the frame's origin and each of
+    ``record[items]`` given ``"geodetic"``: its position (from ``positions``, one row per
+    item, in the local frame) as latitude, longitude (degrees) and altitude (m)."""
+    if sensors.frame is None:
+        return record
+    frame = sensors.frame
+    record["frame"] = {"latitude": frame.latitude, "longitude": frame.longitude, "altitude": frame.altitude}
+    points: Any = frame.to_geodetic(positions) if len(record[items]) else []
+    for item, point in zip(record[items], points, strict=True):
+        item["geodetic"] = point
+    return record
 
 
 def output_folder(text: str) -> Path:

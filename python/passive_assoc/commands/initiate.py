@@ -27,6 +27,7 @@ from .common import (
     plan_outputs,
     read_inputs,
     row_columns,
+    with_geodetic,
     write_atomically,
     write_outputs,
 )
@@ -78,7 +79,7 @@ def main(args: argparse.Namespace) -> int:
         args,
         files,
         row_columns(table, result.labels),
-        track_summary(result),
+        with_geodetic(track_summary(result), "tracks", sensors, result.states[:, : sensors.ndim]),
         f"{len(result.tracks)} track(s), {len(result.clutter)} of {len(table)} measurements clutter",
     )
     if args.plot:

@@ -30,6 +30,7 @@ from .common import (
     plan_outputs,
     read_inputs,
     row_columns,
+    with_geodetic,
     write_outputs,
 )
 
@@ -85,7 +86,7 @@ def main(args: argparse.Namespace) -> int:
         args,
         files,
         row_columns(table, result.labels, label_name="group"),
-        target_summary(result),
+        with_geodetic(target_summary(result), "groups", sensors, np.nan_to_num(result.positions)),
         f"{located} of {len(result.baseline_rows)} baseline reports located, {clutter} of {len(table)} "
         "measurements clutter",
     )

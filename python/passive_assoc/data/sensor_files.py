@@ -15,6 +15,16 @@ column                    meaning
                           ``sigma_elevation_deg`` in degrees
 ========================  ==================================================================
 
+The aliases other tools write are read as these names (without regard to case):
+``sensor_id`` → ``sensor``; ``sigma_bearing``, ``sigma_az`` → ``sigma_azimuth``;
+``sigma_el`` → ``sigma_elevation`` (each also with ``_deg``). Every error names the file.
+
+In place of ``x``, ``y``, ``z`` a file may give ``lat``, ``lon`` (degrees, WGS-84) and
+``alt`` (metres; aliases ``latitude``, ``longitude``, ``altitude``): the sensors are then
+placed in a local East-North-Up frame (:class:`~passive_assoc.data.geodetic.LocalFrame`),
+given by the reader's ``frame`` or chosen around the sensors, and the network keeps it as its
+``frame``. A 2-D network's sensors stay on the frame's tangent plane (z = 0).
+
 The network is 3-D when it has an elevation std column, else 2-D (then ``z`` must be absent
 or all zero). Other columns (a name, a site code) are ignored with a warning that lists them.
 :meth:`SensorNetwork.to_columns` gives the radian form, which reads back exactly.
@@ -34,17 +44,55 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._io import parse_column, read_csv_text, write_csv, zip_columns
+from .geodetic import LocalFrame, place_columns
 
 __all__ = ["NetworkArguments", "network_arguments", "read_sensor_columns", "write_sensor_columns"]
 
 #: What a sensor file gives the network's constructor: positions (S, 3), azimuth stds,
-#: elevation stds (None in 2-D) and the dimension.
-NetworkArguments = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None, int]
+#: elevation stds (None in 2-D), the dimension and the geodetic frame (None: not geodetic).
+NetworkArguments = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64] | None, int, LocalFrame | None]
 
-_KNOWN = {"sensor", "x", "y", "z", "sigma_azimuth", "sigma_elevation", "sigma_azimuth_deg", "sigma_elevation_deg"}
+_GEODETIC = ("lat", "lon", "alt")
+_KNOWN = {
+    "sensor",
+    "x",
+    "y",
+    "z",
+    *_GEODETIC,
+    "sigma_azimuth",
+    "sigma_elevation",
+    "sigma_azimuth_deg",
+    "sigma_elevation_deg",
+}
+#: Header aliases (lower case) and the names they stand for.
+ALIASES = {"sensor_id": "sensor", "latitude": "lat", "longitude": "lon", "altitude": "alt"} | {
+    f"{alias}{unit}": f"{name}{unit}"
+    for alias, name in (
+        ("sigma_bearing", "sigma_azimuth"),
+        ("sigma_az", "sigma_azimuth"),
+        ("sigma_el", "sigma_elevation"),
+    )
+    for unit in ("", "_deg")
+}
 
 
-def read_sensor_columns(path: str | os.PathLike[str]) -> NetworkArguments:
+def _canonical(name: str) -> str:
+    lowered = name.strip().lower()
+    return lowered if lowered in _KNOWN else ALIASES.get(lowered, name)
+
+
+def _renamed(columns: Mapping[str, Any], source: str) -> dict[str, Any]:
+    """The columns under the library's names; a ValueError when two mean one."""
+    out: dict[str, Any] = {}
+    for name, values in columns.items():
+        key = _canonical(name)
+        if key in out:
+            raise ValueError(f"{source}: two columns mean {key!r} ({list(columns)})")
+        out[key] = values
+    return out
+
+
+def read_sensor_columns(path: str | os.PathLike[str], frame: LocalFrame | None = None) -> NetworkArguments:
     """The network's constructor arguments from a CSV file in the format above.
 
     Raises
@@ -60,35 +108,46 @@ def read_sensor_columns(path: str | os.PathLike[str]) -> NetworkArguments:
     text = dict(zip_columns(header, rows))
     if len(text) != len(header):
         raise ValueError(f"path: {os.fspath(path)!r} repeats a column name ({header})")
+    text = _renamed(text, f"path: {os.fspath(path)!r}")
+    header = list(text)
     columns = {
         name: parse_column(path, name, values, integer=name == "sensor")
         for name, values in text.items()
         if name in _KNOWN
     }
     extra = [name for name in header if name not in _KNOWN]
-    return network_arguments(columns, source=repr(os.fspath(path)), ignored=extra)
+    return network_arguments(columns, source=repr(os.fspath(path)), ignored=extra, frame=frame)
 
 
 def network_arguments(
-    columns: Mapping[str, Any], *, source: str = "columns", ignored: list[str] | None = None
+    columns: Mapping[str, Any],
+    *,
+    source: str = "columns",
+    ignored: list[str] | None = None,
+    frame: LocalFrame | None = None,
 ) -> NetworkArguments:
     """The network's constructor arguments from named columns (the CSV format above);
     ``source`` names where they came from in errors. Unknown column names are ignored with a
-    warning."""
+    warning. Geodetic columns go through ``frame``, or one chosen around the sensors."""
+    columns = _renamed(columns, source)
     extra = list(ignored or []) + [name for name in columns if name not in _KNOWN]
     if extra:
         warnings.warn(f"{source}: ignoring column(s) {extra} (not part of a sensor file)", UserWarning, stacklevel=3)
+    sigma_el = _angle_column(columns, "sigma_elevation", source)
+    geodetic = any(name in columns for name in _GEODETIC)
+    if not geodetic and frame is not None:
+        raise ValueError(f"frame: given, but {source} has no 'lat', 'lon' columns to place with it")
+    columns, frame = place_columns(columns, frame, prefix="", planar=sigma_el is None, source=source)
     for required in ("x", "y"):
         if required not in columns:
             raise ValueError(f"{source}: missing column {required!r} (got {sorted(columns)})")
+    sigma_az = _angle_column(columns, "sigma_azimuth", source)
+    if sigma_az is None:
+        raise ValueError(f"{source}: missing column 'sigma_azimuth' (radians) or 'sigma_azimuth_deg'")
     n = len(np.asarray(columns["x"]))
     order = _order(columns, n, source)
     x, y = (np.asarray(columns[c], dtype=np.float64)[order] for c in ("x", "y"))
     z = np.asarray(columns["z"], dtype=np.float64)[order] if "z" in columns else np.zeros(n)
-    sigma_az = _angle_column(columns, "sigma_azimuth", source)
-    if sigma_az is None:
-        raise ValueError(f"{source}: missing column 'sigma_azimuth' (radians) or 'sigma_azimuth_deg'")
-    sigma_el = _angle_column(columns, "sigma_elevation", source)
     positions = np.column_stack([x, y, z])
     if sigma_el is None:
         if np.any(z != 0):
@@ -96,8 +155,8 @@ def network_arguments(
                 f"{source}: sensors have heights (column 'z') but no elevation std column; a 3-D network "
                 "needs 'sigma_elevation' or 'sigma_elevation_deg', a 2-D one no 'z'"
             )
-        return positions, sigma_az[order], None, 2
-    return positions, sigma_az[order], sigma_el[order], 3
+        return positions, sigma_az[order], None, 2, frame
+    return positions, sigma_az[order], sigma_el[order], 3, frame
 
 
 def _order(columns: Mapping[str, Any], n: int, source: str) -> NDArray[np.intp]:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -23,8 +23,15 @@ from .._validation import (
     require_finite,
     require_positive,
 )
+from .geodetic import LocalFrame
 
 __all__ = ["SensorNetwork", "COINCIDENCE_TOLERANCE"]
+
+
+def _rebuild(positions: Any, sigma_az: Any, sigma_el: Any, ndim: int, frame: Any) -> SensorNetwork:
+    """Unpickling: the constructor (which copies), with the frame."""
+    return SensorNetwork(positions, sigma_az, sigma_el, ndim, frame=frame)
+
 
 #: Two sensors closer than this (metres) are the same point: triangulation from them is
 #: degenerate, so the network is rejected.
@@ -85,6 +92,10 @@ class SensorNetwork:
     ndim : {2, 3}, optional
         Network dimension. Inferred when omitted: 3 if ``sigma_elevation`` is given and
         not all NaN, else 2.
+    frame : LocalFrame, optional
+        The geodetic East-North-Up frame the positions are in (set when the network was read
+        from latitudes and longitudes): ``frame.to_geodetic`` takes any result's positions
+        back to latitude, longitude and altitude.
 
     Attributes
     ----------
@@ -108,8 +119,11 @@ class SensorNetwork:
     sigma_azimuth: NDArray[np.float64]
     sigma_elevation: NDArray[np.float64] = None  # type: ignore[assignment]
     ndim: int = None  # type: ignore[assignment]
+    frame: LocalFrame | None = field(default=None, kw_only=True)
 
     def __post_init__(self) -> None:
+        if self.frame is not None and not isinstance(self.frame, LocalFrame):
+            raise TypeError(f"frame: expected a LocalFrame, got {type(self.frame).__name__}")
         pos = as_float_array("positions", self.positions, ndim=2)
         if pos.shape[0] < 1:
             raise ValueError("positions: a network needs at least 1 sensor, got 0")
@@ -246,7 +260,7 @@ class SensorNetwork:
     # ------------------------------------------------------------------ dunder
     # ------------------------------------------------------------------ files
     @classmethod
-    def from_csv(cls, path: str | os.PathLike[str]) -> SensorNetwork:
+    def from_csv(cls, path: str | os.PathLike[str], *, frame: LocalFrame | None = None) -> SensorNetwork:
         r"""Read a sensor file: one row per sensor, columns ``sensor`` (optional id), ``x``,
         ``y``, ``z`` (3-D), ``sigma_azimuth`` and, in 3-D, ``sigma_elevation`` — radians, or
         degrees with a ``_deg`` suffix (:mod:`passive_assoc.data.sensor_files`).
@@ -257,10 +271,18 @@ class SensorNetwork:
         >>> net = SensorNetwork.from_csv(path)
         >>> net.ndim, net.positions[:, 0].tolist(), round(float(net.sigma_azimuth[0]), 6)
         (2, [-20000.0, 20000.0], 0.005236)
+
+        With ``lat``, ``lon`` [, ``alt``] columns in place of ``x``, ``y`` [, ``z``] the
+        sensors are placed in ``frame``, or in a frame chosen around them, which the network
+        keeps (:mod:`passive_assoc.data.geodetic`).
         """
         from .sensor_files import read_sensor_columns
 
-        return cls._from_arguments(*read_sensor_columns(path))
+        try:
+            return cls._from_arguments(*read_sensor_columns(path, frame))
+        except ValueError as err:
+            where = repr(os.fspath(path))
+            raise ValueError(str(err) if where in str(err) else f"{where}: {err}") from None
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
         """Write the network in :meth:`from_csv`'s format (radians), which reads back exactly."""
@@ -306,17 +328,18 @@ class SensorNetwork:
         sigma_az: NDArray[np.float64],
         sigma_el: NDArray[np.float64] | None,
         ndim: int,
+        frame: LocalFrame | None = None,
     ) -> SensorNetwork:
         """A network from what a sensor file gives (:mod:`passive_assoc.data.sensor_files`)."""
         if sigma_el is None:
-            return cls(positions, sigma_az, ndim=ndim)
-        return cls(positions, sigma_az, sigma_el, ndim)
+            return cls(positions, sigma_az, ndim=ndim, frame=frame)
+        return cls(positions, sigma_az, sigma_el, ndim, frame=frame)
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
         # Rebuilt through the constructor (copies): a transport's arrays may be unaligned.
         return (
-            SensorNetwork,
-            (self.positions.copy(), self.sigma_azimuth.copy(), self.sigma_elevation.copy(), self.ndim),
+            _rebuild,
+            (self.positions.copy(), self.sigma_azimuth.copy(), self.sigma_elevation.copy(), self.ndim, self.frame),
         )
 
     def __eq__(self, other: object) -> bool:
@@ -327,6 +350,7 @@ class SensorNetwork:
             and np.array_equal(self.positions, other.positions)
             and np.array_equal(self.sigma_azimuth, other.sigma_azimuth)
             and np.array_equal(self.sigma_elevation, other.sigma_elevation, equal_nan=True)
+            and self.frame == other.frame
         )
 
     # Arrays are not hashable and equality is by value: keep the class unhashable rather

@@ -284,8 +284,13 @@ class TrackTable:
 
     @classmethod
     def from_csv(cls, path: str | os.PathLike[str], *, sort: bool = False) -> TrackTable:
-        """Read a table written by :meth:`to_csv` (or any CSV with those columns)."""
-        return cls.from_columns(read_csv(path, _INTEGER_COLUMNS), sort=sort)
+        """Read a table written by :meth:`to_csv` (or any CSV with those columns); every
+        error names the file."""
+        columns = read_csv(path, _INTEGER_COLUMNS)
+        try:
+            return cls.from_columns(columns, sort=sort)
+        except ValueError as err:
+            raise ValueError(f"{err} (file {os.fspath(path)!r})") from None
 
     def to_pandas(self) -> Any:
         """A :class:`pandas.DataFrame` of :meth:`to_arrays` (pandas is optional: ImportError)."""

@@ -198,6 +198,9 @@ def crlb(
     *,
     motion: Motion = "cv",
     t0: Epoch = 0.0,
+    sensor_position: ArrayLike | None = None,
+    sigma_azimuth: ArrayLike | None = None,
+    sigma_elevation: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
     """Cramér-Rao lower bound of a true state observed once per (sensor, time) pair.
 
@@ -217,6 +220,11 @@ def crlb(
     motion, t0
         As in :func:`fit_ml`, but ``t0`` defaults to 0 here: it is the epoch of ``truth``,
         which the caller knows (None: the earliest of ``times``).
+    sensor_position : array_like, shape (N, 3), optional
+        Where each measurement's sensor is (a moving platform, as a table's
+        ``sensor_position``; a NaN row: the network's position).
+    sigma_azimuth, sigma_elevation : array_like, shape (N,), optional
+        Each measurement's own noise stds (NaN: the sensor's), as a table's.
 
     Returns
     -------
@@ -224,7 +232,17 @@ def crlb(
         The bound: the inverse Fisher information. ``sqrt(diag)`` is the best achievable
         per-component RMS of an unbiased estimator.
     """
-    return fisher_and_crlb(sensor_index, times, sensors, truth, motion=motion, t0=t0)[1]
+    return fisher_and_crlb(
+        sensor_index,
+        times,
+        sensors,
+        truth,
+        motion=motion,
+        t0=t0,
+        sensor_position=sensor_position,
+        sigma_azimuth=sigma_azimuth,
+        sigma_elevation=sigma_elevation,
+    )[1]
 
 
 @checked
@@ -236,6 +254,9 @@ def fisher_and_crlb(
     *,
     motion: Motion = "cv",
     t0: Epoch = 0.0,
+    sensor_position: ArrayLike | None = None,
+    sigma_azimuth: ArrayLike | None = None,
+    sigma_elevation: ArrayLike | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The Fisher information and its inverse; see :func:`crlb`."""
     network = check_network(sensors)
@@ -244,4 +265,10 @@ def fisher_and_crlb(
     when = as_float_array("times", times, ndim=1)
     if t0 is None:  # None: the earliest time, as fit_ml's default
         t0 = float(when.min()) if len(when) else 0.0
-    return _core.crlb(network, state, as_int_array("sensor_index", sensor_index, ndim=1), when, motion, t0)
+    position = None if sensor_position is None else as_float_array("sensor_position", sensor_position, shape=(None, 3))
+    sigmas = [
+        None if s is None else as_float_array(name, s, ndim=1)
+        for name, s in (("sigma_azimuth", sigma_azimuth), ("sigma_elevation", sigma_elevation))
+    ]
+    index = as_int_array("sensor_index", sensor_index, ndim=1)
+    return _core.crlb(network, state, index, when, motion, t0, position, *sigmas)

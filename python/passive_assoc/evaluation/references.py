@@ -20,7 +20,16 @@ def target_crlbs(scenario: Scenario) -> NDArray[np.float64]:
     m = scenario.measurements
     return np.stack(
         [
-            crlb(m.sensor[rows], m.time[rows], scenario.sensors, scenario.true_states[k], t0=scenario.t0)
+            crlb(
+                m.sensor[rows],
+                m.time[rows],
+                scenario.sensors,
+                scenario.true_states[k],
+                t0=scenario.t0,
+                sensor_position=None if m.sensor_position is None else m.sensor_position[rows],
+                sigma_azimuth=None if m.sigma_azimuth is None else m.sigma_azimuth[rows],
+                sigma_elevation=None if m.sigma_elevation is None else m.sigma_elevation[rows],
+            )
             for k, rows in enumerate(scenario.true_groups())
         ]
     )

@@ -73,6 +73,13 @@ def track_scores(
         detected = np.bincount(held[held >= 0], minlength=n_tracks)[:n_tracks]
         missed = np.clip(n_scans - detected, 0, None)
         score += detected * per_row + missed * miss
+        # A report with its own noise: its own normalisation in place of the sensor's.
+        own_az, own_el = measurements.report_sigmas(sensors)
+        ratio = own_az[mine] / sigma_az
+        if not planar:
+            ratio = ratio * own_el[mine] / float(sensors.sigma_elevation[j])
+        taken = held >= 0
+        score -= np.bincount(held[taken], weights=np.log(ratio[taken]), minlength=n_tracks)[:n_tracks]
     return score
 
 

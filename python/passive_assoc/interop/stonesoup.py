@@ -7,8 +7,10 @@ elevation is up from the horizontal plane, as ours (METHODS §0).
 
 * Each detection carries its sensor's measurement model: ``Cartesian2DToBearing`` in 2-D,
   ``CartesianToElevationBearing`` in 3-D, with the measurement vector ordered
-  (elevation, bearing). The model is translated to the sensor's position, its noise is the
-  sensor's variances, and it maps the positions of an interleaved state.
+  (elevation, bearing). The model is translated to where the sensor was for that report (a
+  moving platform's position, ``MeasurementTable.sensor_position``, or the network's), its
+  noise is the report's own variances where the table has them, else the sensor's, and it
+  maps the positions of an interleaved state.
 * Each detection's metadata holds the sensor index and the table row.
 * Times are seconds after ``epoch`` (a ``datetime``; default 1970-01-01).
 * States are interleaved, ``[x, vx, y, vy, z, vz]``, as Stone Soup's constant-velocity models
@@ -43,21 +45,21 @@ def _stonesoup() -> Any:
     return nonlinear, detection, state, track
 
 
-def _model(sensors: SensorNetwork, j: int, ndim_state: int) -> Any:
+def _model(position: Any, sigma_az: float, sigma_el: float, ndim: int) -> Any:
+    """The bearing (2-D) or elevation-bearing (3-D) model of a sensor at ``position``."""
     nonlinear, _, _, _ = _stonesoup()
-    position = sensors.positions[j]
-    if sensors.ndim == 2:
+    if ndim == 2:
         return nonlinear.Cartesian2DToBearing(
-            ndim_state=ndim_state,
+            ndim_state=4,
             mapping=(0, 2),
-            noise_covar=np.array([[sensors.sigma_azimuth[j] ** 2]]),
+            noise_covar=np.array([[sigma_az**2]]),
             translation_offset=np.array([[position[0]], [position[1]]]),
         )
     return nonlinear.CartesianToElevationBearing(
-        ndim_state=ndim_state,
+        ndim_state=6,
         mapping=(0, 2, 4),
-        noise_covar=np.diag([sensors.sigma_elevation[j] ** 2, sensors.sigma_azimuth[j] ** 2]),
-        translation_offset=position.reshape(3, 1).copy(),
+        noise_covar=np.diag([sigma_el**2, sigma_az**2]),
+        translation_offset=np.asarray(position, dtype=float).reshape(3, 1).copy(),
     )
 
 
@@ -68,11 +70,22 @@ def to_detections(measurements: MeasurementTable, sensors: SensorNetwork, *, epo
     from stonesoup.types.angle import Bearing, Elevation
 
     measurements.validate_against(sensors)
-    ndim_state = 2 * sensors.ndim
-    models = [_model(sensors, j, ndim_state) for j in range(sensors.n_sensors)]
+    ndim = sensors.ndim
+    models = [
+        _model(sensors.positions[j], sensors.sigma_azimuth[j], sensors.sigma_elevation[j], ndim)
+        for j in range(sensors.n_sensors)
+    ]
+    own = measurements.sensor_position is not None or measurements.sigma_azimuth is not None
+    own = own or measurements.sigma_elevation is not None
+    sigma_az, sigma_el = measurements.report_sigmas(sensors)
+    where = measurements.sensor_position
     out = []
     for i in range(len(measurements)):
         j = int(measurements.sensor[i])
+        model = models[j]
+        if own:  # a moving sensor or a report's own noise: the report's model
+            position = sensors.positions[j] if where is None or np.isnan(where[i, 0]) else where[i]
+            model = _model(position, sigma_az[i], sigma_el[i], ndim)
         if sensors.ndim == 2:
             vector = np.array([[Bearing(measurements.azimuth[i])]])
         else:
@@ -81,7 +94,7 @@ def to_detections(measurements: MeasurementTable, sensors: SensorNetwork, *, epo
             detection.Detection(
                 vector,
                 timestamp=epoch + dt.timedelta(seconds=float(measurements.time[i])),
-                measurement_model=models[j],
+                measurement_model=model,
                 metadata={"sensor": j, "row": i},
             )
         )

@@ -24,7 +24,7 @@ from .._validation import (
     readonly,
     require_finite,
 )
-from ..data import MeasurementTable, SensorNetwork
+from ..data import MeasurementTable, SensorNetwork, SensorTrack
 
 __all__ = [
     "ConstantVelocityTarget",
@@ -187,6 +187,7 @@ def simulate(
     azimuth_window: Sequence[float] = (0.0, math.pi),
     elevation_window: Sequence[float] = (0.0, math.pi / 2),
     t0: float | None = None,
+    platforms: SensorTrack | None = None,
     seed: Seed,
 ) -> Scenario:
     """Simulate detections and clutter of a sensor network.
@@ -213,6 +214,11 @@ def simulate(
         Clutter angle ranges, radians.
     t0 : float, optional
         Reference time of ``Scenario.true_states``; default the earliest scan time.
+    platforms : SensorTrack, optional
+        Moving sensors: each sensor with fixes in it observes from its interpolated position
+        at each scan time (constant velocity: :meth:`SensorTrack.constant_velocity`; more
+        fixes: waypoints), and the table carries those positions (``sensor_position``) for
+        the methods. The others stay at the network's position.
     seed : int or numpy.random.Generator
         Required; the only source of randomness.
 
@@ -238,6 +244,8 @@ def simulate(
     az_win = as_interval("azimuth_window", azimuth_window)
     el_win = as_interval("elevation_window", elevation_window)
     rng = _check_seed(seed)
+    if platforms is not None and not isinstance(platforms, SensorTrack):
+        raise TypeError(f"platforms: expected a SensorTrack, got {type(platforms).__name__}")
 
     parts = [
         _sensor_reports(
@@ -250,6 +258,7 @@ def simulate(
             _clutter_counts(rng, times[j].size, clutter_per_scan, clutter_rate),
             az_win,
             el_win,
+            platforms,
         )
         for j in range(sensors.n_sensors)
     ]
@@ -264,6 +273,8 @@ def simulate(
         el[order] if sensors.ndim == 3 else None,
         truth=truth[order],
     )
+    if platforms is not None:
+        table = platforms.attach(table)
     if t0 is None:
         nonempty = [t for t in times if t.size]
         t0 = float(min(t.min() for t in nonempty)) if nonempty else 0.0
@@ -280,6 +291,7 @@ def _sensor_reports(
     n_clutter: NDArray[np.int64],
     az_win: tuple[float, float],
     el_win: tuple[float, float],
+    platforms: SensorTrack | None,
 ) -> list[NDArray[np.float64]]:
     """Target and clutter reports of sensor ``j``: [sensor, time, az, el, truth] columns."""
     k, n = times.size, len(targets)
@@ -287,8 +299,10 @@ def _sensor_reports(
     pos = np.zeros((k, n, 3))
     for i, tg in enumerate(targets):
         pos[:, i, : tg.ndim] = tg.position(times)
-    # Sensor position per scan time: static today, but ready for moving platforms.
-    az_true, el_true = _true_angles(sensors.position_at(j, times)[:, None, :], pos)
+    # The sensor's position at each scan time: its platform's, or the network's.
+    moving = platforms is not None and j in platforms.sensors
+    where = platforms.position_at(j, times) if moving else sensors.position_at(j, times)  # type: ignore[union-attr]
+    az_true, el_true = _true_angles(where[:, None, :], pos)
     detected = rng.random((k, n)) < pd
     az = wrap_angle(az_true + sensors.sigma_azimuth[j] * rng.standard_normal((k, n)))
     if three_d:

@@ -6,6 +6,7 @@ from .associator import Method, StaticAssociation, StaticAssociator, associate_s
 from .batch import ScanAssociation, associate_scans
 from .candidates import DEFAULT_GATE_SIGMAS, Candidates, default_false_alarm_density
 from .diagnostics import IntensityDiagnostics, IntensityLevel, SolverDiagnostics, StaticDiagnostics, stage_counts
+from .scan_window import motion_inflated, window_scans
 
 __all__ = [
     "DEFAULT_GATE_SIGMAS",
@@ -22,5 +23,7 @@ __all__ = [
     "associate_static",
     "default_false_alarm_density",
     "enumerate_candidates",
+    "motion_inflated",
     "stage_counts",
+    "window_scans",
 ]

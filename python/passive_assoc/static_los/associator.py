@@ -28,6 +28,7 @@ from ..outcome import COMPLETED, Outcome
 from .candidates import DEFAULT_GATE_SIGMAS, _per_sensor, enumerate_validated
 from .diagnostics import SolverDiagnostics, StaticDiagnostics, intensity_diagnostics, stage_counts
 from .prior import PricedCandidates, check_region, priced
+from .scan_window import check_one_scan, motion_inflated
 
 __all__ = [
     "DEFAULT_METHOD",
@@ -160,6 +161,18 @@ class StaticAssociator(SdParameters):
     n_threads : int, optional
         Threads for the enumeration and the intensity method's chains (None: all cores);
         results are identical for any value.
+    scan_window : float, optional
+        Seconds: reports this close in time are one scan (real clocks jitter). In
+        :func:`associate_scans` and ``passive-assoc associate`` it groups the table into scans
+        by :func:`~passive_assoc.static_los.window_scans`'s rule; :meth:`associate` refuses a
+        table whose times span more than it. Default None: one scan has one time, and
+        :meth:`associate` warns when a table has several.
+    v_max, min_range : float, optional
+        The fastest target (m/s) and the nearest a target comes to a sensor (m): given both,
+        each report's angle noise is widened by ``v_max·Δt/min_range`` (in quadrature), Δt
+        its time from its scan's middle, for the targets' motion while a scan's reports come
+        in (:func:`~passive_assoc.static_los.motion_inflated`). Default None: reports of one
+        scan are taken as simultaneous.
 
     """
 
@@ -179,6 +192,9 @@ class StaticAssociator(SdParameters):
     combination: Combination = "simple"
     region: Sequence[float] | None = None
     target_density: Annotated[float | None, POSITIVE, None] = None
+    scan_window: Annotated[float | None, Interval(float, 0.0, None), None] = None
+    v_max: Annotated[float | None, POSITIVE, None] = None
+    min_range: Annotated[float | None, POSITIVE, None] = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -192,6 +208,8 @@ class StaticAssociator(SdParameters):
                 raise ValueError("target_density: needed with region (expected targets per m² or m³ in it)")
             n = np.size(self.region)
             check_region(self.region, 2 if n == 4 else 3)  # the network's dimension is checked per scan
+        if (self.v_max is None) != (self.min_range is None):
+            raise ValueError("v_max, min_range: give both (the motion within a scan) or neither")
 
     def candidates(self, measurements: MeasurementTable, sensors: SensorNetwork) -> Candidates:
         """Every gated candidate tuple of the scan (see :func:`enumerate_candidates`; the
@@ -219,7 +237,18 @@ class StaticAssociator(SdParameters):
         -------
         StaticAssociation
             Every input row is in exactly one accepted target or in the clutter set.
+
+        Warns
+        -----
+        UserWarning
+            When the table holds several distinct times and no ``scan_window`` is set: it is
+            treated as one scan, which is right only if the targets did not move between them.
         """
+        check_one_scan(measurements, self.scan_window)
+        moving = self.v_max is not None and self.min_range is not None
+        if moving and isinstance(measurements, MeasurementTable) and len(measurements):
+            one = np.zeros(len(measurements), dtype=np.int64)
+            measurements = motion_inflated(measurements, sensors, one, self.v_max, self.min_range)  # type: ignore[arg-type]
         enumerated = self.candidates(measurements, sensors)
         cands: Candidates | PricedCandidates = enumerated
         priced_count = None

@@ -22,6 +22,7 @@ from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
 from .associator import DEFAULT_METHOD, Method, StaticAssociator, _associator
 from .candidates import _per_sensor
+from .scan_window import motion_inflated, window_scans
 
 __all__ = ["ScanAssociation", "associate_scans", "scan_keys", "scan_rows"]
 
@@ -73,7 +74,9 @@ def associate_scans(
         The whole table and its network.
     scan : str or array_like
         Rows with equal values form a scan: ``"time"`` (default), the name of an attribute
-        column, or one value per row.
+        column, or one value per row. With ``scan_window`` among the settings and ``"time"``,
+        reports within the window form a scan (:func:`window_scans`' rule; a scan's key is its
+        opening time).
     method, **settings
         As :class:`StaticAssociator` (``n_threads`` sets the threads over scans). Not
         supported here: emitter ``attributes``, and ``exact_backend="highs"``. With
@@ -105,7 +108,9 @@ def associate_scans(
         raise ValueError("attributes: associate_scans does not take emitter attributes; use associate_static")
     if associator.method == "exact" and associator.exact_backend == "highs":
         raise ValueError("exact_backend: associate_scans runs the core's branch-and-bound, not HiGHS")
-    keys, scan_index = scan_keys(table, scan)
+    keys, scan_index = scan_keys(table, scan, window=associator.scan_window)
+    if associator.v_max is not None and associator.min_range is not None and len(table):
+        table = motion_inflated(table, network, scan_index, associator.v_max, associator.min_range)
     order, offsets = scan_rows(scan_index, len(keys))
     n = network.n_sensors
     density = None  # each scan's default, computed by the core from its reports
@@ -170,12 +175,15 @@ def _resolved(
 
 
 def scan_keys(
-    table: MeasurementTable, scan: str | ArrayLike, name: str = "scan"
+    table: MeasurementTable, scan: str | ArrayLike, name: str = "scan", window: float | None = None
 ) -> tuple[NDArray[Any], NDArray[np.int64]]:
     """The scans' keys (sorted) and each row's scan index: rows with equal ``scan`` values —
-    ``"time"``, an attribute column's name, or one value per row — form a scan. ``name`` is
+    ``"time"``, an attribute column's name, or one value per row — form a scan; with a
+    ``window`` (seconds) and ``"time"``, the reports :func:`window_scans` groups. ``name`` is
     the argument errors name."""
     if isinstance(scan, str):
+        if scan == "time" and window is not None:
+            return window_scans(table.time, window)
         if scan == "time":
             values: NDArray[Any] = table.time
         elif scan in table.attributes:

@@ -129,13 +129,114 @@ fn check_not_coincident(positions: &[f64]) -> CoreResult<()> {
     Ok(())
 }
 
-/// A columnar measurement table: sensor index, time, azimuth, elevation (ignored in the plane).
+/// What a report may say in place of its sensor's values: where the sensor was when it took
+/// the report (a moving platform), and the report's own noise stds. Each column is optional,
+/// and a NaN on a row (in a position row: its x) means the sensor's value there.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ReportOverrides<'a> {
+    /// Row-major `(N, 3)` sensor positions.
+    pub positions: Option<&'a [f64]>,
+    pub sigma_azimuth: Option<&'a [f64]>,
+    pub sigma_elevation: Option<&'a [f64]>,
+}
+
+impl ReportOverrides<'_> {
+    /// Whether any column is given (the fixed-sensor case has none).
+    pub fn any(&self) -> bool {
+        self.positions.is_some() || self.sigma_azimuth.is_some() || self.sigma_elevation.is_some()
+    }
+
+    /// Checks lengths against `n` rows: each position row all NaN or all finite (z = 0 in the
+    /// plane), each std NaN or in [`ANGLE_STD_RANGE`].
+    pub fn validate(&self, space: Space, n: usize) -> CoreResult<()> {
+        if let Some(p) = self.positions {
+            if p.len() != 3 * n {
+                return Err(CoreError::shape(
+                    "sensor_position",
+                    format!("expected shape ({n}, 3), got {} values", p.len()),
+                ));
+            }
+            for (m, row) in p.chunks_exact(3).enumerate() {
+                let given = row.iter().all(|v| v.is_finite());
+                if !given && !row.iter().all(|v| v.is_nan()) {
+                    return Err(CoreError::out_of_range(
+                        "sensor_position",
+                        format!("row {m} is {row:?}: all finite, or all NaN (the sensor's)"),
+                    ));
+                }
+                if given && space == Space::Planar && row[2] != 0.0 {
+                    return Err(CoreError::out_of_range(
+                        "sensor_position",
+                        format!(
+                            "row {m} has z = {}; a 2-D network's sensors have z = 0",
+                            row[2]
+                        ),
+                    ));
+                }
+            }
+        }
+        for (arg, column) in [
+            ("sigma_azimuth", self.sigma_azimuth),
+            ("sigma_elevation", self.sigma_elevation),
+        ] {
+            let Some(column) = column else { continue };
+            if column.len() != n {
+                return Err(CoreError::shape(
+                    arg,
+                    format!("has {} rows, sensor has {n}", column.len()),
+                ));
+            }
+            let (low, high) = ANGLE_STD_RANGE;
+            if let Some(m) = column
+                .iter()
+                .position(|s| !(s.is_nan() || (*s >= low && *s <= high)))
+            {
+                return Err(CoreError::out_of_range(
+                    arg,
+                    format!(
+                        "row {m} has std {} rad, must be NaN or lie in [{low:e}, π]",
+                        column[m]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Where sensor `j` was for report `m`.
+    #[inline]
+    pub fn position(&self, sensors: &Sensors<'_>, j: usize, m: usize) -> [f64; 3] {
+        match self.positions {
+            Some(p) if !p[3 * m].is_nan() => [p[3 * m], p[3 * m + 1], p[3 * m + 2]],
+            _ => sensors.position(j),
+        }
+    }
+
+    /// Report `m`'s noise stds `[σβ, σε]`, sensor `j`'s where the report gives none.
+    #[inline]
+    pub fn sigma(&self, sensors: &Sensors<'_>, j: usize, m: usize) -> [f64; 2] {
+        let mut sigma = sensors.sigma(j);
+        if let Some(s) = self.sigma_azimuth.map(|c| c[m]).filter(|s| !s.is_nan()) {
+            sigma[0] = s;
+        }
+        if sensors.space() == Space::Spatial {
+            if let Some(s) = self.sigma_elevation.map(|c| c[m]).filter(|s| !s.is_nan()) {
+                sigma[1] = s;
+            }
+        }
+        sigma
+    }
+}
+
+/// A columnar measurement table: sensor index, time, azimuth, elevation (ignored in the
+/// plane), and what the reports say in place of their sensors' values ([`ReportOverrides`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Measurements<'a> {
     sensor: &'a [i64],
     time: &'a [f64],
     azimuth: &'a [f64],
     elevation: &'a [f64],
+    overrides: ReportOverrides<'a>,
 }
 
 impl<'a> Measurements<'a> {
@@ -182,7 +283,36 @@ impl<'a> Measurements<'a> {
             time,
             azimuth,
             elevation,
+            overrides: ReportOverrides::default(),
         })
+    }
+
+    /// The table with per-report sensor positions and noise stds, checked against its rows.
+    pub fn with_overrides(
+        mut self,
+        sensors: &Sensors<'_>,
+        overrides: ReportOverrides<'a>,
+    ) -> CoreResult<Self> {
+        overrides.validate(sensors.space(), self.len())?;
+        self.overrides = overrides;
+        Ok(self)
+    }
+
+    /// The per-report values this table carries.
+    pub fn overrides(&self) -> &ReportOverrides<'a> {
+        &self.overrides
+    }
+
+    /// Where report `m`'s sensor was when it took the report.
+    #[inline]
+    pub fn sensor_position(&self, sensors: &Sensors<'_>, m: usize) -> [f64; 3] {
+        self.overrides.position(sensors, self.sensor(m), m)
+    }
+
+    /// Report `m`'s noise stds `[σβ, σε]` (σε = 1 in the plane, where it is never used).
+    #[inline]
+    pub fn sigma(&self, sensors: &Sensors<'_>, m: usize) -> [f64; 2] {
+        self.overrides.sigma(sensors, self.sensor(m), m)
     }
 
     pub fn len(&self) -> usize {
@@ -209,7 +339,8 @@ impl<'a> Measurements<'a> {
         [self.azimuth[m], self.elevation[m]]
     }
 
-    /// Measurement `m` with its sensor's position and noise, ready for the model.
+    /// Measurement `m` with its sensor's position and noise at that report, ready for the
+    /// model.
     #[inline]
     pub fn observation(&self, sensors: &Sensors<'_>, m: usize) -> Observation {
         let j = self.sensor(m);
@@ -218,10 +349,10 @@ impl<'a> Measurements<'a> {
             Space::Spatial => self.elevation[m],
         };
         Observation::new(
-            sensors.position(j),
+            self.overrides.position(sensors, j, m),
             self.time[m],
             [self.azimuth[m], elevation],
-            sensors.sigma(j),
+            self.overrides.sigma(sensors, j, m),
         )
     }
 }

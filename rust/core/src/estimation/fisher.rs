@@ -4,7 +4,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::data::Sensors;
+use crate::data::{ReportOverrides, Sensors};
 use crate::error::{ensure_finite, CoreError, CoreResult};
 use crate::geometry::model::{predict, residual_rows, Observation, StateLayout};
 
@@ -15,25 +15,29 @@ pub struct Bound {
     pub crlb: Vec<f64>,
 }
 
-/// Information of the state `truth` from one measurement per `(sensor_index[k], times[k])`.
+/// Information of the state `truth` from one measurement per `(sensor_index[k], times[k])`,
+/// taken where `overrides` says the sensor was then and with the noise it says (the sensor's
+/// own where it says nothing: [`ReportOverrides::default`] for fixed sensors).
 pub fn crlb(
     layout: &StateLayout,
     sensors: &Sensors<'_>,
     sensor_index: &[i64],
     times: &[f64],
+    overrides: &ReportOverrides<'_>,
     truth: &[f64],
 ) -> CoreResult<Bound> {
     let dim = layout.dim();
     validate(sensors, sensor_index, times, truth, dim)?;
+    overrides.validate(sensors.space(), times.len())?;
     let mut fisher = DMatrix::<f64>::zeros(dim, dim);
-    for (&j, &time) in sensor_index.iter().zip(times) {
-        let sensor = sensors.position(j as usize);
+    for (k, (&j, &time)) in sensor_index.iter().zip(times).enumerate() {
+        let sensor = overrides.position(sensors, j as usize, k);
         let target = layout.position(truth, time);
         let obs = Observation::new(
             sensor,
             time,
             predict(layout.space, &sensor, &target),
-            sensors.sigma(j as usize),
+            overrides.sigma(sensors, j as usize, k),
         );
         let rows = residual_rows(layout, truth, &obs).ok_or_else(|| {
             CoreError::ill_posed(

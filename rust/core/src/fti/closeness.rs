@@ -138,9 +138,16 @@ impl Precomputed {
             let rows = scans.scan(k);
             let obs = measurements.observation(sensors, rows[0]);
             let j = measurements.sensor(rows[0]);
+            // Reports with their own noise widen the sensor's spread in proportion.
+            let own = sensors.sigma(j);
+            let widest = (rows.iter().map(|&m| measurements.sigma(sensors, m)))
+                .fold([0.0_f64; 2], |a, s| [a[0].max(s[0]), a[1].max(s[1])]);
             let (s_az, s_el) = match space {
-                Space::Planar => (spreads.azimuth[j], 1.0),
-                Space::Spatial => (spreads.azimuth[j], spreads.elevation[j]),
+                Space::Planar => (spreads.azimuth[j] * widest[0] / own[0], 1.0),
+                Space::Spatial => (
+                    spreads.azimuth[j] * widest[0] / own[0],
+                    spreads.elevation[j] * widest[1] / own[1],
+                ),
             };
             let [x, y, z] = obs.sensor;
             pre.sx.push(x);

@@ -83,7 +83,8 @@ fn for_each_residual2(
     for &m in rows {
         // In the plane the stored elevation (NaN) is not read.
         let angles = problem.measurements.angles(m);
-        each(m, residual2_from(space, angles, probe.sigma, predicted));
+        let sigma = problem.measurements.sigma(&problem.sensors, m);
+        each(m, residual2_from(space, angles, sigma, predicted));
     }
 }
 

@@ -27,4 +27,12 @@ impl Problem<'_> {
     pub fn observation(&self, m: usize) -> Observation {
         self.measurements.observation(&self.sensors, m)
     }
+
+    /// The largest noise stds `[σβ, σε]` of `rows` (one scan): the scan-level gates' width
+    /// when the reports carry their own noise; the sensor's otherwise.
+    pub fn scan_sigma(&self, rows: &[usize]) -> [f64; 2] {
+        rows.iter()
+            .map(|&m| self.measurements.sigma(&self.sensors, m))
+            .fold([0.0; 2], |a, s| [a[0].max(s[0]), a[1].max(s[1])])
+    }
 }

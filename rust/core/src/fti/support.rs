@@ -55,7 +55,7 @@ impl SupportTable {
                 ScanAngles {
                     // Unit stds: `residual_rows` then returns the plain gradient ∇h.
                     probe: Observation::new(first.sensor, first.time, [0.0; 2], [1.0; 2]),
-                    sigma: first.sigma,
+                    sigma: problem.scan_sigma(rows),
                     angles,
                 }
             })

@@ -87,7 +87,7 @@ fn compete(
 ) -> bool {
     let angles = problem.layout.space.angles();
     (0..scans.len()).any(|k| {
-        let sigma = problem.observation(scans.scan(k)[0]).sigma;
+        let sigma = problem.scan_sigma(scans.scan(k));
         (0..angles).all(|c| wrap(ha[k][c] - hb[k][c]).abs() <= gate * sigma[c])
     })
 }

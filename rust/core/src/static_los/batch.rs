@@ -15,7 +15,7 @@ use super::{
 use crate::assign::branch_bound::{self, BranchBoundOptions};
 use crate::assign::lagrangian::{self, LagrangianOptions};
 use crate::assign::{CandidateSet, Limit, SdProblem, Termination};
-use crate::data::{Measurements, Sensors};
+use crate::data::{Measurements, ReportOverrides, Sensors};
 use crate::error::{CoreError, CoreResult};
 use crate::progress::{Progress, Tally};
 
@@ -123,7 +123,22 @@ fn one_scan(
             (a, e)
         })
         .unzip();
-    let scan = Measurements::new(sensors, &sensor, &time, &azimuth, &elevation)?;
+    let given = table.overrides();
+    let positions: Option<Vec<f64>> = given.positions.map(|_| {
+        rows.iter()
+            .flat_map(|&r| table.sensor_position(sensors, r))
+            .collect()
+    });
+    let sigmas: Option<[Vec<f64>; 2]> = (given.sigma_azimuth.is_some()
+        || given.sigma_elevation.is_some())
+    .then(|| [0, 1].map(|k| rows.iter().map(|&r| table.sigma(sensors, r)[k]).collect()));
+    let overrides = ReportOverrides {
+        positions: positions.as_deref(),
+        sigma_azimuth: sigmas.as_ref().map(|[a, _]| a.as_slice()),
+        sigma_elevation: sigmas.as_ref().map(|[_, e]| e.as_slice()),
+    };
+    let scan = Measurements::new(sensors, &sensor, &time, &azimuth, &elevation)?
+        .with_overrides(sensors, overrides)?;
     let detection = DetectionModel::new(sensors, pd, density)?;
     let candidates = enumerate_with_attributes(sensors, &scan, &detection, enumerate, None)?;
     let (chosen, node_limited) = solve(&candidates, solver)?;

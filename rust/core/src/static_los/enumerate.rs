@@ -162,7 +162,9 @@ impl Prepared<'_> {
         }
         let n = self.rays[s].len();
         let interval = match (node.rays >= 2, node.window) {
-            (true, Some(w)) => w.azimuth_interval(&self.apex[s], self.half_width[s]),
+            (true, Some(w)) => {
+                self.apex[s].and_then(|apex| w.azimuth_interval(&apex, self.half_width[s]))
+            }
             _ => None,
         };
         let start = ctx.hits.len();
@@ -201,9 +203,14 @@ impl Prepared<'_> {
         out.rows.extend_from_slice(&ctx.rows);
         out.positions.extend_from_slice(&estimate.point[..dim]);
         out.covariances.extend_from_slice(&covariance[..dim * dim]);
+        let excess: f64 = (ctx.tuple.iter().enumerate())
+            .filter(|&(_, &t)| t > 0)
+            .map(|(s, &t)| self.rays[s][t as usize - 1].cost_excess)
+            .sum();
         out.costs.push(
             self.detection
-                .cost(ctx.tuple.iter().map(|&t| t > 0), estimate.chi2),
+                .cost(ctx.tuple.iter().map(|&t| t > 0), estimate.chi2)
+                + excess,
         );
         out.intensity.push(node.rays as i64);
         out.chi2.push(estimate.chi2);

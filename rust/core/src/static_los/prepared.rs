@@ -24,6 +24,9 @@ pub(crate) struct Ray {
     /// Unit line-of-sight direction (z = 0 in the plane).
     pub direction: [f64; 3],
     pub wedge: Wedge,
+    /// `Σ ln(σ_report / σ_sensor)` over the angles: what the report's own noise adds to the
+    /// cost of a tuple holding it (eq. 2's normalisation is the sensor's); 0 without one.
+    pub cost_excess: f64,
 }
 
 /// A point estimate of a prefix that passed the gate.
@@ -42,10 +45,12 @@ pub(crate) struct Prepared<'a> {
     pub rays: Vec<Vec<Ray>>,
     /// Per sensor, `(wrapped azimuth, index into rays[s])` in ascending azimuth.
     pub by_azimuth: Vec<Vec<(f64, u32)>>,
-    /// Per sensor, the gate half-width of the azimuth, `√γ·σ_az` (with a tiny margin).
+    /// Per sensor, the widest gate half-width of its reports' azimuths, `√γ·σ_az` (with a
+    /// tiny margin).
     pub half_width: Vec<f64>,
-    /// Per sensor, its horizontal position.
-    pub apex: Vec<[f64; 2]>,
+    /// Per sensor, the horizontal position all its reports were taken from; `None` when they
+    /// were taken from several (a moving sensor), which turns the window off at that sensor.
+    pub apex: Vec<Option<[f64; 2]>>,
     pub detection: &'a DetectionModel,
     pub options: EnumerateOptions,
     /// The attribute gate (METHODS §3 used by §2): pairs of reports below η never share a
@@ -71,15 +76,15 @@ impl<'a> Prepared<'a> {
         let space = sensors.space();
         let layout = StateLayout::new(space, Motion::Static);
         let root_gate = options.gate_sigmas();
-        let half_width: Vec<f64> = (0..n_sensors)
-            .map(|s| root_gate * sensors.sigma(s)[0] * (1.0 + 1e-9) + 1e-12)
-            .collect();
-        let apex: Vec<[f64; 2]> = (0..n_sensors)
+        let gate = |sigma: f64| root_gate * sigma * (1.0 + 1e-9) + 1e-12;
+        let mut half_width: Vec<f64> = (0..n_sensors).map(|s| gate(sensors.sigma(s)[0])).collect();
+        let mut apex: Vec<Option<[f64; 2]>> = (0..n_sensors)
             .map(|s| {
                 let p = sensors.position(s);
-                [p[0], p[1]]
+                Some([p[0], p[1]])
             })
             .collect();
+        let angles = space.angles();
         let mut rays: Vec<Vec<Ray>> = vec![Vec::new(); n_sensors];
         for m in 0..measurements.len() {
             let s = measurements.sensor(m);
@@ -89,16 +94,27 @@ impl<'a> Prepared<'a> {
                 Space::Planar => direction(obs.angles[0], 0.0),
                 Space::Spatial => direction(obs.angles[0], obs.angles[1]),
             };
+            let at = [obs.sensor[0], obs.sensor[1]];
+            if rays[s].is_empty() {
+                apex[s] = Some(at);
+                half_width[s] = gate(obs.sigma[0]);
+            } else if apex[s] != Some(at) {
+                apex[s] = None;
+            }
+            half_width[s] = half_width[s].max(gate(obs.sigma[0]));
             let wedge = Wedge {
-                apex: apex[s],
+                apex: at,
                 bearing: wrap(obs.angles[0]),
-                half_width: half_width[s],
+                half_width: gate(obs.sigma[0]),
             };
+            let own = sensors.sigma(s);
+            let cost_excess = (0..angles).map(|k| (obs.sigma[k] / own[k]).ln()).sum();
             rays[s].push(Ray {
                 row: m,
                 obs,
                 direction,
                 wedge,
+                cost_excess,
             });
         }
         if let Some(s) = rays.iter().position(|r| r.len() > u32::MAX as usize) {
