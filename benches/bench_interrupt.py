@@ -34,7 +34,7 @@ def cases() -> dict[str, Callable[[], Any]]:
     bearings = rng.uniform(0.5, 2.6, 15000)
     formation = pa.MeasurementTable.from_arrays(np.repeat([0, 1, 2], 5000), np.zeros(15000), bearings)
     three = pa.SensorNetwork.planar(np.array([[-80e3, -30e3], [-30e3, -30e3], [20e3, -30e3]]), np.radians(0.5))
-    local, system = _pictures(rng, 2000)
+    local, system = _pictures(rng, 2000, scans=4)
     wide_local, wide_system = _pictures(rng, 4000)
     scenario = paper_wavelet_scenario(1, n_clutter=1490)
     tracks = filter_reports(scenario.measurements, PROCESS_NOISE)
@@ -54,9 +54,9 @@ def cases() -> dict[str, Callable[[], Any]]:
         "formation locator, 3 x 5000 reports (5e7 pairs, the default cap), one-to-one": lambda: pa.locate_formation(
             formation, three, attributes=[], one_to_one=True, progress=False
         ),
-        "topology, one scan of 2000 x 2000 tracks, default window": lambda: pa.TopologyAssociator().associate(
-            local=local, system=system, progress=False
-        ),
+        "topology, 4 scans of 2000 x 2000 tracks, no gate, default window": lambda: pa.TopologyAssociator(
+            gate=None
+        ).associate(local=local, system=system, progress=False),
         "nearest neighbour, one scan of 4000 x 4000 tracks, no gate (16e6 pairs, the cap)": lambda: (
             pa.NearestNeighbourAssociator(gate_probability=None).associate(
                 local=wide_local, system=wide_system, progress=False
@@ -68,14 +68,15 @@ def cases() -> dict[str, Callable[[], Any]]:
     }
 
 
-def _pictures(rng: np.random.Generator, n: int) -> tuple[pa.TrackTable, pa.TrackTable]:
-    """One scan of ``n`` local and ``n`` system tracks, 10 m apart, over a 1 000 km square."""
-    p = rng.uniform(0, 1e6, (n, 2))
+def _pictures(rng: np.random.Generator, n: int, scans: int = 1) -> tuple[pa.TrackTable, pa.TrackTable]:
+    """``scans`` scans of ``n`` local and ``n`` system tracks, 10 m apart, over a 1 000 km square."""
+    p = np.tile(rng.uniform(0, 1e6, (n, 2)), (scans, 1))
+    track, times = np.tile(np.arange(n), scans), np.repeat(np.arange(float(scans)), n)
 
     def table(source: int, position: np.ndarray) -> pa.TrackTable:
-        return pa.TrackTable.from_arrays(np.full(n, source), np.arange(n), np.zeros(n), position)
+        return pa.TrackTable.from_arrays(np.full(n * scans, source), track, times, position, sort=True)
 
-    return table(1, p + rng.normal(0, 10, (n, 2))), table(0, p)
+    return table(1, p + rng.normal(0, 10, p.shape)), table(0, p)
 
 
 def _interrupt_after(seconds: float, sent: list[float]) -> None:
