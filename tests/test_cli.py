@@ -201,6 +201,12 @@ _INITIATE = [
         (["reproduce", "fti", "--runs", "2", "--plot", "{tmp}/fti.png"], "matplotlib", "plot", "--plot"),
         ([*_ASSOCIATE, "--out", "{tmp}/out", "--plot", "{tmp}/a.png"], "matplotlib", "plot", "--plot"),
         ([*_INITIATE, "--out", "{tmp}/out", "--plot", "{tmp}/i.png"], "matplotlib", "plot", "--plot"),
+        (
+            ["track", *_INITIATE[1:], "--tracker", "stonesoup", "--out", "{tmp}/out"],
+            "stonesoup",
+            "stonesoup",
+            "--tracker stonesoup",
+        ),
         (["reproduce", "topology", "--runs", "1", "--scheduler", "local"], "dask", "dask", "--scheduler"),
         (["reproduce", "wavelet", "--runs", "1", "--scheduler", "local"], "distributed", "dask", "--scheduler"),
         (

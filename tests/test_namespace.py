@@ -55,6 +55,7 @@ SUBPACKAGES = [
     "radar_esm",
     "simulation",
     "evaluation",
+    "tracking",
 ]
 
 
@@ -92,7 +93,7 @@ LAYERS = [
     ["track_methods"],
     ["simulation"],
     ["evaluation"],
-    ["interop"],
+    ["interop", "tracking"],
     ["distributed"],
     ["plots"],
     ["plots_data"],

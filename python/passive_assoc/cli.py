@@ -69,7 +69,7 @@ _FILE_COMMANDS = [
         "associate_tracks",
         "associate your track files (reference topology, or radar/ESM wavelets)",
     ),
-    ("track", "track", "initiate tracks, then carry them on with a Stone Soup EKF tracker"),
+    ("track", "track", "initiate tracks, then carry them on with an EKF tracker (Stone Soup's, or built in)"),
 ]
 
 #: Optional extras a run needs: (what needs it, whether these arguments need it, the modules,
@@ -77,7 +77,12 @@ _FILE_COMMANDS = [
 _EXTRAS: list[tuple[str, Callable[[argparse.Namespace], bool], tuple[str, ...], str]] = [
     ("--plot", lambda a: getattr(a, "plot", None) is not None, ("matplotlib",), "plot"),
     ("--scheduler", lambda a: getattr(a, "scheduler", None) is not None, ("dask", "distributed"), "dask"),
-    ("track", lambda a: getattr(a, "command_name", None) == "track", ("stonesoup",), "stonesoup"),
+    (
+        "--tracker stonesoup",
+        lambda a: getattr(a, "command_name", None) == "track" and getattr(a, "tracker", None) == "stonesoup",
+        ("stonesoup",),
+        "stonesoup",
+    ),
     (
         "a .parquet MEAS file",
         lambda a: str(getattr(a, "measurements", "")).endswith(".parquet"),

@@ -1,21 +1,28 @@
 """``passive-assoc track MEAS --sensors SENS``: track initiation, then a tracker that carries
-the tracks on through the whole file (Stone Soup, the ``stonesoup`` extra).
+the tracks on through the whole file.
 
-The reports go to a Stone Soup ``MultiTargetTracker`` time by time: a constant-velocity EKF,
-global-nearest-neighbour association with a Mahalanobis gate, and the fuzzy track initiation
-over ``--window`` seconds of unassociated reports for new tracks
-(:func:`passive_assoc.interop.stonesoup_tracking.track_measurements`). Writes, in ``--out``:
+``--tracker`` chooses the tracker: ``stonesoup`` (the ``stonesoup`` extra), ``builtin``, or
+``auto`` (the default: Stone Soup when it is installed, else the built-in one). Both run the
+same loop, time by time: a constant-velocity EKF on the angle reports, global-nearest-neighbour
+association inside a Mahalanobis gate of ``--missed-distance``, deletion after
+``--delete-after`` steps without a report, and the fuzzy track initiation over ``--window``
+seconds of unassociated reports for new tracks. Stone Soup's is its ``MultiTargetTracker``
+(:func:`passive_assoc.interop.stonesoup_tracking.track_measurements`); the built-in one
+(:func:`passive_assoc.tracking.track_measurements`, numpy only) gates each report on its NIS
+(χ², at ``missed-distance²``) and pairs each sensor's reports of a time with the tracks
+separately. Writes, in ``--out``:
 
 * ``<prefix>.track.csv`` — every input row once: row, sensor, time, angles and ``track`` (the
   track it initiated or updated, or −1);
-* ``<prefix>.track.json`` — per track its states over time (block order ``x, y[, z], vx,
-  vy[, vz]``) with their times, and, for a geodetic sensor file, each state's latitude,
-  longitude and altitude.
+* ``<prefix>.track.json`` — which tracker ran, and per track its states over time (block
+  order ``x, y[, z], vx, vy[, vz]``) with their times, and, for a geodetic sensor file, each
+  state's latitude, longitude and altitude.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 from typing import Any
 
 import numpy as np
@@ -34,7 +41,13 @@ __all__ = ["add_arguments", "main"]
 
 DESCRIPTION = (
     "Initiate tracks from your passive reports, then carry them on through the whole file with a "
-    "Stone Soup constant-velocity EKF tracker (needs the stonesoup extra)."
+    "constant-velocity EKF tracker: Stone Soup's (the stonesoup extra) or a built-in one (numpy "
+    "only). Each time step: the tracks are predicted to it; each sensor's reports at that time are "
+    "paired with the tracks by global nearest neighbour inside the gate (a report's Mahalanobis "
+    "distance to a track's prediction at most --missed-distance, a chi-square gate on its NIS) and "
+    "update them; a track without a report in its last --delete-after steps is deleted; reports no "
+    "track took wait, and once the waiting ones span --window seconds the fuzzy track initiation "
+    "runs on them and starts new tracks."
 )
 
 
@@ -81,6 +94,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
     add_file_arguments(parser, "track")
     group = parser.add_argument_group("tracker")
+    group.add_argument(
+        "--tracker",
+        choices=("auto", "stonesoup", "builtin"),
+        default="auto",
+        help="stonesoup: Stone Soup's MultiTargetTracker (needs the stonesoup extra); builtin: the "
+        "package's own EKF, which gates and pairs each sensor's reports of a time separately; auto "
+        "(default): stonesoup if it is installed, else builtin",
+    )
     group.add_argument("--window", type=_positive, default=60.0, help="seconds of reports an initiation takes (60)")
     group.add_argument(
         "--process-noise", type=_positive, default=0.05, help="acceleration noise density, m^2/s^3 per axis (0.05)"
@@ -89,8 +110,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--delete-after", type=_count, default=12, help="steps without an update before deletion (12)")
 
 
+def chosen_tracker(name: str) -> str:
+    """``stonesoup`` or ``builtin``: ``auto`` is Stone Soup when it is installed."""
+    if name == "auto":
+        return "stonesoup" if importlib.util.find_spec("stonesoup") is not None else "builtin"
+    return name
+
+
 def main(args: argparse.Namespace) -> int:
-    from ..interop.stonesoup_tracking import track_measurements
+    tracker = chosen_tracker(args.tracker)
+    if tracker == "stonesoup":
+        from ..interop.stonesoup_tracking import track_measurements
+    else:
+        from ..tracking import track_measurements
 
     files = plan_outputs(args, {"MEAS": args.measurements, "SENS": args.sensors})
     table, sensors = read_inputs(args)
@@ -114,8 +146,8 @@ def main(args: argparse.Namespace) -> int:
         args,
         files,
         row_columns(table, labels),
-        {"tracks": summary, "window": args.window, "process_noise": args.process_noise},
-        f"{len(summary)} track(s) over {len(np.unique(table.time))} time(s); "
+        {"tracker": tracker, "tracks": summary, "window": args.window, "process_noise": args.process_noise},
+        f"{tracker} tracker: {len(summary)} track(s) over {len(np.unique(table.time))} time(s); "
         f"{int(np.sum(labels < 0))} of {len(table)} reports in no track",
     )
     return 0
