@@ -93,7 +93,8 @@ LAYERS = [
     ["track_methods"],
     ["simulation"],
     ["evaluation"],
-    ["interop", "tracking"],
+    ["tracking"],
+    ["interop"],  # the Stone Soup tracker reads the built-in one's defaults
     ["distributed"],
     ["plots"],
     ["plots_data"],

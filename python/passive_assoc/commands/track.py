@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ..tracking.defaults import DELETE_AFTER, MISSED_DISTANCE, PROCESS_NOISE, WINDOW
 from .common import (
     EXAMPLE_FORMATS,
     add_file_arguments,
@@ -102,12 +103,27 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "package's own EKF, which gates and pairs each sensor's reports of a time separately; auto "
         "(default): stonesoup if it is installed, else builtin",
     )
-    group.add_argument("--window", type=_positive, default=60.0, help="seconds of reports an initiation takes (60)")
     group.add_argument(
-        "--process-noise", type=_positive, default=0.05, help="acceleration noise density, m^2/s^3 per axis (0.05)"
+        "--window", type=_positive, default=WINDOW, help=f"seconds of reports an initiation takes ({WINDOW:g})"
     )
-    group.add_argument("--missed-distance", type=_positive, default=4.0, help="Mahalanobis association gate (4)")
-    group.add_argument("--delete-after", type=_count, default=12, help="steps without an update before deletion (12)")
+    group.add_argument(
+        "--process-noise",
+        type=_positive,
+        default=PROCESS_NOISE,
+        help=f"acceleration noise density, m^2/s^3 per axis ({PROCESS_NOISE:g})",
+    )
+    group.add_argument(
+        "--missed-distance",
+        type=_positive,
+        default=MISSED_DISTANCE,
+        help=f"Mahalanobis association gate ({MISSED_DISTANCE:g})",
+    )
+    group.add_argument(
+        "--delete-after",
+        type=_count,
+        default=DELETE_AFTER,
+        help=f"steps without an update before deletion ({DELETE_AFTER})",
+    )
 
 
 def chosen_tracker(name: str) -> str:

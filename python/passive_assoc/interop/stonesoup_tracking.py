@@ -34,6 +34,7 @@ from ..data import MeasurementTable, SensorNetwork, TrackTable
 from ..data.conventions import covariance_from_interleaved, covariance_to_interleaved, from_interleaved, to_interleaved
 from ..fti import FuzzyTrackInitiator
 from ..static_los import StaticAssociator
+from ..tracking.defaults import DELETE_AFTER, MISSED_DISTANCE, PROCESS_NOISE, WINDOW
 
 __all__ = ["PassiveInitiator", "StaticAssociationFeeder", "detections_table", "track_measurements"]
 
@@ -70,7 +71,7 @@ class PassiveInitiator(Initiator):  # type: ignore[misc]  # Stone Soup ships no 
     of unassociated detections (module doc)."""
 
     sensors: SensorNetwork = Property(doc="The network the detections come from.")
-    window: float = Property(default=60.0, doc="Seconds of detections an initiation takes.")
+    window: float = Property(default=WINDOW, doc="Seconds of detections an initiation takes.")
     initiator: Any = Property(default=None, doc="A FuzzyTrackInitiator (default: its defaults).")
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
@@ -188,10 +189,10 @@ def track_measurements(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     *,
-    window: float = 60.0,
-    process_noise: float = 0.05,
-    missed_distance: float = 4.0,
-    delete_after: int = 12,
+    window: float = WINDOW,
+    process_noise: float = PROCESS_NOISE,
+    missed_distance: float = MISSED_DISTANCE,
+    delete_after: int = DELETE_AFTER,
     initiator: FuzzyTrackInitiator | None = None,
 ) -> tuple[TrackTable, NDArray[np.int64]]:
     """Initiation, then a Stone Soup tracker, over a whole table.

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 from ..data import MeasurementTable, SensorNetwork, TrackTable
 from ..estimation import angle_innovation, cv_predict, ekf_update
 from ..fti import FuzzyTrackInitiator
+from .defaults import DELETE_AFTER, MISSED_DISTANCE, PROCESS_NOISE, WINDOW
 from .gating import nearest_neighbour
 
 __all__ = ["track_measurements"]
@@ -92,10 +93,10 @@ def track_measurements(
     measurements: MeasurementTable,
     sensors: SensorNetwork,
     *,
-    window: float = 60.0,
-    process_noise: float = 0.05,
-    missed_distance: float = 4.0,
-    delete_after: int = 12,
+    window: float = WINDOW,
+    process_noise: float = PROCESS_NOISE,
+    missed_distance: float = MISSED_DISTANCE,
+    delete_after: int = DELETE_AFTER,
     initiator: FuzzyTrackInitiator | None = None,
 ) -> tuple[TrackTable, NDArray[np.int64]]:
     """Initiation, then the built-in EKF tracker, over a whole table (module doc).
