@@ -21,9 +21,8 @@
 //! A candidate without a meeting in either round, or with a round missing, passes.
 //!
 //! The bias cancels only as far as the geometry stays the same from round to round, and near
-//! a sensor it does not: on 30 scenes of 3 sensors × 20 targets the round gate lost 9 of 600
-//! targets that the witness gate alone keeps, whatever its width (2–16× in squared distance).
-//! So a slot with witness scans (module `witness_gate`) is judged by them alone, and the round
+//! a sensor it does not, so the round gate loses true targets that the witness gate alone
+//! keeps (docs/methods.md §1, *Round gate*). So a slot with witness scans (module `witness_gate`) is judged by them alone, and the round
 //! gate judges only slots without any: a sensor pair with no third sensor scanning near its
 //! rounds.
 
