@@ -77,15 +77,31 @@ pub fn initiate_reporting(
             options,
             &mut available,
         )?,
-        Formation::Rounds => round_passes(
-            &mut run,
-            &problem,
-            &pre,
-            &scans,
-            &pairs,
-            options,
-            &mut available,
-        )?,
+        Formation::Rounds => {
+            let mut states = round_passes(
+                &mut run,
+                &problem,
+                &pre,
+                &scans,
+                &pairs,
+                options,
+                &mut available,
+            )?;
+            // A formation stopped at the user's limit ends there.
+            if run.limit.is_none() {
+                states = sweep(
+                    &mut run,
+                    &problem,
+                    &pre,
+                    &scans,
+                    &pairs,
+                    options,
+                    states,
+                    &mut available,
+                )?;
+            }
+            states
+        }
     };
     let (counts, mut seconds) = (run.counts, run.seconds);
 
@@ -152,18 +168,14 @@ fn scan_times(problem: &Problem<'_>, scans: &Scans) -> Vec<f64> {
         .collect()
 }
 
-/// The rounds formation: every (pair, round) slot, best first (the most nearly synchronous,
-/// then the rounds nearest the middle), in passes of 1, 2, 4, … slots, each over the rows the
-/// passes before it left.
-fn round_passes(
-    run: &mut Run,
+/// Every (pair, round) slot, best first: each pair's most nearly synchronous rounds nearest the
+/// middle first; then the pairs' best slots, their second best, and so on.
+fn ranked_rounds(
     problem: &Problem<'_>,
-    pre: &Precomputed,
     scans: &Scans,
     pairs: &[[usize; 2]],
     options: &InitiationOptions,
-    available: &mut [bool],
-) -> CoreResult<Vec<[f64; MAX_DIM]>> {
+) -> Vec<Slot> {
     let times = scan_times(problem, scans);
     // Each pair's slots best first; then the pairs' best slots, their second best, and so on.
     let mut ranked: Vec<((usize, f64), Slot)> = Vec::new();
@@ -188,7 +200,22 @@ fn round_passes(
         );
     }
     ranked.sort_by(|a, b| (a.0 .0).cmp(&b.0 .0).then(a.0 .1.total_cmp(&b.0 .1)));
-    let slots: Vec<Slot> = ranked.into_iter().map(|(_, slot)| slot).collect();
+    ranked.into_iter().map(|(_, slot)| slot).collect()
+}
+
+/// The rounds formation: every (pair, round) slot, best first (the most nearly synchronous,
+/// then the rounds nearest the middle), in passes of 1, 2, 4, … slots, each over the rows the
+/// passes before it left.
+fn round_passes(
+    run: &mut Run,
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    scans: &Scans,
+    pairs: &[[usize; 2]],
+    options: &InitiationOptions,
+    available: &mut [bool],
+) -> CoreResult<Vec<[f64; MAX_DIM]>> {
+    let slots = ranked_rounds(problem, scans, pairs, options);
     // Once every pair has had two slots, a pass that finds nothing ends the formation.
     let patience = 2 * pairs.len();
     let mut states = Vec::new();
@@ -216,6 +243,69 @@ fn round_passes(
             break;
         }
     }
+    Ok(states)
+}
+
+/// The sweep's budget: this share of `max_candidates` (25 000 of the default 500 000).
+const SWEEP_SHARE: usize = 20;
+
+/// After the rounds, the sweep: the paper's formation (every pair's first × last scans, then
+/// the inner slots down to `candidate_scans`) on the rows the rounds left as clutter. It finds
+/// the targets whose misses (Pd < 1) left no slot of rounds holding all four of their rays;
+/// with the found targets' rows taken, the paper's n⁴ runs over the clutter and those few
+/// targets only. Its budget is a twentieth of `max_candidates`; reaching it ends the sweep
+/// with what it found, and is not the user's limit (the result does not report it).
+///
+/// The rows it may use are those the tracks so far would leave as clutter after their final
+/// fit and track test: detection takes rows a later classification gives back, a missed
+/// target's among them. Only the tracks that survive that test go on (as their refitted
+/// states): a dissolved state would take the rows of a target the sweep finds in the final
+/// classification, and be dissolved again with them.
+#[allow(clippy::too_many_arguments)] // the pipeline's state, as round_passes takes it
+fn sweep(
+    run: &mut Run,
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    scans: &Scans,
+    pairs: &[[usize; 2]],
+    options: &InitiationOptions,
+    states: Vec<[f64; MAX_DIM]>,
+    available: &mut [bool],
+) -> CoreResult<Vec<[f64; MAX_DIM]>> {
+    let slots_of = |depth: usize, inner: bool| {
+        (pairs.iter()).flat_map(move |&p| scans.scan_slots(p, depth, inner))
+    };
+    let slots: Vec<Slot> = (slots_of(1, false))
+        .chain(slots_of(options.candidate_scans(), true))
+        .map(Slot::untested)
+        .collect();
+    if slots.is_empty() {
+        return Ok(states);
+    }
+    let mut states = match options.track_test_level() {
+        None => states,
+        Some(_) => {
+            let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
+            let classified = classify(problem, scans, &states, gate, one_per_scan)?;
+            let (tracks, labels) = final_tracks(problem, pre, &states, classified);
+            let (n_rows, n_detect) = (labels.len(), options.n_detect_for(scans.len()));
+            let level = options.track_test_level();
+            let (tracks, kept) =
+                track_quality::tested(problem, pre, scans, tracks, n_rows, n_detect, level);
+            for (free, &label) in available.iter_mut().zip(&kept) {
+                *free = label < 0;
+            }
+            tracks.iter().map(|t| padded(&t.estimate)).collect()
+        }
+    };
+    let budget = (options.max_candidates() / SWEEP_SHARE).max(1);
+    let swept = (options.clone())
+        .with_max_candidates(budget)?
+        .with_stop_at_limit(true);
+    let mask = available.to_vec();
+    let found = run.pass(problem, pre, scans, &slots, Some(&mask), &swept, available)?;
+    run.limit = None;
+    states.extend(found);
     Ok(states)
 }
 
