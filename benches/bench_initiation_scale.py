@@ -16,6 +16,7 @@ ratio) over the paper's azimuth [0, π] × elevation [0, π/2]. Each case runs i
     python3 benches/bench_initiation_scale.py --adjacent-pairs   # pairs (0, 1), (1, 2), ... only
     python3 benches/bench_initiation_scale.py --detection-order closeness   # the paper's order
     python3 benches/bench_initiation_scale.py --candidates paper   # the paper's candidate formation
+    python3 benches/bench_initiation_scale.py --no-sweep   # the rounds formation without its sweep
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ search_stage = sys.argv[8] if len(sys.argv) > 8 else "default"
 adjacent = len(sys.argv) > 9 and sys.argv[9] == "adjacent"
 order = sys.argv[10] if len(sys.argv) > 10 else "default"
 formation = sys.argv[11] if len(sys.argv) > 11 else "default"
+no_sweep = len(sys.argv) > 12 and sys.argv[12] == "nosweep"
 rng = np.random.default_rng(seed)
 sensors = pa.SensorNetwork.spatial([[20e3 * j, 0.0, 0.0] for j in range(n_sensors)], 5e-3, 5e-3)
 speed, heading = rng.uniform(100, 200, n_targets), rng.uniform(-np.pi, np.pi, n_targets)
@@ -62,6 +64,8 @@ if order != "default":  # likewise
     options["detection_order"] = order
 if formation != "default":  # likewise
     options["candidates"] = formation
+if no_sweep:  # likewise
+    options["sweep"] = False
 if adjacent:  # candidates from neighbouring sensors only (j, j + 1)
     options["pairs"] = [(j, j + 1) for j in range(n_sensors - 1)]
 result = pa.FuzzyTrackInitiator(v_max=v_max, **options).initiate(scenario.measurements, sensors, t0=0.0)
@@ -93,6 +97,7 @@ def run_case(
     pairs: str = "all",
     order: str = "default",
     formation: str = "default",
+    sweep: bool = True,
 ) -> dict[str, Any] | str | None:
     """The case's figures; its error's last line and how long the refusal took when it fails;
     None past the cap."""
@@ -104,7 +109,7 @@ def run_case(
                 "-c",
                 CASE,
                 *map(str, (n_targets, n_sensors, seed, area, v_max, max_candidates, gate_pd)),
-                *(search_stage, pairs, order, formation),
+                *(search_stage, pairs, order, formation, "sweep" if sweep else "nosweep"),
             ],
             capture_output=True,
             text=True,
@@ -153,6 +158,7 @@ def main() -> None:
     parser.add_argument(
         "--candidates", default="default", help="the initiator's candidates (formation; default: its default)"
     )
+    parser.add_argument("--no-sweep", action="store_true", help="sweep=False: the rounds formation without its sweep")
     args = parser.parse_args()
     print(
         "| sensors | targets | rows | time s | peak MB | tracks | targets found | candidates fitted | supported | "
@@ -175,6 +181,7 @@ def main() -> None:
                 "adjacent" if args.adjacent_pairs else "all",
                 args.detection_order,
                 args.candidates,
+                not args.no_sweep,
             )
             if case is None or isinstance(case, str):
                 what = f"> {args.cap:g}" if case is None else f"refused: {case}"

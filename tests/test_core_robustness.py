@@ -85,6 +85,7 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
         **kw,
         candidates="auto",
         prefit_gates=True,
+        sweep=True,
         on_limit="warn",
         detection_order="membership",
         descent_scaling="whitened",

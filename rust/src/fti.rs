@@ -29,6 +29,7 @@ type SpreadArrays<'py> = (PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, f64>
 pub struct InitiationSettings {
     candidates: String,
     prefit_gates: bool,
+    sweep: bool,
     on_limit: String,
     gate_sigmas: f64,
     n_detect: Option<i64>,
@@ -59,6 +60,7 @@ impl InitiationSettings {
         Ok(InitiationOptions::default()
             .with_candidates(parse("candidates", &self.candidates)?)
             .with_prefit_gates(self.prefit_gates)
+            .with_sweep(self.sweep)
             .with_stop_at_limit(stop_at_limit(&self.on_limit)?)
             .with_pairs(pairs)
             .with_gate_sigmas(self.gate_sigmas)?

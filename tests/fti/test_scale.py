@@ -46,11 +46,14 @@ def test_ring_of_three_sensors_at_20_targets(assert_partition: PartitionCheck) -
 
 @pytest.mark.parametrize("seed", [2, 7, 16])
 def test_the_sweep_finds_the_target_the_rounds_miss(seed: int, assert_partition: PartitionCheck) -> None:
-    """In these three scenes the rounds alone hold 19 of the 20 targets: a miss leaves one
-    target with no slot of rounds holding all four of its rays. The sweep after the rounds (the
+    """In these three scenes misses leave a target or two with no slot of rounds holding all
+    four of their rays: the rounds alone hold 18 or 19 of the 20 targets. The sweep after the rounds (the
     paper's formation on the rows left as clutter) finds it, and adds no false track."""
     scenario = pa.ring_scenario(seed, n_sensors=3, n_targets=20)
     table = scenario.measurements
+    rounds = FuzzyTrackInitiator(sweep=False).initiate(table, scenario.sensors, t0=scenario.t0, progress=False)
+    held = track_targets(rounds.labels, table.truth)
+    assert 18 <= len(set(held.tolist()) - {-1}) <= 19
     result = FuzzyTrackInitiator().initiate(table, scenario.sensors, t0=scenario.t0, progress=False)
     assert result.termination == "completed" and result.diagnostics.limit is None
     assert_partition(result, len(table))

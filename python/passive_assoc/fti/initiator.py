@@ -177,6 +177,11 @@ class FuzzyTrackInitiator(Configurable):
     prefit_gates : bool
         The rounds formation's tests before each fit (its pair's neighbouring scans, the
         other sensors' scans); False fits every candidate that passes ``v_max``.
+    sweep : bool
+        After the rounds formation, the paper's formation on the rows its tracks leave as
+        clutter, with a twentieth of ``max_candidates`` as its budget: it finds the targets a
+        missed detection left without a pair of rounds (docs/methods.md §1, *Sweep after the
+        rounds*). False skips it (at 20 targets and fewer it is most of the fitted candidates).
     ray_gate_sigmas : float or None
         Prune a pair of first- or last-scan rays whose closest approach exceeds this many
         standard deviations of the crossing, plus ``v_max`` times the two sensors' time
@@ -289,6 +294,7 @@ class FuzzyTrackInitiator(Configurable):
     pairs: Sequence[tuple[int, int]] | None = None  # checked against the network at initiate()
     candidates: Annotated[Literal["auto", "paper", "rounds"], Options("auto", "paper", "rounds")] = "auto"
     prefit_gates: Annotated[bool, Boolean()] = True
+    sweep: Annotated[bool, Boolean()] = True
     ray_gate_sigmas: Annotated[float | None, POSITIVE, None] = 5.0
     reject_behind: Annotated[bool, Boolean()] = True
     v_max: Annotated[float | None, POSITIVE, None] = 500.0

@@ -101,6 +101,7 @@ impl std::str::FromStr for DetectionOrder {
 /// |---|---|---|
 /// | `candidates` | auto | the rounds formation where a third sensor can reject ghosts (3-D, ≥ 3 sensors), the paper's elsewhere; see [`Formation`] |
 /// | `prefit_gates` | on | the rounds formation tests its candidates before fitting them; see [`with_prefit_gates`](Self::with_prefit_gates) |
+/// | `sweep` | on | after the rounds, the paper's formation on the rows left as clutter, under a budget; see [`with_sweep`](Self::with_sweep) |
 /// | `stop_at_limit` | on | reaching `max_candidates` ends the formation with the tracks it found, and says so; see [`with_stop_at_limit`](Self::with_stop_at_limit) |
 /// | `pairs` | every pair a < b | |
 /// | `gate_sigmas` | 5 | the paper's g |
@@ -142,6 +143,7 @@ impl std::str::FromStr for DetectionOrder {
 pub struct InitiationOptions {
     candidates: Formation,
     prefit_gates: bool,
+    sweep: bool,
     stop_at_limit: bool,
     pairs: Option<Vec<[usize; 2]>>,
     gate_sigmas: f64,
@@ -183,6 +185,7 @@ impl InitiationOptions {
         Self {
             candidates: Formation::Auto,
             prefit_gates: true,
+            sweep: true,
             stop_at_limit: true,
             pairs: None,
             gate_sigmas: 5.0,
@@ -264,6 +267,18 @@ impl InitiationOptions {
 
     pub fn prefit_gates(&self) -> bool {
         self.prefit_gates
+    }
+
+    /// After the rounds formation, run the paper's formation on the rows its tracks leave as
+    /// clutter, with a twentieth of `max_candidates` as its budget (on by default; the
+    /// pipeline's `sweep`). It finds the targets a miss left without a slot of rounds.
+    pub fn with_sweep(mut self, sweep: bool) -> Self {
+        self.sweep = sweep;
+        self
+    }
+
+    pub fn sweep(&self) -> bool {
+        self.sweep
     }
 
     /// What reaching `max_candidates` (or the test cap it sets) does: `true` ends the

@@ -88,7 +88,7 @@ pub fn initiate_reporting(
                 &mut available,
             )?;
             // A formation stopped at the user's limit ends there.
-            if run.limit.is_none() {
+            if options.sweep() && run.limit.is_none() {
                 states = sweep(
                     &mut run,
                     &problem,
