@@ -116,6 +116,33 @@ def test_duplicate_entries_count_at_their_cheapest_in_every_format(fmt: str) -> 
     assert (rows.tolist(), cols.tolist(), total) == ([0, 1], [0, 1], -4.0)
 
 
+def test_canonical_csr_and_every_other_form_give_the_same_answer() -> None:
+    """A canonical CSR matrix is read as it is stored; COO, CSC and a CSR with unsorted
+    indices go through the sort. Same pairs and total, bit for bit, square and rectangular."""
+    rng = np.random.default_rng(38)
+    checked = 0
+    for shape in [(60, 60), (40, 70), (70, 40), (200, 200)]:
+        c = rng.uniform(-5, 5, shape)
+        allowed = rng.random(shape) < 0.1
+        np.fill_diagonal(allowed, True)
+        canonical = sp.csr_array((c[allowed], np.nonzero(allowed)), shape=shape)
+        assert canonical.has_canonical_format
+        reversed_rows = canonical.copy()
+        for i in range(shape[0]):  # each row's entries stored in reverse column order
+            span = slice(reversed_rows.indptr[i], reversed_rows.indptr[i + 1])
+            reversed_rows.indices[span] = reversed_rows.indices[span][::-1].copy()
+            reversed_rows.data[span] = reversed_rows.data[span][::-1].copy()
+        reversed_rows.has_sorted_indices = False
+        assert not reversed_rows.has_canonical_format
+        expected = pa.linear_assignment(canonical)
+        for other in (sp.coo_array(canonical), sp.csc_array(canonical), reversed_rows):
+            got = pa.linear_assignment(other)
+            assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
+            assert got[2] == expected[2]
+            checked += 1
+    assert checked == 12
+
+
 def test_sparse_matches_the_dense_minimum_of_duplicates() -> None:
     """Random COO matrices with many duplicates against SciPy on the dense matrix of each
     pair's cheapest entry: the same optimum, or both infeasible."""

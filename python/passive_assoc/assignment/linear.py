@@ -68,12 +68,7 @@ def _sparse(costs: Any) -> tuple[NDArray[np.int64], NDArray[np.int64], float]:
         raise ValueError(f"costs: expected a 2-dimensional sparse matrix, got shape {costs.shape}")
     if not np.issubdtype(costs.dtype, np.number) or np.issubdtype(costs.dtype, np.complexfloating):
         raise TypeError(f"costs: expected real numeric entries, got dtype {costs.dtype}")
-    coo = costs.tocoo()  # keeps duplicate entries, unlike tocsr()
-    row = np.asarray(coo.row, dtype=np.int64)
-    col = np.asarray(coo.col, dtype=np.int64)
-    data = np.asarray(coo.data, dtype=np.float64)
-    order = np.lexsort((data, col, row))  # by row, column, then cost: each pair's cheapest first
-    row, col, data = row[order], col[order], data[order]
+    row, col, data = _entries(costs)
     bad = np.flatnonzero(~np.isfinite(data))
     if len(bad):
         k = int(bad[0])
@@ -81,19 +76,16 @@ def _sparse(costs: Any) -> tuple[NDArray[np.int64], NDArray[np.int64], float]:
             f"costs: the stored entry at ({row[k]}, {col[k]}) is {data[k]}; stored entries must be "
             "finite (leave a forbidden pair out of the sparse matrix)"
         )
-    first = np.ones(len(row), dtype=bool)
-    first[1:] = (row[1:] != row[:-1]) | (col[1:] != col[:-1])
-    row, col, data = row[first], col[first], data[first]
     n_rows, n_cols = (int(n) for n in costs.shape)
     # Every row is assigned when n_rows <= n_cols, every column otherwise: that side keeps its
     # indices (and must be covered by the entries); the other keeps only the indices in use.
     if n_rows <= n_cols:
         _every_index_used("row", row, n_rows)
-        cols, col = np.unique(col, return_inverse=True)
+        cols, col = _in_use(col, n_cols)
         rows, shape = None, (n_rows, max(len(cols), n_rows))
     else:
         _every_index_used("column", col, n_cols)
-        rows, row = np.unique(row, return_inverse=True)
+        rows, row = _in_use(row, n_rows)
         cols, shape = None, (max(len(rows), n_cols + 1), n_cols)
     indptr = np.searchsorted(row, np.arange(shape[0] + 1)).astype(np.int64)  # row is sorted
     got_rows, got_cols, total = _core.assign_2d_sparse(
@@ -106,9 +98,44 @@ def _sparse(costs: Any) -> tuple[NDArray[np.int64], NDArray[np.int64], float]:
     return got_rows, got_cols, total
 
 
+def _entries(costs: Any) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """The stored entries sorted by row then column, each pair once at its cheapest. A CSR
+    matrix in SciPy's canonical format (sorted indices, no duplicates) is that already (unless
+    its rows far outnumber its entries: their row numbers would be spelled out); any other
+    goes through COO (which keeps duplicates, unlike ``tocsr()``) and a sort."""
+    if costs.format == "csr" and costs.has_canonical_format and costs.shape[0] <= 4 * costs.nnz + 1024:
+        indptr = np.asarray(costs.indptr, dtype=np.int64)
+        row = np.repeat(np.arange(len(indptr) - 1, dtype=np.int64), np.diff(indptr))
+        return row, np.asarray(costs.indices, dtype=np.int64), np.asarray(costs.data, dtype=np.float64)
+    coo = costs.tocoo()
+    row = np.asarray(coo.row, dtype=np.int64)
+    col = np.asarray(coo.col, dtype=np.int64)
+    data = np.asarray(coo.data, dtype=np.float64)
+    order = np.lexsort((data, col, row))  # by row, column, then cost: each pair's cheapest first
+    row, col, data = row[order], col[order], data[order]
+    first = np.ones(len(row), dtype=bool)
+    first[1:] = (row[1:] != row[:-1]) | (col[1:] != col[:-1])
+    return row[first], col[first], data[first]
+
+
+def _in_use(index: NDArray[np.int64], n: int) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The distinct values of ``index`` (in ``[0, n)``), sorted, and each entry's position
+    among them, as ``np.unique(index, return_inverse=True)``: by a mask when ``n`` is not much
+    larger than the entries (no sort), by ``np.unique`` otherwise (a huge, nearly empty side)."""
+    if n > 4 * len(index) + 1024:
+        values, inverse = np.unique(index, return_inverse=True)
+        return values, inverse.astype(np.int64, copy=False)
+    used = np.zeros(n, dtype=bool)
+    used[index] = True
+    position = np.cumsum(used, dtype=np.int64) - 1
+    return np.flatnonzero(used).astype(np.int64, copy=False), position[index]
+
+
 def _every_index_used(what: str, used: NDArray[np.int64], n: int) -> None:
     """Refuses, as the core would, a side of ``n`` that must all be assigned when an index
-    has no stored entry (``used`` sorted)."""
+    has no stored entry."""
+    if len(used) and used[0] == 0 and used[-1] == n - 1 and np.all(used[1:] - used[:-1] <= 1):
+        return  # from 0 up to n - 1 in steps of at most one: every index between is there
     present = np.unique(used)
     if len(present) == n:
         return
