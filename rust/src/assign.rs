@@ -4,7 +4,7 @@
 use std::time::Duration;
 
 use numpy::{
-    PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+    PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 
@@ -85,10 +85,20 @@ pub fn assign_sd(
 #[pyfunction]
 pub fn assign_2d<'py>(
     py: Python<'py>,
-    costs: PyReadonlyArray2<'py, f64>,
+    costs: &Bound<'py, PyArray2<f64>>,
 ) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
     let (n_rows, n_cols) = (costs.shape()[0], costs.shape()[1]);
-    let values = row_major("costs", &costs)?;
+    if costs.len() > 1 && !costs.is_c_contiguous() {
+        return Err(value_error(
+            "costs",
+            "array must be C-contiguous (row-major); pass np.ascontiguousarray(...)",
+        ));
+    }
+    // SAFETY: read while holding the GIL, with no Python code run before the last read (the
+    // small solve below, or the copy before a large one is solved without the GIL), so no
+    // other thread can write to the array meanwhile.
+    let values = unsafe { costs.as_slice() }
+        .map_err(|_| value_error("costs", "array must be C-contiguous and aligned"))?;
     // A small matrix is solved in place, holding the GIL (faster than releasing it, and no
     // Python code can write to the array meanwhile); a larger one is copied first and solved
     // without the GIL, so another thread writing to the caller's array cannot reach the solve.

@@ -31,6 +31,8 @@ def test_linear_assignment_matches_scipy(shape: tuple[int, int]) -> None:
     [
         (lambda: pa.linear_assignment([[np.nan, 1.0]]), ValueError, "costs"),
         (lambda: pa.linear_assignment([1.0, 2.0]), ValueError, "costs"),
+        (lambda: pa.linear_assignment(np.ones(3)), ValueError, "costs"),
+        (lambda: pa.linear_assignment(np.array([[np.inf, 1.0], [np.inf, 2.0]])), ValueError, "cannot be assigned"),
     ],
 )
 def test_linear_assignment_bad_input(call, exc, message) -> None:  # type: ignore[no-untyped-def]

@@ -49,10 +49,15 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
     >>> linear_assignment(sp.csr_array(([5.0, 4.0, 1.0], ([0, 1, 1], [1, 0, 1])), shape=(2, 2)))
     (array([0, 1]), array([1, 0]), 9.0)
     """
-    if type(costs) is np.ndarray and costs.dtype == np.float64 and costs.ndim == 2 and costs.flags.c_contiguous:
-        # The common call needs none of the general conversion below (the core copies a
-        # matrix it solves without the GIL), so a small solve is not mostly Python.
-        return _core.assign_2d(costs)
+    if type(costs) is np.ndarray:
+        # The common call, a C-ordered float64 matrix, goes straight to the core: a small
+        # solve is then not mostly Python. The core refuses any other array (TypeError: dtype
+        # or dimensions; ValueError: order), which the general conversion below then takes.
+        try:
+            return _core.assign_2d(costs)
+        except (TypeError, ValueError):
+            if costs.dtype == np.float64 and costs.ndim == 2 and costs.flags.c_contiguous:
+                raise  # the core's verdict on this very matrix (NaN, no complete assignment)
     if sp.issparse(costs):
         return _sparse(costs)
     matrix = as_float_array("costs", costs, ndim=2)
