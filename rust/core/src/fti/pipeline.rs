@@ -282,22 +282,7 @@ fn sweep(
     if slots.is_empty() {
         return Ok(states);
     }
-    let mut states = match options.track_test_level() {
-        None => states,
-        Some(_) => {
-            let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
-            let classified = classify(problem, scans, &states, gate, one_per_scan)?;
-            let (tracks, labels) = final_tracks(problem, pre, &states, classified);
-            let (n_rows, n_detect) = (labels.len(), options.n_detect_for(scans.len()));
-            let level = options.track_test_level();
-            let (tracks, kept) =
-                track_quality::tested(problem, pre, scans, tracks, n_rows, n_detect, level);
-            for (free, &label) in available.iter_mut().zip(&kept) {
-                *free = label < 0;
-            }
-            tracks.iter().map(|t| padded(&t.estimate)).collect()
-        }
-    };
+    let mut states = survivors(problem, pre, scans, states, options, available)?;
     let budget = (options.max_candidates() / SWEEP_SHARE).max(1);
     let swept = (options.clone())
         .with_max_candidates(budget)?
@@ -307,6 +292,35 @@ fn sweep(
     run.limit = None;
     states.extend(found);
     Ok(states)
+}
+
+/// The tracks of `states` that pass the track test after their fit (without the joins and
+/// refine passes of the pipeline's end), as their refitted states; the rows they leave as
+/// clutter become `available`. Without a track test, `states` and `available` as they are.
+/// A later pass runs on those rows: detection took rows a later classification gives back (a
+/// missed target's among them), and a dissolved state kept would take the rows of a target
+/// that pass finds in the final classification, and be dissolved again with them.
+fn survivors(
+    problem: &Problem<'_>,
+    pre: &Precomputed,
+    scans: &Scans,
+    states: Vec<[f64; MAX_DIM]>,
+    options: &InitiationOptions,
+    available: &mut [bool],
+) -> CoreResult<Vec<[f64; MAX_DIM]>> {
+    let Some(level) = options.track_test_level() else {
+        return Ok(states);
+    };
+    let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
+    let classified = classify(problem, scans, &states, gate, one_per_scan)?;
+    let (tracks, labels) = final_tracks(problem, pre, &states, classified);
+    let (n_rows, n_detect) = (labels.len(), options.n_detect_for(scans.len()));
+    let (tracks, kept) =
+        track_quality::tested(problem, pre, scans, tracks, n_rows, n_detect, Some(level));
+    for (free, &label) in available.iter_mut().zip(&kept) {
+        *free = label < 0;
+    }
+    Ok(tracks.iter().map(|t| padded(&t.estimate)).collect())
 }
 
 /// What the candidate passes have counted and timed so far.
