@@ -59,6 +59,25 @@ def test_auto_hands_a_hard_problem_to_highs_and_proves_it() -> None:
         assert all(len(set(col[col > 0])) == (col > 0).sum() for col in used.T)
 
 
+def test_highs_stopped_by_its_node_cap_gives_the_same_answer_under_load() -> None:
+    """The deterministic stop: HiGHS needs 7 nodes to prove this problem (K = 893); capped at
+    2, it stops unproven, and the same input gives the same tuples whether it runs alone or
+    beside two other solves on the two cores."""
+    tuples, costs, sizes = _random_problem(6, 3, 20, 0.1)
+
+    def solve(_: int = 0) -> pa.SdAssignment:
+        return pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend="highs", max_nodes=2)
+
+    alone = solve()
+    assert alone.termination == "node_limit" and not alone.optimal
+    with ThreadPoolExecutor(3) as pool:
+        loaded = list(pool.map(solve, range(3)))
+    for result in loaded:
+        assert result.termination == "node_limit"
+        assert np.array_equal(result.chosen, alone.chosen)
+        assert result.primal_cost == alone.primal_cost
+
+
 def test_a_tiny_time_limit_returns_a_feasible_unproven_answer() -> None:
     tuples, costs, sizes = _random_problem(2, 5, 7, 0.02)
     result = pa.assign_sd(tuples, costs, sizes, method="exact", exact_backend="highs", time_limit=1e-3)
