@@ -95,9 +95,18 @@ pub fn assign_2d<'py>(
             "array must be C-contiguous (row-major); pass np.ascontiguousarray(...)",
         ));
     }
-    // SAFETY: read while holding the GIL, with no Python code run before the last read (the
-    // small solve below, or the copy before a large one is solved without the GIL), so no
-    // other thread can write to the array meanwhile.
+    if n_rows == 0 || n_cols == 0 {
+        // Nothing to assign; answered here, not by a solve sized by the other side (a
+        // (0, 10⁹) array holds no memory, its solve's work vectors would).
+        let empty = || PyArray1::from_slice(py, &[] as &[i64]).to_dyn().clone();
+        return Ok((empty(), empty(), 0.0));
+    }
+    // SAFETY: the slice is read while this thread holds the GIL, and no Python code runs
+    // between here and its last read (the small solve below, or the copy made before a large
+    // one is solved without the GIL), so neither Python code nor native code that holds the
+    // GIL can write to the array meanwhile. Native code that writes to it after releasing the
+    // GIL (another extension, a NumPy operation on a large array) races with any reader, as
+    // it would with NumPy's own functions: that is the caller's to avoid.
     let values = unsafe { costs.as_slice() }
         .map_err(|_| value_error("costs", "array must be C-contiguous and aligned"))?;
     // A small matrix is solved in place, holding the GIL (faster than releasing it, and no

@@ -190,3 +190,41 @@ def test_a_huge_sparse_shape_is_sized_by_its_entries() -> None:
         "[5, 7, 999999999] [2, 1, 0] 6.0",
         "costs: row 1 cannot be assigned: the stored entries admit no complete assignment",
     ]
+
+
+_EMPTY_SCRIPT = """
+import resource
+import numpy as np, passive_assoc as pa
+
+resource.setrlimit(resource.RLIMIT_AS, (3 << 29, 3 << 29))  # 1.5 GB of address space
+for shape in [(0, 10**9), (10**9, 0)]:
+    rows, cols, total = pa.linear_assignment(np.empty(shape))
+    print(shape, rows.tolist(), cols.tolist(), total)
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_AS is how the test bounds memory")
+def test_an_empty_matrix_of_a_huge_side_needs_no_memory() -> None:
+    """(0, 10⁹) once sized the solve's work vectors by its 10⁹ columns and aborted the process."""
+    done = subprocess.run([sys.executable, "-c", _EMPTY_SCRIPT], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.splitlines() == ["(0, 1000000000) [] [] 0.0", "(1000000000, 0) [] [] 0.0"]
+
+
+@pytest.mark.parametrize("shape", [(0, 0), (0, 3), (3, 0)])
+def test_an_empty_matrix_assigns_nothing_at_cost_zero(shape: tuple[int, int]) -> None:
+    rows, cols, total = pa.linear_assignment(np.zeros(shape))
+    assert rows.dtype == np.int64 and cols.dtype == np.int64 and len(rows) == len(cols) == 0
+    assert total == 0.0 and not np.signbit(total)
+    assert linear_sum_assignment(np.zeros(shape))[0].size == 0  # SciPy agrees there is nothing
+
+
+def test_a_misaligned_matrix_is_converted_not_refused() -> None:
+    c = np.random.default_rng(3).uniform(0, 10, (20, 20))
+    raw = np.zeros(c.nbytes + 1, dtype=np.uint8)
+    misaligned = np.frombuffer(raw.data, dtype=np.float64, count=c.size, offset=1).reshape(c.shape)
+    misaligned.flags.writeable = True
+    misaligned[...] = c
+    assert not misaligned.flags.aligned and misaligned.flags.c_contiguous
+    got, expected = pa.linear_assignment(misaligned), pa.linear_assignment(c)
+    assert np.array_equal(got[1], expected[1]) and got[2] == expected[2]

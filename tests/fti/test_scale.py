@@ -61,6 +61,20 @@ def test_the_sweep_finds_the_target_the_rounds_miss(seed: int, assert_partition:
     assert sorted(held.tolist()) == list(range(20))
 
 
+@pytest.mark.parametrize("seed", [0, 1, 3])
+def test_a_sweep_that_finds_nothing_changes_nothing(seed: int) -> None:
+    """Here the rounds hold every target and the sweep detects nothing more (its detection
+    count is the rounds'): the answer is the rounds' own, bit for bit."""
+    scenario = pa.ring_scenario(seed, n_sensors=3, n_targets=20)
+    table = scenario.measurements
+    rounds = FuzzyTrackInitiator(sweep=False).initiate(table, scenario.sensors, t0=scenario.t0, progress=False)
+    swept = FuzzyTrackInitiator().initiate(table, scenario.sensors, t0=scenario.t0, progress=False)
+    assert swept.diagnostics.stage_counts["detected"] == rounds.diagnostics.stage_counts["detected"]
+    assert swept.diagnostics.stage_counts["fitted"] > rounds.diagnostics.stage_counts["fitted"]  # it ran
+    assert np.array_equal(swept.labels, rounds.labels)
+    np.testing.assert_array_equal(swept.states, rounds.states)
+
+
 def test_a_reached_limit_returns_the_tracks_found_with_a_warning(assert_partition: PartitionCheck) -> None:
     scenario = pa.ring_scenario(1, n_targets=8)
     table = scenario.measurements

@@ -56,7 +56,8 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
         try:
             return _core.assign_2d(costs)
         except (TypeError, ValueError):
-            if costs.dtype == np.float64 and costs.ndim == 2 and costs.flags.c_contiguous:
+            flags = costs.flags
+            if costs.dtype == np.float64 and costs.ndim == 2 and flags.c_contiguous and flags.aligned:
                 raise  # the core's verdict on this very matrix (NaN, no complete assignment)
     if sp.issparse(costs):
         return _sparse(costs)

@@ -250,17 +250,19 @@ fn round_passes(
 const SWEEP_SHARE: usize = 20;
 
 /// After the rounds, the sweep: the paper's formation (every pair's first × last scans, then
-/// the inner slots down to `candidate_scans`) on the rows the rounds left as clutter. It finds
-/// the targets whose misses (Pd < 1) left no slot of rounds holding all four of their rays;
-/// with the found targets' rows taken, the paper's n⁴ runs over the clutter and those few
-/// targets only. Its budget is a twentieth of `max_candidates`; reaching it ends the sweep
-/// with what it found, and is not the user's limit (the result does not report it).
+/// the inner slots down to `candidate_scans`) on the rows the rounds' tracks leave as
+/// clutter. It finds the targets whose misses (Pd < 1) left no slot of rounds holding all four
+/// of their rays; with the found targets' rows taken, the paper's n⁴ runs over the clutter and
+/// those few targets only. Its budget is a twentieth of `max_candidates`; reaching it ends the
+/// sweep with what it found, and is not the user's limit (the result does not report it).
 ///
-/// The rows it may use are those the tracks so far would leave as clutter after their final
-/// fit and track test: detection takes rows a later classification gives back, a missed
-/// target's among them. Only the tracks that survive that test go on (as their refitted
-/// states): a dissolved state would take the rows of a target the sweep finds in the final
-/// classification, and be dissolved again with them.
+/// The rows it may use are those the end of the pipeline ([`finished`]: final fit, joins,
+/// refine passes, track test) leaves as clutter: detection takes rows a later classification
+/// gives back, a missed target's among them, and rows trimmed from a track are clutter there
+/// too. When the sweep finds a target, the tracks that end carries on go on (as their refitted
+/// states) with the sweep's: a dissolved state kept would take the rows of the target the
+/// sweep found in the final classification, and be dissolved again with them. When it finds
+/// nothing, the rounds' states go on unchanged, so the answer is the rounds' own.
 #[allow(clippy::too_many_arguments)] // the pipeline's state, as round_passes takes it
 fn sweep(
     run: &mut Run,
@@ -282,7 +284,12 @@ fn sweep(
     if slots.is_empty() {
         return Ok(states);
     }
-    let mut states = survivors(problem, pre, scans, states, options, available)?;
+    let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
+    let classified = classify(problem, scans, &states, gate, one_per_scan)?;
+    let (tracks, labels) = finished(problem, pre, scans, &states, classified, options)?;
+    for (free, &label) in available.iter_mut().zip(&labels) {
+        *free = label < 0;
+    }
     let budget = (options.max_candidates() / SWEEP_SHARE).max(1);
     let swept = (options.clone())
         .with_max_candidates(budget)?
@@ -290,37 +297,12 @@ fn sweep(
     let mask = available.to_vec();
     let found = run.pass(problem, pre, scans, &slots, Some(&mask), &swept, available)?;
     run.limit = None;
-    states.extend(found);
-    Ok(states)
-}
-
-/// The tracks of `states` that pass the track test after their fit (without the joins and
-/// refine passes of the pipeline's end), as their refitted states; the rows they leave as
-/// clutter become `available`. Without a track test, `states` and `available` as they are.
-/// A later pass runs on those rows: detection took rows a later classification gives back (a
-/// missed target's among them), and a dissolved state kept would take the rows of a target
-/// that pass finds in the final classification, and be dissolved again with them.
-fn survivors(
-    problem: &Problem<'_>,
-    pre: &Precomputed,
-    scans: &Scans,
-    states: Vec<[f64; MAX_DIM]>,
-    options: &InitiationOptions,
-    available: &mut [bool],
-) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let Some(level) = options.track_test_level() else {
+    if found.is_empty() {
         return Ok(states);
-    };
-    let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
-    let classified = classify(problem, scans, &states, gate, one_per_scan)?;
-    let (tracks, labels) = final_tracks(problem, pre, &states, classified);
-    let (n_rows, n_detect) = (labels.len(), options.n_detect_for(scans.len()));
-    let (tracks, kept) =
-        track_quality::tested(problem, pre, scans, tracks, n_rows, n_detect, Some(level));
-    for (free, &label) in available.iter_mut().zip(&kept) {
-        *free = label < 0;
     }
-    Ok(tracks.iter().map(|t| padded(&t.estimate)).collect())
+    let mut carried: Vec<[f64; MAX_DIM]> = tracks.iter().map(|t| padded(&t.estimate)).collect();
+    carried.extend(found);
+    Ok(carried)
 }
 
 /// What the candidate passes have counted and timed so far.

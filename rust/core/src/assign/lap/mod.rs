@@ -43,6 +43,13 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
             ),
         ));
     }
+    if expected == 0 {
+        // Nothing to assign: no solve, whose work vectors the other side would size.
+        return Ok(DenseAssignment {
+            row_to_col: vec![None; n_rows],
+            cost: 0.0,
+        });
+    }
     let scan = EntryScan::of(costs);
     if scan.bad {
         // Only on bad input: find and name the first offending entry.
