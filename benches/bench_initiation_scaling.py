@@ -4,7 +4,8 @@ clutter 2 N a sensor scan, 8 scans) with the defaults of `FuzzyTrackInitiator` (
 formation). The box grows with √N (``--density``, the default: the targets' density stays the
 paper scale's) or stays 40 × 40 km (``--fixed-box``: denser with N). The exponent is the slope
 of log median time against log N between the smallest and largest N of at least 20, by least
-squares.
+squares, and the same up to 100 targets; *limit reached* counts the seeds whose formation
+stopped at `max_candidates`.
 
     python3 benches/bench_initiation_scaling.py                       # 10 -> 200 targets, 3/4/5 sensors
     python3 benches/bench_initiation_scaling.py --sensors 5 --targets 20 50 100 200 --seeds 3
@@ -43,6 +44,7 @@ for seed in range(seeds):
     rows.append({
         "seconds": seconds, "found": len(set(held.tolist()) - {-1}), "false": int(np.sum(held < 0)),
         "stages": r.diagnostics.stage_seconds, "fitted": r.diagnostics.stage_counts.get("fitted", 0),
+        "limit": r.termination == "candidate_limit",
     })
 print(json.dumps({"rows": rows, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
@@ -64,9 +66,9 @@ def run(sensors: int, targets: int, seeds: int, half_width: float, cap: float) -
     return result
 
 
-def exponent(ns: list[int], seconds: list[float]) -> float:
-    """Least-squares slope of log time against log N over N >= 20."""
-    points = [(math.log(n), math.log(t)) for n, t in zip(ns, seconds, strict=True) if n >= 20 and t > 0]
+def exponent(ns: list[int], seconds: list[float], up_to: float = math.inf) -> float:
+    """Least-squares slope of log time against log N over 20 <= N <= `up_to`."""
+    points = [(math.log(n), math.log(t)) for n, t in zip(ns, seconds, strict=True) if 20 <= n <= up_to and t > 0]
     if len(points) < 2:
         return float("nan")
     x, y = np.array(points).T
@@ -83,16 +85,16 @@ def main() -> None:
     args = parser.parse_args()
     print(
         "| sensors | targets | box km | found | false / scene | median s | candidates s | fit s | support s "
-        "| descent s | final fit s | other s | fitted | peak RSS MB |"
+        "| descent s | final fit s | other s | fitted | limit reached | peak RSS MB |"
     )
-    print("|---" * 14 + "|")
+    print("|---" * 15 + "|")
     for s in args.sensors:
         ns, medians = [], []
         for n in args.targets:
             half = 20e3 if args.fixed_box else 20e3 * math.sqrt(n / 20)
             r = run(s, n, args.seeds, half, args.cap)
             if r is None:
-                print(f"| {s} | {n} | {2 * half / 1e3:.0f} | over {args.cap:g} s |" + " |" * 10, flush=True)
+                print(f"| {s} | {n} | {2 * half / 1e3:.0f} | over {args.cap:g} s |" + " |" * 11, flush=True)
                 break
             rows = r["rows"]
             med = statistics.median(x["seconds"] for x in rows)
@@ -105,10 +107,15 @@ def main() -> None:
                 f"| {s} | {n} | {2 * half / 1e3:.0f} | {sum(x['found'] for x in rows)}/{n * len(rows)} | "
                 f"{sum(x['false'] for x in rows) / len(rows):.2f} | {med:.3f} | "
                 + " | ".join(f"{stage.get(k, 0.0):.3f}" for k in STAGES)
-                + f" | {statistics.median(x['fitted'] for x in rows):.0f} | {r['peak_rss_mb']:.0f} |",
+                + f" | {statistics.median(x['fitted'] for x in rows):.0f}"
+                + f" | {sum(x['limit'] for x in rows)}/{len(rows)} | {r['peak_rss_mb']:.0f} |",
                 flush=True,
             )
-        print(f"<!-- {s} sensors: time ~ N^{exponent(ns, medians):.2f} over N >= 20 -->", flush=True)
+        print(
+            f"<!-- {s} sensors: time ~ N^{exponent(ns, medians):.2f} over N >= 20, "
+            f"N^{exponent(ns, medians, 100):.2f} over 20 <= N <= 100 -->",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

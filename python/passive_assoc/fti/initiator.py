@@ -93,7 +93,8 @@ class InitiationDiagnostics:
         The candidate formation that ran (``candidates="auto"`` resolved).
     limit : str or None
         The limit that ended the candidate formation early (``on_limit="warn"``), as the
-        error it would otherwise have been; None when the formation ran to its end.
+        error it would otherwise have been; None when the formation ran to its end (the
+        sweep's own budget, see ``sweep``, is never reported here).
     below_min_score : int
         Tracks the pipeline found whose score was below ``min_score``: their measurements are
         clutter in the result.
@@ -180,8 +181,10 @@ class FuzzyTrackInitiator(Configurable):
     sweep : bool
         After the rounds formation, the paper's formation on the rows its tracks leave as
         clutter, with a twentieth of ``max_candidates`` as its budget: it finds the targets a
-        missed detection left without a pair of rounds (docs/methods.md §1, *Sweep after the
-        rounds*). False skips it (at 20 targets and fewer it is most of the fitted candidates).
+        missed detection left without a slot of rounds (docs/methods.md §1, *Sweep after the
+        rounds*). Reaching that budget ends the sweep silently (no warning; ``termination``
+        and ``diagnostics.limit`` speak of ``max_candidates`` only). False skips it (at 20
+        targets and fewer it is most of the fitted candidates).
     ray_gate_sigmas : float or None
         Prune a pair of first- or last-scan rays whose closest approach exceeds this many
         standard deviations of the crossing, plus ``v_max`` times the two sensors' time
@@ -276,6 +279,7 @@ class FuzzyTrackInitiator(Configurable):
         there, the search runs on the candidates fitted so far, and the result returns the
         tracks they found, with termination ``"candidate_limit"``, the limit named in its
         message and in a warning. ``"raise"``: a ValueError naming the limit, nothing returned.
+        The sweep after the rounds (``sweep``) stops at its own budget either way, silently.
     score_pd : float
         Detection probability the track score assumes (each of a sensor's scans without the
         track's measurement costs ``log(1 - score_pd)``). Default 0.9.

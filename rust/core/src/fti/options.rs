@@ -272,6 +272,7 @@ impl InitiationOptions {
     /// After the rounds formation, run the paper's formation on the rows its tracks leave as
     /// clutter, with a twentieth of `max_candidates` as its budget (on by default; the
     /// pipeline's `sweep`). It finds the targets a miss left without a slot of rounds.
+    /// Reaching its budget ends it with what it found, not reported as a limit.
     pub fn with_sweep(mut self, sweep: bool) -> Self {
         self.sweep = sweep;
         self
@@ -284,6 +285,8 @@ impl InitiationOptions {
     /// What reaching `max_candidates` (or the test cap it sets) does: `true` ends the
     /// formation there and goes on with the candidates fitted so far, the result saying so
     /// ([`crate::fti::Initiation::limit`]); `false` fails with [`CoreError::CapExceeded`].
+    /// The sweep after the rounds ([`Self::with_sweep`]) has a budget of its own, a twentieth
+    /// of `max_candidates`, which ends it silently either way.
     pub fn with_stop_at_limit(mut self, stop_at_limit: bool) -> Self {
         self.stop_at_limit = stop_at_limit;
         self
