@@ -144,21 +144,23 @@ fn paper_passes(
     options: &InitiationOptions,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let slots_of = |depth: usize, inner: bool| -> Vec<Slot> {
-        (pairs.iter())
-            .flat_map(|&p| scans.scan_slots(p, depth, inner))
-            .map(Slot::untested)
-            .collect()
-    };
-    let outer = slots_of(1, false);
+    let outer = paper_slots(scans, pairs, 1, false);
     let mut states = run.pass(problem, pre, scans, &outer, None, options, available)?;
-    let inner = slots_of(options.candidate_scans(), true);
+    let inner = paper_slots(scans, pairs, options.candidate_scans(), true);
     if !inner.is_empty() && run.limit.is_none() {
         free_dissolved(problem, pre, scans, &states, options, true, available)?;
         let mask = available.to_vec();
         states.extend(run.pass(problem, pre, scans, &inner, Some(&mask), options, available)?);
     }
     Ok(states)
+}
+
+/// The paper's slots of every pair ([`Scans::scan_slots`]), pair by pair, untested.
+fn paper_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: bool) -> Vec<Slot> {
+    (pairs.iter())
+        .flat_map(|&p| scans.scan_slots(p, depth, inner))
+        .map(Slot::untested)
+        .collect()
 }
 
 /// Each scan's time (its rows share one).
@@ -274,13 +276,8 @@ fn sweep(
     states: Vec<[f64; MAX_DIM]>,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let slots_of = |depth: usize, inner: bool| {
-        (pairs.iter()).flat_map(move |&p| scans.scan_slots(p, depth, inner))
-    };
-    let slots: Vec<Slot> = (slots_of(1, false))
-        .chain(slots_of(options.candidate_scans(), true))
-        .map(Slot::untested)
-        .collect();
+    let mut slots = paper_slots(scans, pairs, 1, false);
+    slots.extend(paper_slots(scans, pairs, options.candidate_scans(), true));
     if slots.is_empty() {
         return Ok(states);
     }
