@@ -101,7 +101,8 @@ def main() -> None:
             ns.append(n)
             medians.append(med)
             stage = {k: statistics.median(x["stages"][k] for x in rows) for k in rows[0]["stages"]}
-            # Setup, detection, the score and building the result.
+            # Setup, the classifications between passes, the score and building the result
+            # (detection is timed in its own stage, which the table leaves out).
             stage["other"] = statistics.median(x["seconds"] - sum(x["stages"].values()) for x in rows)
             print(
                 f"| {s} | {n} | {2 * half / 1e3:.0f} | {sum(x['found'] for x in rows)}/{n * len(rows)} | "

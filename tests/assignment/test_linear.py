@@ -213,9 +213,10 @@ def test_an_empty_matrix_of_a_huge_side_needs_no_memory() -> None:
 
 @pytest.mark.parametrize("shape", [(0, 0), (0, 3), (3, 0)])
 def test_an_empty_matrix_assigns_nothing_at_cost_zero(shape: tuple[int, int]) -> None:
-    rows, cols, total = pa.linear_assignment(np.zeros(shape))
-    assert rows.dtype == np.int64 and cols.dtype == np.int64 and len(rows) == len(cols) == 0
-    assert total == 0.0 and not np.signbit(total)
+    for costs in (np.zeros(shape), sp.csr_array(shape), sp.coo_array(shape)):
+        rows, cols, total = pa.linear_assignment(costs)
+        assert rows.dtype == np.int64 and cols.dtype == np.int64 and len(rows) == len(cols) == 0
+        assert total == 0.0 and not np.signbit(total)
     assert linear_sum_assignment(np.zeros(shape))[0].size == 0  # SciPy agrees there is nothing
 
 

@@ -183,8 +183,9 @@ class FuzzyTrackInitiator(Configurable):
         clutter, with a twentieth of ``max_candidates`` as its budget: it finds the targets a
         missed detection left without a slot of rounds (docs/methods.md §1, *Sweep after the
         rounds*). Reaching that budget ends the sweep silently (no warning; ``termination``
-        and ``diagnostics.limit`` speak of ``max_candidates`` only). False skips it (at 20
-        targets and fewer it is most of the fitted candidates).
+        and ``diagnostics.limit`` speak of ``max_candidates`` only); it does not run when the
+        rounds reached ``max_candidates``. False skips it (at 20 targets and fewer it is most
+        of the fitted candidates).
     ray_gate_sigmas : float or None
         Prune a pair of first- or last-scan rays whose closest approach exceeds this many
         standard deviations of the crossing, plus ``v_max`` times the two sensors' time

@@ -188,9 +188,10 @@ pub fn solve_sparse_complete(costs: &SparseCosts) -> CoreResult<DenseAssignment>
             row_to_col[i] = Some(j);
         }
     }
+    // From +0.0: `sum` of no term is −0.0.
     let cost = (row_to_col.iter().enumerate())
         .filter_map(|(i, j)| j.map(|j| costs.cheapest(i, j)))
-        .sum();
+        .fold(0.0, |total, c| total + c);
     Ok(DenseAssignment { row_to_col, cost })
 }
 
