@@ -131,12 +131,15 @@ fn pairs_output<'py>(
     py: Python<'py>,
     solved: &lap::DenseAssignment,
 ) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
-    let (rows, cols): (Vec<i64>, Vec<i64>) = solved
-        .row_to_col
-        .iter()
-        .enumerate()
-        .filter_map(|(r, c)| c.map(|c| (r as i64, c as i64)))
-        .unzip();
+    // Sized once: an unzip of the filtered pairs would grow each vector step by step.
+    let n = solved.row_to_col.iter().flatten().count();
+    let (mut rows, mut cols) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    for (r, c) in solved.row_to_col.iter().enumerate() {
+        if let Some(c) = c {
+            rows.push(r as i64);
+            cols.push(*c as i64);
+        }
+    }
     // Copied into arrays NumPy allocates: cheaper than handing NumPy the vectors (one owner
     // object each), which shows in a small call; the copy is O(n) beside an O(n³) solve.
     Ok((

@@ -1,8 +1,19 @@
 //! The dense solver: Jonker & Volgenant's start ([`super::init`]), then Crouse's shortest
 //! augmenting paths with an O(nc) scan per step, which beats a heap on dense rows.
 
+use std::cell::RefCell;
+
 use super::{augment, init, NONE};
 use crate::error::{CoreError, CoreResult};
+
+/// Sides up to which a thread keeps its workspace between solves: a small solve's dozen
+/// allocations cost about as much as the solve (a 10 × 10 call is about a microsecond), and
+/// the kept vectors are O(n), a few hundred kilobytes at this size.
+const KEEP_SIDE: usize = 4096;
+
+thread_local! {
+    static KEPT: RefCell<DenseWork> = RefCell::new(DenseWork::default());
+}
 
 /// Crouse's algorithm for `nr <= nc`; returns the column of each row. `cost` has no NaN or
 /// `-inf` (checked by the caller); `+inf` entries are forbidden pairs; `all_finite` says
@@ -13,31 +24,18 @@ pub(in crate::assign::lap) fn dense(
     cost: &[f64],
     all_finite: bool,
 ) -> CoreResult<Vec<usize>> {
-    let mut w = DenseWork::new(nr, nc);
-    // Square and finite: Jonker & Volgenant's start assigns most rows cheaply, and the
-    // augmenting paths below run only for the rest. `+inf` entries would make its prices
-    // infinite, and a rectangular problem needs its free columns' prices at 0.
-    let rows = if nr == nc && nr > 1 && all_finite {
-        w.seed(init::jv_init(nr, cost), cost)
-    } else {
-        (0..nr).collect()
-    };
-    for cur in rows {
-        let Some((sink, min_val)) = w.shortest_path(cur, cost) else {
-            return Err(CoreError::ill_posed(
-                "costs",
-                format!(
-                    "row {cur} cannot be assigned: +inf entries forbid every complete assignment"
-                ),
-            ));
-        };
-        w.update_duals(cur, min_val);
-        augment(sink, cur, &w.path, &mut w.row4col, &mut w.col4row);
+    if nr > KEEP_SIDE || nc > KEEP_SIDE {
+        return DenseWork::default().solve(nr, nc, cost, all_finite);
     }
-    Ok(w.col4row)
+    KEPT.with(|kept| match kept.try_borrow_mut() {
+        Ok(mut w) => w.solve(nr, nc, cost, all_finite),
+        Err(_) => DenseWork::default().solve(nr, nc, cost, all_finite),
+    })
 }
 
-/// Working state of the dense solver, allocated once per solve.
+/// Working state of the dense solver; [`DenseWork::solve`] refills every vector, so one
+/// workspace serves many solves.
+#[derive(Default)]
 struct DenseWork {
     nc: usize,
     u: Vec<f64>,
@@ -48,35 +46,76 @@ struct DenseWork {
     row4col: Vec<usize>,
     in_sr: Vec<bool>,
     in_sc: Vec<bool>,
+    /// Jonker & Volgenant's start, and its buffers.
+    init: init::Init,
+}
+
+/// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
+fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
+    v.clear();
+    v.resize(n, x);
 }
 
 impl DenseWork {
-    fn new(nr: usize, nc: usize) -> Self {
-        Self {
-            nc,
-            u: vec![0.0; nr],
-            v: vec![0.0; nc],
-            dist: vec![f64::INFINITY; nc],
-            path: vec![NONE; nc],
-            col4row: vec![NONE; nr],
-            row4col: vec![NONE; nc],
-            in_sr: vec![false; nr],
-            in_sc: vec![false; nc],
+    fn solve(
+        &mut self,
+        nr: usize,
+        nc: usize,
+        cost: &[f64],
+        all_finite: bool,
+    ) -> CoreResult<Vec<usize>> {
+        self.nc = nc;
+        refill(&mut self.u, nr, 0.0);
+        refill(&mut self.dist, nc, f64::INFINITY);
+        refill(&mut self.path, nc, NONE);
+        refill(&mut self.in_sr, nr, false);
+        refill(&mut self.in_sc, nc, false);
+        // Square and finite: Jonker & Volgenant's start assigns most rows cheaply, and the
+        // augmenting paths below run only for the rest. `+inf` entries would make its prices
+        // infinite, and a rectangular problem needs its free columns' prices at 0.
+        let free = if nr == nc && nr > 1 && all_finite {
+            init::jv_init(nr, cost, &mut self.init);
+            self.seed(cost);
+            Some(std::mem::take(&mut self.init.free))
+        } else {
+            refill(&mut self.v, nc, 0.0);
+            refill(&mut self.col4row, nr, NONE);
+            refill(&mut self.row4col, nc, NONE);
+            None
+        };
+        let rows: &[usize] = free.as_deref().unwrap_or(&[]);
+        let all = (free.is_none()).then_some(0..nr).into_iter().flatten();
+        for cur in rows.iter().copied().chain(all) {
+            let Some((sink, min_val)) = self.shortest_path(cur, cost) else {
+                return Err(CoreError::ill_posed(
+                    "costs",
+                    format!(
+                        "row {cur} cannot be assigned: +inf entries forbid every complete assignment"
+                    ),
+                ));
+            };
+            self.update_duals(cur, min_val);
+            augment(sink, cur, &self.path, &mut self.row4col, &mut self.col4row);
         }
+        if let Some(free) = free {
+            self.init.free = free; // its allocation, for the next solve
+        }
+        Ok(self.col4row.clone())
     }
 
-    /// Starts from `init`'s prices and partial matching, with each assigned row's dual at its
-    /// reduced cost (feasible: `init` keeps every assigned row at its cheapest column); returns
-    /// the rows still free.
-    fn seed(&mut self, init: init::Init, cost: &[f64]) -> Vec<usize> {
+    /// Starts from the start's prices and partial matching, with each assigned row's dual at
+    /// its reduced cost (feasible: the start keeps every assigned row at its cheapest column).
+    /// The vectors are swapped, not moved, so both keep their allocations.
+    fn seed(&mut self, cost: &[f64]) {
         let nc = self.nc;
-        for (i, &j) in init.col4row.iter().enumerate() {
+        std::mem::swap(&mut self.v, &mut self.init.v);
+        std::mem::swap(&mut self.col4row, &mut self.init.col4row);
+        std::mem::swap(&mut self.row4col, &mut self.init.row4col);
+        for (i, &j) in self.col4row.iter().enumerate() {
             if j != NONE {
-                self.u[i] = cost[i * nc + j] - init.v[j];
+                self.u[i] = cost[i * nc + j] - self.v[j];
             }
         }
-        (self.v, self.col4row, self.row4col) = (init.v, init.col4row, init.row4col);
-        init.free
     }
 
     /// Dijkstra from row `cur` to the nearest free column over reduced costs; `None` if every

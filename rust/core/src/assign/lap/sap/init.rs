@@ -13,11 +13,16 @@
 use super::NONE;
 
 /// Duals and a partial matching from [`jv_init`]; `free` lists the unassigned rows.
+/// `cheapest` and `unique` are the column reduction's scratch. Every vector is refilled by
+/// [`jv_init`], so one `Init` serves many solves without allocating again.
+#[derive(Default)]
 pub(super) struct Init {
     pub v: Vec<f64>,
     pub col4row: Vec<usize>,
     pub row4col: Vec<usize>,
     pub free: Vec<usize>,
+    cheapest: Vec<usize>,
+    unique: Vec<bool>,
 }
 
 /// Repricing steps per free row allowed in one pass of augmenting row reduction. LAPJV's own
@@ -28,37 +33,45 @@ pub(super) struct Init {
 /// times are in docs/performance.md (`benches/bench_lap.py`).
 const ARR_STEPS_PER_ROW: usize = 8;
 
-/// The initialisation of an `n × n` row-major matrix with every entry finite.
-pub(super) fn jv_init(n: usize, cost: &[f64]) -> Init {
-    let mut init = column_reduction(n, cost);
+/// The initialisation of an `n × n` row-major matrix with every entry finite, into `init`.
+pub(super) fn jv_init(n: usize, cost: &[f64], init: &mut Init) {
+    column_reduction(n, cost, init);
     for _ in 0..2 {
         if init.free.is_empty() {
             break;
         }
-        augmenting_row_reduction(n, cost, &mut init);
+        augmenting_row_reduction(n, cost, init);
     }
-    init
+}
+
+/// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
+fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
+    v.clear();
+    v.resize(n, x);
 }
 
 /// Each column priced at its cheapest row and given to it if that row has no column yet
 /// (columns in reverse order, as LAPJV); then each row that won exactly one column transfers
 /// its slack to that column's price.
-fn column_reduction(n: usize, cost: &[f64]) -> Init {
-    let mut v = vec![f64::INFINITY; n];
-    let mut cheapest = vec![NONE; n];
+fn column_reduction(n: usize, cost: &[f64], init: &mut Init) {
+    refill(&mut init.v, n, f64::INFINITY);
+    refill(&mut init.cheapest, n, NONE);
+    let (v, cheapest) = (&mut init.v, &mut init.cheapest);
     for (i, row) in cost.chunks_exact(n).enumerate() {
         // Selects, not branches, so that the loop vectorises; strict `<` keeps the first row
         // of a tie, as the branching form did.
-        for ((vj, cj), &c) in v.iter_mut().zip(&mut cheapest).zip(row) {
+        for ((vj, cj), &c) in v.iter_mut().zip(cheapest.iter_mut()).zip(row) {
             let less = c < *vj;
             *vj = if less { c } else { *vj };
             *cj = if less { i } else { *cj };
         }
     }
-    let (mut col4row, mut row4col) = (vec![NONE; n], vec![NONE; n]);
-    let mut unique = vec![true; n];
+    refill(&mut init.col4row, n, NONE);
+    refill(&mut init.row4col, n, NONE);
+    refill(&mut init.unique, n, true);
+    let (col4row, row4col, unique) = (&mut init.col4row, &mut init.row4col, &mut init.unique);
     for j in (0..n).rev() {
-        let i = cheapest[j];
+        let i = init.cheapest[j];
         if col4row[i] == NONE {
             col4row[i] = j;
             row4col[j] = i;
@@ -66,11 +79,12 @@ fn column_reduction(n: usize, cost: &[f64]) -> Init {
             unique[i] = false;
         }
     }
-    let mut free = Vec::new();
+    init.free.clear();
+    let v = &mut init.v;
     for i in 0..n {
         let j = col4row[i];
         if j == NONE {
-            free.push(i);
+            init.free.push(i);
         } else if unique[i] {
             let row = &cost[i * n..(i + 1) * n];
             let slack =
@@ -79,12 +93,6 @@ fn column_reduction(n: usize, cost: &[f64]) -> Init {
                 v[j] -= slack;
             }
         }
-    }
-    Init {
-        v,
-        col4row,
-        row4col,
-        free,
     }
 }
 
