@@ -3,6 +3,7 @@ random scenarios, thread invariance and bad input (`reproduce fti` is smoke-test
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from itertools import pairwise
 
@@ -160,10 +161,45 @@ def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: P
         outcomes.append("tracks" if result.tracks else "no tracks")
 
     check()
-    with_tracks = outcomes.count("tracks") / len(outcomes)
-    # Measured with this rule: 0.935 and 0.955 of 400 examples had tracks (two runs); over 1000 runs of 30
-    # examples the fraction's mean was 0.929, its 1st percentile 0.77 and its minimum 0.67.
-    assert with_tracks >= 0.5, f"only {outcomes.count('tracks')} of {len(outcomes)} examples produced tracks"
+    # Hypothesis draws its examples unevenly (it revisits small and boundary values), so how
+    # many end with tracks is checked on a uniform draw in the next test; here at least one.
+    assert "tracks" in outcomes, outcomes
+
+
+def test_most_random_short_windows_end_with_tracks() -> None:
+    """The partition check above says little about a result without tracks; on a fixed uniform
+    draw of the same windows (60 examples) most must end with tracks. Measured: 49 of 60 here
+    (9 without tracks, 2 refused: a sensor with a single scan); another draw of 300 gave 0.87."""
+    rng = np.random.default_rng(38)
+    outcomes: list[str] = []
+    for _ in range(60):
+        seed, n_targets, n_sensors, n_scans = (
+            int(v) for v in (rng.integers(2**31), *rng.integers([1, 2, 2], [4, 4, 7]))
+        )
+        clutter, pd, planar = (
+            float(rng.choice([0.0, 0.5, 2.0])),
+            float(rng.choice([0.7, 1.0])),
+            bool(rng.random() < 0.5),
+        )
+        if planar:
+            scenario = pa.bearing_only_2d_scenario(
+                seed=seed, n_targets=n_targets, n_sensors=n_sensors, n_scans=n_scans, clutter_ratio=clutter, pd=pd
+            )
+        else:
+            scenario = pa.paper_fti_scenario(seed=seed, n_scans=n_scans, clutter_ratio=clutter, pd=pd)
+        n_detect = max(1, scenario.sensors.n_sensors * n_scans // 2)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)  # "no candidate survived"
+                result = FuzzyTrackInitiator(max_candidates=200_000, n_detect=n_detect).initiate(
+                    scenario.measurements, scenario.sensors, progress=False
+                )
+        except ValueError as err:
+            assert "scan" in str(err), err
+            outcomes.append("refused")
+            continue
+        outcomes.append("tracks" if result.tracks else "no tracks")
+    assert outcomes.count("tracks") >= 45, outcomes
 
 
 @pytest.mark.parametrize(
