@@ -105,19 +105,25 @@ pub fn initiate_reporting(
     };
     let (counts, mut seconds) = (run.counts, run.seconds);
 
-    let clock = Instant::now();
-    let labels = classify(
-        &problem,
-        &scans,
-        &states,
-        options.gate_sigmas(),
-        options.one_per_scan(),
-    )?;
-    seconds.detection += clock.elapsed().as_secs_f64();
-
-    let clock = Instant::now();
-    let (tracks, labels) = finished(&problem, &pre, &scans, &states, labels, options)?;
-    seconds.final_fit = clock.elapsed().as_secs_f64();
+    // The sweep that found nothing has already run the end on these very states.
+    let (tracks, labels) = match run.end.take() {
+        Some(end) => end,
+        None => {
+            let clock = Instant::now();
+            let labels = classify(
+                &problem,
+                &scans,
+                &states,
+                options.gate_sigmas(),
+                options.one_per_scan(),
+            )?;
+            seconds.detection += clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            let end = finished(&problem, &pre, &scans, &states, labels, options)?;
+            seconds.final_fit += clock.elapsed().as_secs_f64();
+            end
+        }
+    };
 
     Ok(Initiation {
         dim,
@@ -282,8 +288,12 @@ fn sweep(
         return Ok(states);
     }
     let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
+    let clock = Instant::now();
     let classified = classify(problem, scans, &states, gate, one_per_scan)?;
+    run.seconds.detection += clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
     let (tracks, labels) = finished(problem, pre, scans, &states, classified, options)?;
+    run.seconds.final_fit += clock.elapsed().as_secs_f64();
     for (free, &label) in available.iter_mut().zip(&labels) {
         *free = label < 0;
     }
@@ -295,6 +305,7 @@ fn sweep(
     let found = run.pass(problem, pre, scans, &slots, Some(&mask), &swept, available)?;
     run.limit = None;
     if found.is_empty() {
+        run.end = Some((tracks, labels)); // the pipeline's end of `states`, already run
         return Ok(states);
     }
     let mut carried: Vec<[f64; MAX_DIM]> = tracks.iter().map(|t| padded(&t.estimate)).collect();
@@ -308,6 +319,9 @@ struct Run {
     support: Option<SupportTable>,
     /// The limit that ended the formation (`stop_at_limit`).
     limit: Option<String>,
+    /// The end of the pipeline ([`finished`]) of the states the formation returns, when a
+    /// pass has already run it on exactly those states (the sweep that found nothing).
+    end: Option<(Vec<Track>, Vec<i64>)>,
     counts: StageCounts,
     seconds: StageSeconds,
     iterations: Vec<usize>,
