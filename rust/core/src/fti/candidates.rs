@@ -142,13 +142,15 @@ fn form_slot(
     let round_gate = match slot.is_tested() {
         false => None,
         true => {
+            let table = gate.map_or(&[][..], |g| &g.table.scans[..]);
+            let witnesses = Witnesses::new(table, &slot.witnesses);
+            // Witnesses, where there are any, decide alone (module `round_gate`): the
+            // pair's other rounds are then never read, so they are not built.
             let mut rounds = Vec::with_capacity(slot.tested.len());
-            for &[a, b] in &slot.tested {
+            for &[a, b] in slot.tested.iter().filter(|_| !witnesses.asks()) {
                 let (pairs, _) = ray_pairs(problem, &rows_of(a), &rows_of(b), options)?;
                 rounds.push(RoundMeetings::new(problem.layout.space, &pairs));
             }
-            let table = gate.map_or(&[][..], |g| &g.table.scans[..]);
-            let witnesses = Witnesses::new(table, &slot.witnesses);
             let (space, need) = (problem.layout.space, slot.need);
             let located = [&rays.firsts[..], &rays.lasts[..]];
             Some(RoundGate::new(space, rounds, need, witnesses, located))
