@@ -68,11 +68,14 @@ pub(super) fn combine_with(
     set: &mut CandidateSet,
 ) -> CoreResult<()> {
     let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
-    let work: usize = match grid {
-        Some(g) => firsts.par_iter().map(|f| g.count_near(f)).sum(),
-        None => firsts.len().saturating_mul(lasts.len()),
-    };
     let cap = WORK_PER_CANDIDATE.saturating_mul(options.max_candidates());
+    // Every first × last pair bounds the grid's tests: counting them (a second query of the
+    // grid per first pair) is needed only when that bound exceeds the cap.
+    let every = firsts.len().saturating_mul(lasts.len());
+    let work: usize = match grid {
+        Some(g) if every > cap => firsts.par_iter().map(|f| g.count_near(f)).sum(),
+        _ => every,
+    };
     if work > cap {
         return Err(CoreError::CapExceeded {
             what: "first × last ray-pair tests of one scan pair",
