@@ -3,7 +3,7 @@
 
 use std::cell::RefCell;
 
-use super::{augment, init, NONE};
+use super::{augment, init, refill, NONE};
 use crate::error::{CoreError, CoreResult};
 
 /// Sides up to which a thread keeps its workspace between solves: a small solve's dozen
@@ -48,12 +48,6 @@ struct DenseWork {
     in_sc: Vec<bool>,
     /// Jonker & Volgenant's start, and its buffers.
     init: init::Init,
-}
-
-/// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
-fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
-    v.clear();
-    v.resize(n, x);
 }
 
 impl DenseWork {

@@ -10,7 +10,7 @@
 //! row's column is repriced. Square only: for a rectangular problem the free columns' duals
 //! must stay 0, which the column reduction would break.
 
-use super::NONE;
+use super::{refill, NONE};
 
 /// Duals and a partial matching from [`jv_init`]; `free` lists the unassigned rows.
 /// `cheapest` and `unique` are the column reduction's scratch. Every vector is refilled by
@@ -42,12 +42,6 @@ pub(super) fn jv_init(n: usize, cost: &[f64], init: &mut Init) {
         }
         augmenting_row_reduction(n, cost, init);
     }
-}
-
-/// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
-fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
-    v.clear();
-    v.resize(n, x);
 }
 
 /// Each column priced at its cheapest row and given to it if that row has no column yet
