@@ -169,7 +169,7 @@ def test_random_scenarios_keep_the_partition_and_never_panic(assert_partition: P
 def test_most_random_short_windows_end_with_tracks() -> None:
     """The partition check above says little about a result without tracks; on a fixed uniform
     draw of the same windows (60 examples) most must end with tracks. Measured: 49 of 60 here
-    (9 without tracks, 2 refused: a sensor with a single scan); another draw of 300 gave 0.87."""
+    (9 without tracks, 2 refused: a sensor with a single scan)."""
     rng = np.random.default_rng(38)
     outcomes: list[str] = []
     for _ in range(60):
