@@ -10,6 +10,7 @@ and ends with a one-line :func:`verdict` against the paper.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -18,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
+from .._params import Options
 from ..evaluation import perfect_association_fit, target_crlbs
 from ..fti import FuzzyTrackInitiator, InitiationResult
 from ..simulation import Scenario, paper_fti_scenario
@@ -336,6 +338,16 @@ def verdict(summary: dict[str, Any], settings: dict[str, Any]) -> dict[str, Any]
     return {"reproduces": True, "failures": [], "line": line}
 
 
+def _default(name: str) -> Any:
+    """The initiator's declared default of ``name``: the options below restate none."""
+    return next(f.default for f in dataclasses.fields(FuzzyTrackInitiator) if f.name == name)
+
+
+def _choices(name: str) -> tuple[str, ...]:
+    """The words the initiator declares for ``name``."""
+    return next(c.choices for c in FuzzyTrackInitiator._constraints[name] if isinstance(c, Options))
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--runs", type=positive_int, default=100, help="Monte-Carlo runs (default 100)")
     parser.add_argument("--seed", type=seed_int, default=2026, help="master seed (default 2026)")
@@ -350,32 +362,33 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--refine-passes",
         type=nonnegative_int,
-        default=2,
-        help="classify-and-refit passes after the final fit (default 2; 0 = the paper's pipeline)",
+        default=_default("refine_passes"),
+        help="classify-and-refit passes after the final fit (default %(default)s; 0 = the paper's pipeline)",
     )
     parser.add_argument(
         "--candidate-scans",
         type=positive_int,
-        default=4,
-        help="scans at each end of the window that form candidates (default 4; 1 = the paper's first and last)",
+        default=_default("candidate_scans"),
+        help="scans at each end of the window that form candidates "
+        "(default %(default)s; 1 = the paper's first and last)",
     )
     parser.add_argument(
         "--descent-scaling",
-        choices=("whitened", "diagonal"),
-        default="whitened",
-        help="coordinates of the closeness search (default whitened; diagonal = METHODS wording)",
+        choices=_choices("descent_scaling"),
+        default=_default("descent_scaling"),
+        help="coordinates of the closeness search (default %(default)s; diagonal = METHODS wording)",
     )
     parser.add_argument(
         "--detection-order",
-        choices=("membership", "closeness"),
-        default="membership",
-        help="order in which detection visits the optima (default membership; closeness = the paper's)",
+        choices=_choices("detection_order"),
+        default=_default("detection_order"),
+        help="order in which detection visits the optima (default %(default)s; closeness = the paper's)",
     )
     parser.add_argument(
         "--gate-pd",
         type=finite_float,
-        default=None,
-        help="detection probability the tracking gate assumes to price misses (default: not priced)",
+        default=_default("gate_pd"),
+        help="detection probability the tracking gate assumes to price misses (default %(default)s: not priced)",
     )
     parser.add_argument(
         "--plot", metavar="FILE", type=output_file, help="save the run-0 picture and RMS-vs-CRLB bars (PNG/PDF)"
