@@ -43,10 +43,14 @@ pub(super) fn joined(
         .iter()
         .map(|t| predictions(problem, scans, t))
         .collect();
+    // Each scan's width once, not once per pair of tracks (the pairs are many at 100 targets).
+    let widths: Vec<[f64; 2]> = (0..scans.len())
+        .map(|k| problem.scan_sigma(scans.scan(k)).map(|s| gate * s))
+        .collect();
     let mut used = vec![false; tracks.len()];
     for a in 0..tracks.len() {
         for b in a + 1..tracks.len() {
-            if used[a] || used[b] || !compete(problem, scans, &predicted[a], &predicted[b], gate) {
+            if used[a] || used[b] || !compete(problem, &widths, &predicted[a], &predicted[b]) {
                 continue;
             }
             let Some(join) = try_join(problem, pre, scans, &tracks[a], &tracks[b], n_detect, z)
@@ -76,20 +80,12 @@ fn predictions(problem: &Problem<'_>, scans: &Scans, t: &Track) -> Vec<[f64; 2]>
         .collect()
 }
 
-/// Whether two tracks' predicted angles (`ha`, `hb`, per scan) come within `gate` σ of each
-/// other, in every angle, in some scan.
-fn compete(
-    problem: &Problem<'_>,
-    scans: &Scans,
-    ha: &[[f64; 2]],
-    hb: &[[f64; 2]],
-    gate: f64,
-) -> bool {
+/// Whether two tracks' predicted angles (`ha`, `hb`, per scan) come within each scan's
+/// `widths` (the gate times its σ) of each other, in every angle, in some scan.
+fn compete(problem: &Problem<'_>, widths: &[[f64; 2]], ha: &[[f64; 2]], hb: &[[f64; 2]]) -> bool {
     let angles = problem.layout.space.angles();
-    (0..scans.len()).any(|k| {
-        let sigma = problem.scan_sigma(scans.scan(k));
-        (0..angles).all(|c| wrap(ha[k][c] - hb[k][c]).abs() <= gate * sigma[c])
-    })
+    (widths.iter().enumerate())
+        .any(|(k, w)| (0..angles).all(|c| wrap(ha[k][c] - hb[k][c]).abs() <= w[c]))
 }
 
 /// The joined track of `a` and `b` if it passes the track test with more rows than either.
