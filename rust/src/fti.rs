@@ -138,7 +138,7 @@ pub struct InitiationOutput {
     descent_iterations: Py<PyArrayDyn<i64>>,
     stage_counts: Py<StageCounts>,
     stage_seconds: Py<StageSeconds>,
-    /// The formation that ran, `"paper"` or `"rounds"`.
+    /// The formation that ran, `"paper"`, `"rounds"` or `"witnessed"`.
     formation: &'static str,
     /// The limit that ended the formation early, or `None`.
     limit: Option<String>,

@@ -89,7 +89,7 @@ class InitiationDiagnostics:
     stage_seconds : dict of str to float
         Wall-clock seconds of ``candidates``, ``fit``, ``support`` (the re-gating between
         stages included), ``descent``, ``detection`` and ``final`` (the final fits and tests).
-    candidates : {"paper", "rounds"}
+    candidates : {"paper", "rounds", "witnessed"}
         The candidate formation that ran (``candidates="auto"`` resolved).
     limit : str or None
         The limit that ended the candidate formation early (``on_limit="warn"``), as the
@@ -103,7 +103,7 @@ class InitiationDiagnostics:
     stage_counts: dict[str, int]
     descent_iterations: NDArray[np.int64]
     stage_seconds: dict[str, float]
-    candidates: Literal["paper", "rounds"]
+    candidates: Literal["paper", "rounds", "witnessed"]
     limit: str | None
     below_min_score: int
 
@@ -166,18 +166,20 @@ class FuzzyTrackInitiator(Configurable):
         neighbouring pairs ``[(0, 1), (1, 2), ...]`` of a line of five sensors found as many
         targets in a quarter to two thirds of the time on the scale bench's scenes
         (docs/performance.md, *Fewer sensor pairs*; not measured at Pd < 1).
-    candidates : {"auto", "paper", "rounds"}
+    candidates : {"auto", "paper", "rounds", "witnessed"}
         Where the candidates come from. ``"paper"``: the first and last scans of each sensor
         pair (eq. 20–22), whose 4-tuples grow as the fourth power of the targets.
         ``"rounds"`` (a project extension): two neighbouring scans of each sensor pair, each
         candidate tested against the pair's neighbouring scans and the other sensors' scans
-        before its fit, so that the fits grow as the square of the targets. ``"auto"``
-        (default): ``"rounds"`` in 3-D with three or more sensors, where a third sensor's
+        before its fit, so that the fits grow as the square of the targets. ``"witnessed"``
+        (a project extension): the paper's scans, each candidate tested against every scan
+        of the sensors outside its pair before its fit. ``"auto"`` (default): with three or
+        more sensors, ``"rounds"`` in 3-D and ``"witnessed"`` in 2-D, where a third sensor's
         rays reject the pair's ghosts; ``"paper"`` otherwise. The result's diagnostics say
-        which ran (docs/methods.md §1, *Rounds formation*).
+        which ran (docs/methods.md §1, *Candidate formation*).
     prefit_gates : bool
-        The rounds formation's tests before each fit (its pair's neighbouring scans, the
-        other sensors' scans); False fits every candidate that passes ``v_max``.
+        The rounds and witnessed formations' tests before each fit (the pair's neighbouring
+        scans, the other sensors' scans); False fits every candidate that passes ``v_max``.
     sweep : bool
         After the rounds formation, the paper's formation on the rows its tracks leave as
         clutter, with a twentieth of ``max_candidates`` as its budget: it finds the targets a
@@ -297,7 +299,9 @@ class FuzzyTrackInitiator(Configurable):
     gate_sigmas: Annotated[float, POSITIVE] = 5.0
     n_detect: Annotated[int | None, COUNT, None] = None
     pairs: Sequence[tuple[int, int]] | None = None  # checked against the network at initiate()
-    candidates: Annotated[Literal["auto", "paper", "rounds"], Options("auto", "paper", "rounds")] = "auto"
+    candidates: Annotated[
+        Literal["auto", "paper", "rounds", "witnessed"], Options("auto", "paper", "rounds", "witnessed")
+    ] = "auto"
     prefit_gates: Annotated[bool, Boolean()] = True
     sweep: Annotated[bool, Boolean()] = True
     ray_gate_sigmas: Annotated[float | None, POSITIVE, None] = 5.0

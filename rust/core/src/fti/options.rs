@@ -21,9 +21,9 @@ pub(super) const OOM_HINT: &str =
 /// Where the candidates come from: see module `candidates`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Formation {
-    /// [`Formation::Rounds`] in 3-D with three or more sensors that have two scans or more,
-    /// [`Formation::Paper`] otherwise (in 2-D any two bearings meet, so a third sensor's ray
-    /// rejects little and the short-baseline rounds give poor candidates).
+    /// With three or more sensors that have two scans or more, [`Formation::Rounds`] in 3-D
+    /// and [`Formation::Witnessed`] in 2-D (where any two bearings meet, so the short-baseline
+    /// rounds give poor candidates); [`Formation::Paper`] otherwise.
     Auto,
     /// The paper's (eq. 20–22): the first and last scans of each sensor pair.
     Paper,
@@ -32,6 +32,10 @@ pub enum Formation {
     /// nearest in time, tested against the pair's neighbouring rounds (module `round_gate`)
     /// and the other sensors' scans (module `witness_gate`) before their fit.
     Rounds,
+    /// The paper's slots (a project extension): each candidate tested against every scan of
+    /// the sensors outside its pair (module `witness_gate`) before its fit; the paper's with
+    /// fewer than three sensors or without `prefit_gates`.
+    Witnessed,
 }
 
 impl Formation {
@@ -39,7 +43,10 @@ impl Formation {
     /// two scans or more; the others stand for themselves.
     pub fn resolve(self, space: Space, sensors_with_scans: usize) -> Self {
         match self {
-            Self::Auto if space == Space::Spatial && sensors_with_scans >= 3 => Self::Rounds,
+            Self::Auto if sensors_with_scans >= 3 => match space {
+                Space::Spatial => Self::Rounds,
+                Space::Planar => Self::Witnessed,
+            },
             Self::Auto => Self::Paper,
             other => other,
         }
@@ -51,6 +58,7 @@ impl Formation {
             Self::Auto => "auto",
             Self::Paper => "paper",
             Self::Rounds => "rounds",
+            Self::Witnessed => "witnessed",
         }
     }
 }
@@ -58,14 +66,15 @@ impl Formation {
 impl std::str::FromStr for Formation {
     type Err = UnknownOption;
 
-    /// `"auto"`, `"paper"` or `"rounds"`.
+    /// `"auto"`, `"paper"`, `"rounds"` or `"witnessed"`.
     fn from_str(value: &str) -> Result<Self, UnknownOption> {
         let choices = [
             ("auto", Self::Auto),
             ("paper", Self::Paper),
             ("rounds", Self::Rounds),
+            ("witnessed", Self::Witnessed),
         ];
-        parse_option(value, &choices, "'auto', 'paper' or 'rounds'")
+        parse_option(value, &choices, "'auto', 'paper', 'rounds' or 'witnessed'")
     }
 }
 
@@ -100,7 +109,7 @@ impl std::str::FromStr for DetectionOrder {
 /// | field | recommended | why |
 /// |---|---|---|
 /// | `candidates` | auto | the rounds formation where a third sensor can reject ghosts (3-D, ≥ 3 sensors), the paper's elsewhere; see [`Formation`] |
-/// | `prefit_gates` | on | the rounds formation tests its candidates before fitting them; see [`with_prefit_gates`](Self::with_prefit_gates) |
+/// | `prefit_gates` | on | the rounds and witnessed formations test their candidates before fitting them; see [`with_prefit_gates`](Self::with_prefit_gates) |
 /// | `sweep` | on | after the rounds, the paper's formation on the rows left as clutter, under a budget; see [`with_sweep`](Self::with_sweep) |
 /// | `stop_at_limit` | on | reaching `max_candidates` ends the formation with the tracks it found, and says so; see [`with_stop_at_limit`](Self::with_stop_at_limit) |
 /// | `pairs` | every pair a < b | |

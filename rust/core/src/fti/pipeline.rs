@@ -68,13 +68,14 @@ pub fn initiate_reporting(
     let with_scans = (scans.per_sensor.iter()).filter(|l| l.len() >= 2).count();
     let formation = options.candidates().resolve(sensors.space(), with_scans);
     let states = match formation {
-        Formation::Paper | Formation::Auto => paper_passes(
+        Formation::Paper | Formation::Auto | Formation::Witnessed => paper_passes(
             &mut run,
             &problem,
             &pre,
             &scans,
             &pairs,
             options,
+            formation == Formation::Witnessed && options.prefit_gates(),
             &mut available,
         )?,
         Formation::Rounds => {
@@ -140,7 +141,9 @@ pub fn initiate_reporting(
 /// The paper's formation: pass 1 on the first and last scans of every pair, over every row;
 /// pass 2 (candidate_scans > 1) on the next-outermost scans, over the rows pass 1 left. Their
 /// targets are missed in an outer scan; the rows already taken cannot be reused, so pass 1's
-/// targets cannot be found twice.
+/// targets cannot be found twice. `witnessed`: each slot's candidates are tested against the
+/// other sensors' scans before their fit ([`witnessed_slots`]).
+#[allow(clippy::too_many_arguments)] // the pipeline's state, as round_passes takes it
 fn paper_passes(
     run: &mut Run,
     problem: &Problem<'_>,
@@ -148,11 +151,16 @@ fn paper_passes(
     scans: &Scans,
     pairs: &[[usize; 2]],
     options: &InitiationOptions,
+    witnessed: bool,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let outer = paper_slots(scans, pairs, 1, false);
+    let slots = |depth: usize, inner: bool| match witnessed {
+        true => witnessed_slots(scans, pairs, depth, inner),
+        false => paper_slots(scans, pairs, depth, inner),
+    };
+    let outer = slots(1, false);
     let mut states = run.pass(problem, pre, scans, &outer, None, options, available)?;
-    let inner = paper_slots(scans, pairs, options.candidate_scans(), true);
+    let inner = slots(options.candidate_scans(), true);
     if !inner.is_empty() && run.limit.is_none() {
         free_dissolved(problem, pre, scans, &states, options, true, available)?;
         let mask = available.to_vec();
@@ -167,6 +175,30 @@ fn paper_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: bool) -
         .flat_map(|&p| scans.scan_slots(p, depth, inner))
         .map(Slot::untested)
         .collect()
+}
+
+/// The paper's slots of every pair, each witnessed by every scan of the sensors outside its
+/// pair, half of which must see a candidate before its fit (module `witness_gate`): a ghost
+/// of two sensors' bearings passes one scan of a third often in a cluttered plane, but seldom
+/// half of them.
+fn witnessed_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: bool) -> Vec<Slot> {
+    let mut slots = Vec::new();
+    for &[a, b] in pairs {
+        let witnesses: Vec<usize> = (scans.per_sensor.iter().enumerate())
+            .filter(|&(j, _)| j != a && j != b)
+            .flat_map(|(_, own)| own.iter().copied())
+            .collect();
+        slots.extend(
+            scans
+                .scan_slots([a, b], depth, inner)
+                .into_iter()
+                .map(|s| Slot {
+                    witnesses: witnesses.clone(),
+                    ..Slot::untested(s)
+                }),
+        );
+    }
+    slots
 }
 
 /// Each scan's time (its rows share one).

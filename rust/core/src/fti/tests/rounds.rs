@@ -38,13 +38,17 @@ fn assert_partition(sc: &Scenario, result: &Initiation) {
 }
 
 #[test]
-fn auto_resolves_to_rounds_only_in_3d_with_three_scanning_sensors() {
+fn auto_resolves_by_space_with_three_scanning_sensors() {
     assert_eq!(
         Formation::Auto.resolve(Space::Spatial, 3),
         Formation::Rounds
     );
     assert_eq!(Formation::Auto.resolve(Space::Spatial, 2), Formation::Paper);
-    assert_eq!(Formation::Auto.resolve(Space::Planar, 5), Formation::Paper);
+    assert_eq!(
+        Formation::Auto.resolve(Space::Planar, 5),
+        Formation::Witnessed
+    );
+    assert_eq!(Formation::Auto.resolve(Space::Planar, 2), Formation::Paper);
     assert_eq!(
         Formation::Paper.resolve(Space::Spatial, 5),
         Formation::Paper
