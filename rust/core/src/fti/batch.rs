@@ -142,7 +142,7 @@ impl<'a> Batch<'a> {
     /// support `gate` (when on), and keeps the survivors. Gating each batch as it is fitted,
     /// instead of every candidate after all are fitted, keeps only the survivors in memory
     /// (6 145 of the 465 152 fitted on the 8-target 2-D scene of
-    /// `benches/bench_initiation_2d.py`, each ≈ 0.45 kB).
+    /// `benches/bench_initiation_2d.py` with the paper's formation, each ≈ 0.45 kB).
     fn fit_and_gate(&self, set: &mut CandidateSet) -> CoreResult<()> {
         let (problem, options, gate) = (self.problem, self.options, self.gate);
         let start = Instant::now();

@@ -123,7 +123,7 @@ impl std::str::FromStr for DetectionOrder {
 /// | `detection_order` | membership | R favours ghosts between targets; see module `detection_order` |
 /// | `merge_tol` | 1 σ | distinct targets are many σ apart; duplicates converge within 0.1 σ |
 /// | `descent` | see [`DescentOptions`] | |
-/// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (the 8-target 2-D scene of `benches/bench_initiation_2d.py`); with the support gate off every candidate is stored (≈ 0.45 kB each) |
+/// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (the 8-target 2-D scene of `benches/bench_initiation_2d.py` with `candidates="paper"`); with the support gate off every candidate is stored (≈ 0.45 kB each) |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
 /// | `track_test` | 10⁻⁶ (z = 4.753) | see [`with_track_test`](Self::with_track_test) |
 /// | `support_gate` | on | see module `support` |
