@@ -34,8 +34,8 @@ def test_the_witnessed_formation_finds_the_papers_targets_from_fewer_fits(
 ) -> None:
     """2-D, 3 sensors, 8 targets, Pd 0.9 (the simulator's scene): the other sensor's scans
     reject the pair's ghosts before their fit, so the default holds every target the paper's
-    formation holds, with the same false tracks, from a quarter of its fits or fewer (on these
-    seeds 53 000-78 000 against 341 000-419 000)."""
+    formation holds, with the same false tracks, from an eighth of its fits or fewer (on these
+    seeds 22 000-43 000 against 341 000-419 000)."""
     scenario = pa.bearing_only_2d_scenario(seed, n_targets=8, pd=0.9)
     table, truth = scenario.measurements, scenario.measurements.truth
     assert truth is not None
@@ -49,7 +49,7 @@ def test_the_witnessed_formation_finds_the_papers_targets_from_fewer_fits(
     assert np.sum(held["auto"] < 0) == np.sum(held["paper"] < 0)
     assert len(set(held["auto"].tolist()) - {-1}) >= 6
     fitted = {c: r.diagnostics.stage_counts["fitted"] for c, r in runs.items()}
-    assert fitted["auto"] * 4 <= fitted["paper"], fitted
+    assert fitted["auto"] * 8 <= fitted["paper"], fitted
     assert_partition(runs["auto"], len(table))
 
 

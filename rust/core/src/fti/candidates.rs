@@ -143,7 +143,7 @@ fn form_slot(
         false => None,
         true => {
             let table = gate.map_or(&[][..], |g| &g.table.scans[..]);
-            let witnesses = Witnesses::new(table, &slot.witnesses);
+            let witnesses = Witnesses::new(table, &slot.witnesses, slot.majority);
             // Witnesses, where there are any, decide alone (module `round_gate`): the
             // pair's other rounds are then never read, so they are not built.
             let mut rounds = Vec::with_capacity(slot.tested.len());

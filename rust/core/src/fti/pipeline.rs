@@ -178,9 +178,12 @@ fn paper_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: bool) -
 }
 
 /// The paper's slots of every pair, each witnessed by every scan of the sensors outside its
-/// pair, half of which must see a candidate before its fit (module `witness_gate`): a ghost
-/// of two sensors' bearings passes one scan of a third often in a cluttered plane, but seldom
-/// half of them.
+/// pair, more than half of which must see a candidate before its fit (module `witness_gate`):
+/// a ghost of two sensors' bearings passes one scan of a third often in a cluttered plane,
+/// but seldom most of them, while a target at Pd 0.9 is seen in 5 of 8 with probability 0.995.
+/// Five of eight, not four (at least half, the rounds' rule): on the simulator's 2-D 8-target
+/// scene the fits fall from 70 000 to 35 000 and the false tracks from 0.34 to 0.32 a scene
+/// for the same targets; six of eight lost a target of the 6-target scene in 30 runs.
 fn witnessed_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: bool) -> Vec<Slot> {
     let mut slots = Vec::new();
     for &[a, b] in pairs {
@@ -194,6 +197,7 @@ fn witnessed_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: boo
                 .into_iter()
                 .map(|s| Slot {
                     witnesses: witnesses.clone(),
+                    majority: true,
                     ..Slot::untested(s)
                 }),
         );

@@ -119,13 +119,15 @@ impl Scans {
 /// One slot: the scans `[a-first, b-first, a-last, b-last]` of a sensor pair; the pair's
 /// other rounds (`[a, b]` scans) its candidates are tested against before their fit, and how
 /// many of those must support a candidate (module `round_gate`); and the other sensors' scans
-/// that must witness it (module `witness_gate`).
+/// that must witness it (module `witness_gate`): at least half of them, or more than half
+/// where `majority`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Slot {
     pub scans: [usize; 4],
     pub tested: Vec<[usize; 2]>,
     pub need: usize,
     pub witnesses: Vec<usize>,
+    pub majority: bool,
 }
 
 impl Slot {
@@ -137,6 +139,7 @@ impl Slot {
             tested: Vec::new(),
             need: 0,
             witnesses: Vec::new(),
+            majority: false,
         }
     }
 
@@ -173,6 +176,7 @@ impl Scans {
                         tested: before.into_iter().chain(round(k + 2)).collect(),
                         need: 1,
                         witnesses: self.witnesses([a, b], scans, times),
+                        majority: false,
                     });
                 }
             }

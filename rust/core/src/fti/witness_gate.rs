@@ -1,5 +1,6 @@
-//! The witness gate (rounds formation, a project extension): before its fit, a candidate of
-//! a sensor pair must be seen by the network's other sensors in the scans around its rounds.
+//! The witness gate (rounds and witnessed formations, a project extension): before its fit,
+//! a candidate of a sensor pair must be seen by the network's other sensors in the scans
+//! around its rounds.
 //!
 //! Two sensors' rays meet wherever they cross, target or not; a third sensor's ray passes a
 //! true meeting and seldom a ghost (METHODS §2). The test uses the candidate's own trajectory,
@@ -12,7 +13,9 @@
 //! azimuth and elevation with the spread of the two meetings carried there (their covariances,
 //! as module `round_gate` has them) added to the sensor's noise. A scan with a row inside the
 //! 99 % ellipse of that prediction supports the candidate; at least half the witness scans
-//! (rounded up) must, so a target missed once by another sensor still passes.
+//! (rounded up) must, so a target missed once by another sensor still passes. The witnessed
+//! formation's slots (the paper's first × last scans, every scan of the other sensors as
+//! witnesses) need more than half.
 
 use super::meeting::{Located3, Matrix};
 use super::ray_pairs::RayPair;
@@ -35,11 +38,15 @@ pub(super) struct Witnesses<'t> {
 }
 
 impl<'t> Witnesses<'t> {
-    /// The scans of `table` numbered `witnesses`, half of them needed.
-    pub(super) fn new(table: &'t [ScanAngles], witnesses: &[usize]) -> Self {
+    /// The scans of `table` numbered `witnesses`, half of them needed (rounded up), or more
+    /// than half with `majority`.
+    pub(super) fn new(table: &'t [ScanAngles], witnesses: &[usize], majority: bool) -> Self {
         let scans: Vec<&ScanAngles> = witnesses.iter().filter_map(|&k| table.get(k)).collect();
         Self {
-            need: scans.len().div_ceil(2),
+            need: match majority {
+                true => scans.len() / 2 + 1,
+                false => scans.len().div_ceil(2),
+            },
             scans,
             gate: CHI2_2DOF_99,
         }
