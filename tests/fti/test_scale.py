@@ -53,6 +53,24 @@ def test_the_witnessed_formation_finds_the_papers_targets_from_fewer_fits(
     assert_partition(runs["auto"], len(table))
 
 
+def test_without_the_support_gate_the_witnessed_formation_is_the_papers() -> None:
+    """The witness test reads the support gate's tables: with the gate off there is nothing to
+    ask, every candidate goes to its fit as in the paper's formation (not none of them), and
+    the diagnostics say so; likewise with ``prefit_gates=False``."""
+    scenario = pa.bearing_only_2d_scenario(0, n_targets=3)
+    runs = [
+        FuzzyTrackInitiator(candidates=c, support_gate=False).initiate(
+            scenario.measurements, scenario.sensors, progress=False
+        )
+        for c in ("witnessed", "paper")
+    ]
+    assert runs[0].diagnostics.candidates == "paper"
+    assert runs[0].diagnostics.stage_counts == runs[1].diagnostics.stage_counts
+    assert np.array_equal(runs[0].labels, runs[1].labels) and len(runs[0].tracks) == 3
+    ungated = FuzzyTrackInitiator(prefit_gates=False).initiate(scenario.measurements, scenario.sensors, progress=False)
+    assert ungated.diagnostics.candidates == "paper"
+
+
 def test_four_asynchronous_sensors_in_2d(assert_partition: PartitionCheck) -> None:
     """A 2-D scene the paper did not tune: four sensors whose scans are 2 s apart, 8 targets,
     Pd 0.9. The witnessed formation (each pair's candidates seen by the other two sensors'

@@ -108,7 +108,7 @@ impl std::str::FromStr for DetectionOrder {
 ///
 /// | field | recommended | why |
 /// |---|---|---|
-/// | `candidates` | auto | the rounds formation where a third sensor can reject ghosts (3-D, ≥ 3 sensors), the paper's elsewhere; see [`Formation`] |
+/// | `candidates` | auto | where a third sensor can reject ghosts (≥ 3 sensors), the rounds formation in 3-D and the witnessed in 2-D; the paper's elsewhere; see [`Formation`] |
 /// | `prefit_gates` | on | the rounds and witnessed formations test their candidates before fitting them; see [`with_prefit_gates`](Self::with_prefit_gates) |
 /// | `sweep` | on | after the rounds, the paper's formation on the rows left as clutter, under a budget; see [`with_sweep`](Self::with_sweep) |
 /// | `stop_at_limit` | on | reaching `max_candidates` ends the formation with the tracks it found, and says so; see [`with_stop_at_limit`](Self::with_stop_at_limit) |
@@ -266,9 +266,11 @@ impl InitiationOptions {
         self.candidates
     }
 
-    /// Test the rounds formation's candidates against their pair's other rounds and the other
-    /// sensors' scans before fitting them (modules `round_gate`, `witness_gate`; on by
-    /// default). Without the tests every candidate that passes `v_max` is fitted.
+    /// Test the rounds and witnessed formations' candidates against their pair's other rounds
+    /// and the other sensors' scans before fitting them (modules `round_gate`,
+    /// `witness_gate`; on by default). Without the tests every candidate that passes `v_max`
+    /// is fitted. The witness test reads the support gate's tables, so it runs only with the
+    /// support gate on; the witnessed formation without it is the paper's, and says so.
     pub fn with_prefit_gates(mut self, prefit_gates: bool) -> Self {
         self.prefit_gates = prefit_gates;
         self

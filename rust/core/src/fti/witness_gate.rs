@@ -39,11 +39,12 @@ pub(super) struct Witnesses<'t> {
 
 impl<'t> Witnesses<'t> {
     /// The scans of `table` numbered `witnesses`, half of them needed (rounded up), or more
-    /// than half with `majority`.
+    /// than half with `majority`; none when `table` holds none of them (the support gate off:
+    /// there is then nothing to ask).
     pub(super) fn new(table: &'t [ScanAngles], witnesses: &[usize], majority: bool) -> Self {
         let scans: Vec<&ScanAngles> = witnesses.iter().filter_map(|&k| table.get(k)).collect();
         Self {
-            need: match majority {
+            need: match majority && !scans.is_empty() {
                 true => scans.len() / 2 + 1,
                 false => scans.len().div_ceil(2),
             },
