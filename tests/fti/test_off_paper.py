@@ -30,7 +30,7 @@ def test_a_target_missed_in_an_outer_scan_is_initiated_by_the_second_pass() -> N
     """3 sensors in 2-D at Pd = 0.9: on this seed a target is missed in outer scans, and the
     paper's candidates (first and last scans only) lose it."""
     scenario = pa.bearing_only_2d_scenario(4, pd=0.9)
-    paper = FuzzyTrackInitiator(candidate_scans=1).initiate(scenario.measurements, scenario.sensors)
+    paper = FuzzyTrackInitiator(candidates="paper", candidate_scans=1).initiate(scenario.measurements, scenario.sensors)
     assert len(paper.tracks) == 2
     result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
     assert targets_tracked(result, scenario) == [0, 1, 2]
@@ -58,11 +58,12 @@ def test_three_sensors_in_2d_give_one_track_per_target(pd: float) -> None:
 def test_rows_a_poor_first_pass_track_took_go_back_to_the_second_pass() -> None:
     """Seed 9 at Pd 0.9: target 2 has no first-pass candidate (missed in an outer scan), and a
     poor first-pass optimum 11 km short in range took 12 of its 20 reports; the track test
-    dissolves that track, and its rows must reach the second pass, which finds the target."""
+    dissolves that track, and its rows must reach the second pass, which finds the target (the
+    paper's formation; the witnessed default's passes are the same)."""
     scenario = pa.bearing_only_2d_scenario(9, pd=0.9)
     truth = scenario.measurements.truth
     assert truth is not None
-    result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    result = FuzzyTrackInitiator(candidates="paper").initiate(scenario.measurements, scenario.sensors)
     own = [t for t in result.tracks if np.mean(truth[t.measurements] == 2) > 0.5]
     assert len(own) == 1
     assert np.sum(truth[own[0].measurements] == 2) == np.sum(truth == 2) == 20
@@ -82,11 +83,13 @@ def test_detection_in_membership_order_leaves_no_ghost_tracks() -> None:
     """Seed 1 of the same scene: in the paper's order (decreasing R over every row) optima
     between targets are detected first and 13 tracks come out for 8 targets; in membership
     order (the default) each target's own optimum comes first, and the 8 are the only
-    tracks."""
+    tracks (both with the paper's formation)."""
     scenario = pa.bearing_only_2d_scenario(1, n_targets=8, n_sensors=3, clutter_ratio=2)
-    result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors)
+    result = FuzzyTrackInitiator(candidates="paper").initiate(scenario.measurements, scenario.sensors)
     assert targets_tracked(result, scenario) == list(range(8))
-    paper = FuzzyTrackInitiator(detection_order="closeness").initiate(scenario.measurements, scenario.sensors)
+    paper = FuzzyTrackInitiator(candidates="paper", detection_order="closeness").initiate(
+        scenario.measurements, scenario.sensors
+    )
     assert len(paper.tracks) > 8
 
 

@@ -21,8 +21,9 @@
 //!   every row of a scan and an evaluation costs twice as much on the 4 × 50 ring scene's rows.
 //! * Precomputed once per call into a struct of arrays ([`Precomputed`]); no allocation.
 //!
-//! The result equals the naive row-by-row sum up to rounding (the terms are added per scan,
-//! azimuth window then elevation window, instead of in row order).
+//! Wherever some row lies within 4.8 s of its prediction the result equals the naive
+//! row-by-row sum up to rounding (the terms are added per scan, azimuth window then elevation
+//! window, instead of in row order, and the tail is skipped).
 //!
 //! A scan whose sensor sees the hypothesised target exactly on its vertical axis (zero
 //! horizontal range: a measure-zero set where the azimuth is undefined) contributes 0.

@@ -190,7 +190,7 @@ pub fn descend(
     while iterations < options.max_iter() && r.is_finite() && !crate::parallel::interrupted() {
         let g2: f64 = gy.iter().map(|v| v * v).sum();
         if !(g2 > 0.0 && g2.is_finite()) {
-            break; // stationary (or every row in the exact-zero tail)
+            break; // stationary (or every row in the skipped tail)
         }
         let norm = g2.sqrt();
         // t multiplies the scaled gradient: the scaled step length is t·norm.
