@@ -148,7 +148,7 @@ pub fn initiate_reporting(
 /// pass 2 (candidate_scans > 1) on the next-outermost scans, over the rows pass 1 left. Their
 /// targets are missed in an outer scan; the rows already taken cannot be reused, so pass 1's
 /// targets cannot be found twice. `witnessed`: each slot's candidates are tested against the
-/// other sensors' scans before their fit ([`witnessed_slots`]).
+/// other sensors' scans before their fit ([`paper_slots`]).
 #[allow(clippy::too_many_arguments)] // the pipeline's state, as round_passes takes it
 fn paper_passes(
     run: &mut Run,
@@ -160,13 +160,9 @@ fn paper_passes(
     witnessed: bool,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let slots = |depth: usize, inner: bool| match witnessed {
-        true => witnessed_slots(scans, pairs, depth, inner),
-        false => paper_slots(scans, pairs, depth, inner),
-    };
-    let outer = slots(1, false);
+    let outer = paper_slots(scans, pairs, 1, false, witnessed);
     let mut states = run.pass(problem, pre, scans, &outer, None, options, available)?;
-    let inner = slots(options.candidate_scans(), true);
+    let inner = paper_slots(scans, pairs, options.candidate_scans(), true, witnessed);
     if !inner.is_empty() && run.limit.is_none() {
         free_dissolved(problem, pre, scans, &states, options, true, available)?;
         let mask = available.to_vec();
@@ -175,24 +171,23 @@ fn paper_passes(
     Ok(states)
 }
 
-/// The paper's slots of every pair ([`Scans::scan_slots`]), pair by pair, untested.
-fn paper_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: bool) -> Vec<Slot> {
-    (pairs.iter())
-        .flat_map(|&p| scans.scan_slots(p, depth, inner))
-        .map(Slot::untested)
-        .collect()
-}
-
-/// The paper's slots of every pair, each witnessed by every scan of the sensors outside its
-/// pair, more than half of which must see a candidate before its fit (module `witness_gate`):
-/// a ghost of two sensors' bearings passes one scan of a third often in a cluttered plane,
-/// but seldom most of them, while a target at Pd 0.9 is seen in 5 of 8 with probability 0.995
-/// (the choice against 4 and 6 of 8 is measured in CHANGELOG.md).
-fn witnessed_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: bool) -> Vec<Slot> {
+/// The paper's slots of every pair ([`Scans::scan_slots`]), pair by pair: untested, or
+/// `witnessed` by every scan of the sensors outside the pair, more than half of which must
+/// see a candidate before its fit (module `witness_gate`). A ghost of two sensors' bearings
+/// passes one scan of a third often in a cluttered plane, but seldom most of them, while a
+/// target at Pd 0.9 is seen in 5 of 8 with probability 0.995 (the choice against 4 and 6 of 8
+/// is measured in CHANGELOG.md).
+fn paper_slots(
+    scans: &Scans,
+    pairs: &[[usize; 2]],
+    depth: usize,
+    inner: bool,
+    witnessed: bool,
+) -> Vec<Slot> {
     let mut slots = Vec::new();
     for &[a, b] in pairs {
         let witnesses: Vec<usize> = (scans.per_sensor.iter().enumerate())
-            .filter(|&(j, _)| j != a && j != b)
+            .filter(|&(j, _)| witnessed && j != a && j != b)
             .flat_map(|(_, own)| own.iter().copied())
             .collect();
         slots.extend(
@@ -201,7 +196,7 @@ fn witnessed_slots(scans: &Scans, pairs: &[[usize; 2]], depth: usize, inner: boo
                 .into_iter()
                 .map(|s| Slot {
                     witnesses: witnesses.clone(),
-                    majority: true,
+                    majority: witnessed,
                     ..Slot::untested(s)
                 }),
         );
@@ -322,8 +317,14 @@ fn sweep(
     states: Vec<[f64; MAX_DIM]>,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let mut slots = paper_slots(scans, pairs, 1, false);
-    slots.extend(paper_slots(scans, pairs, options.candidate_scans(), true));
+    let mut slots = paper_slots(scans, pairs, 1, false, false);
+    slots.extend(paper_slots(
+        scans,
+        pairs,
+        options.candidate_scans(),
+        true,
+        false,
+    ));
     if slots.is_empty() {
         return Ok(states);
     }
