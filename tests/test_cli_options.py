@@ -5,10 +5,10 @@ read from the parser itself, so a new option without a validating type fails her
 from __future__ import annotations
 
 import argparse
-import dataclasses
 from collections.abc import Iterator
 
 import pytest
+from passive_assoc._params import field_defaults
 from passive_assoc.cli import build_parser
 from passive_assoc.experiments.common import finite_float, output_file
 from passive_assoc.fti import FuzzyTrackInitiator
@@ -97,7 +97,7 @@ def test_reproduce_fti_takes_the_initiators_defaults() -> None:
     """`reproduce fti`'s method options default to what FuzzyTrackInitiator declares (one
     declaration): parsing no option gives the class's values and choices."""
     args = build_parser().parse_args(["reproduce", "fti"])
-    declared = {f.name: f.default for f in dataclasses.fields(FuzzyTrackInitiator)}
+    declared = field_defaults(FuzzyTrackInitiator)
     names = ["refine_passes", "candidate_scans", "descent_scaling", "detection_order", "gate_pd"]
     assert {n: getattr(args, n) for n in names} == {n: declared[n] for n in names}
     assert declared["detection_order"] == "membership"  # the comparison above is not vacuous

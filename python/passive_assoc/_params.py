@@ -32,7 +32,7 @@ import math
 import numbers
 import typing
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, Literal, TypeVar, cast
 
 import numpy as np
@@ -261,6 +261,12 @@ def declared(owner: object) -> Table:
         table = {name: c for name, hint in hints.items() if (c := _constraints_in(hint)) is not None}
         _TABLES[owner] = table
     return table
+
+
+def field_defaults(cls: type[Any]) -> dict[str, Any]:
+    """Each field's default of the dataclass ``cls``, by name: what a command line shows and
+    falls back on, read from the one declaration."""
+    return {f.name: f.default for f in fields(cls)}
 
 
 class _DeclaredTable:

@@ -18,7 +18,6 @@ extension, or ``--prefix``):
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import sys
 import warnings
 from typing import Any
@@ -26,6 +25,7 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
+from .._params import field_defaults
 from ..assignment import assign_sd
 from ..formation import FormationLocator
 from ..static_los import StaticAssociator
@@ -95,7 +95,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--plot", metavar="FILE", type=output_path, help="save a figure of the sensors, lines of sight and targets"
     )
-    defaults = {f.name: f.default for f in dataclasses.fields(StaticAssociator)}
+    defaults = field_defaults(StaticAssociator)
     # "method" is a parameter of the associator like any other: --method.
     docs = parameter_docs(StaticAssociator)
     # Its entries that point elsewhere ("Solver settings, as in assign_sd"): the sentence there.

@@ -12,9 +12,9 @@ Writes, in ``--out`` (``<prefix>``: MEAS's file name without its extension, or `
 from __future__ import annotations
 
 import argparse
-import dataclasses
 from typing import Any
 
+from .._params import field_defaults
 from ..fti import FuzzyTrackInitiator, InitiationResult
 from .common import (
     EXAMPLE_FORMATS,
@@ -61,13 +61,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--plot", metavar="FILE", type=output_path, help="save a figure of the sensors, lines of sight and tracks"
     )
     names = add_parameter_options(
-        parser, FuzzyTrackInitiator._constraints, _defaults(), docs=parameter_docs(FuzzyTrackInitiator)
+        parser,
+        FuzzyTrackInitiator._constraints,
+        field_defaults(FuzzyTrackInitiator),
+        docs=parameter_docs(FuzzyTrackInitiator),
     )
     parser.set_defaults(parameter_names=names)
-
-
-def _defaults() -> dict[str, Any]:
-    return {f.name: f.default for f in dataclasses.fields(FuzzyTrackInitiator)}
 
 
 def main(args: argparse.Namespace) -> int:

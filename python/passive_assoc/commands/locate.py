@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from .._params import field_defaults
 from ..formation import FormationLocator, FormationResult
 from .associate import column_name
 from .common import (
@@ -67,9 +68,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME",
         help="attribute columns to gate on (default: the library's)",
     )
-    defaults = {f.name: f.default for f in dataclasses.fields(FormationLocator)}
     names = add_parameter_options(
-        parser, FormationLocator._constraints, defaults, docs=parameter_docs(FormationLocator)
+        parser, FormationLocator._constraints, field_defaults(FormationLocator), docs=parameter_docs(FormationLocator)
     )
     parser.set_defaults(parameter_names=names)
 

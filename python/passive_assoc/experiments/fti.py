@@ -10,7 +10,6 @@ and ends with a one-line :func:`verdict` against the paper.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -19,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
-from .._params import Options
+from .._params import Options, field_defaults
 from ..evaluation import perfect_association_fit, target_crlbs
 from ..fti import FuzzyTrackInitiator, InitiationResult
 from ..simulation import Scenario, paper_fti_scenario
@@ -340,7 +339,7 @@ def verdict(summary: dict[str, Any], settings: dict[str, Any]) -> dict[str, Any]
 
 def _default(name: str) -> Any:
     """The initiator's declared default of ``name``: the options below restate none."""
-    return next(f.default for f in dataclasses.fields(FuzzyTrackInitiator) if f.name == name)
+    return field_defaults(FuzzyTrackInitiator)[name]
 
 
 def _choices(name: str) -> tuple[str, ...]:
