@@ -10,6 +10,12 @@ Scenes (all with `FuzzyTrackInitiator()` defaults, clutter as stated, t0 = the s
 - ``2d_8``: `bearing_only_2d_scenario(seed, n_targets=8, pd=0.9)`;
 - ``paper4``: `paper_fti_scenario(seed, n_scans=4, pd=0.9)` (2 sensors, 3-D, 4 scans).
 
+Other 2-D scenes, run only when named (``--scenes``), for the formations' comparison beyond
+the targets: ``2d_10`` (10 targets), ``2d_8_4s`` and ``2d_8_5s`` (8 targets, Pd 0.9, 4 and 5
+sensors), ``2d_8_async`` (the same, 3 sensors scanning 3 s apart: ``offset=3.0``),
+``2d_8_pd08`` (Pd 0.8) and ``2d_5_pd07`` (5 targets, Pd 0.7), all of
+`bearing_only_2d_scenario`.
+
 A target is found when a track holds it (`track_targets`, 2/3 of the track's rows); a false
 track holds no target. Each scene runs in a process of its own (peak RSS is that process's),
 one initiation at a time on every core.
@@ -43,6 +49,16 @@ SCENES = {
     "paper4": 100,
 }
 
+#: Scenes run only when named → default number of seeds.
+OTHER_SCENES = {
+    "2d_10": 5,
+    "2d_8_4s": 6,
+    "2d_8_5s": 6,
+    "2d_8_async": 8,
+    "2d_8_pd08": 10,
+    "2d_5_pd07": 10,
+}
+
 CASE = r"""
 import json, resource, statistics, sys, time, warnings
 import numpy as np
@@ -61,6 +77,16 @@ def scene(seed):
         return pa.bearing_only_2d_scenario(seed, n_targets=8, pd=0.9)
     if name == "paper4":
         return pa.paper_fti_scenario(seed, n_scans=4, pd=0.9)
+    other = {
+        "2d_10": dict(n_targets=10),
+        "2d_8_4s": dict(n_targets=8, n_sensors=4, pd=0.9),
+        "2d_8_5s": dict(n_targets=8, n_sensors=5, pd=0.9),
+        "2d_8_async": dict(n_targets=8, pd=0.9, offset=3.0),
+        "2d_8_pd08": dict(n_targets=8, pd=0.8),
+        "2d_5_pd07": dict(n_targets=5, pd=0.7),
+    }
+    if name in other:
+        return pa.bearing_only_2d_scenario(seed, **other[name])
     s, n = (int(v) for v in name.split("x"))
     return pa.ring_scenario(seed, n_sensors=s, n_targets=n)
 
@@ -114,7 +140,7 @@ def run(name: str, seeds: int, options: dict[str, Any], then_paper: bool) -> dic
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--scenes", nargs="+", choices=sorted(SCENES), default=list(SCENES))
+    parser.add_argument("--scenes", nargs="+", choices=sorted(SCENES | OTHER_SCENES), default=list(SCENES))
     parser.add_argument("--seeds", type=int, nargs="+", help="seeds per scene, one or one a scene (default: its own)")
     parser.add_argument("--then-paper", action="store_true", help="a second pass (module doc)")
     parser.add_argument("--options", default="{}", help="FuzzyTrackInitiator keywords as JSON")
@@ -129,7 +155,7 @@ def main() -> None:
     if args.seeds and len(args.seeds) not in (1, len(args.scenes)):
         parser.error("--seeds: give one count, or one per scene")
     for k, name in enumerate(args.scenes):
-        seeds = SCENES[name] if not args.seeds else args.seeds[k if len(args.seeds) > 1 else 0]
+        seeds = (SCENES | OTHER_SCENES)[name] if not args.seeds else args.seeds[k if len(args.seeds) > 1 else 0]
         r = run(name, seeds, options, args.then_paper)
         rows.append(r)
         print(
