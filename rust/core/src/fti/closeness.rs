@@ -18,7 +18,8 @@
 //!   search; the rest are never touched. A state farther than √60·s from every row has R = 0
 //!   and no gradient. The window is narrow on purpose: elevations span a fraction of a radian,
 //!   so a window of `exp`'s full range (√746·s, where it is exactly 0.0 in f64) holds almost
-//!   every row of a scan and an evaluation costs twice as much on the 4 × 50 ring scene's rows.
+//!   every row of a scan and an evaluation costs twice as much on the 4 × 50 ring scene's rows
+//!   (`benches/bench_closeness.py`).
 //! * Precomputed once per call into a struct of arrays ([`Precomputed`]); no allocation.
 //!
 //! Wherever some row lies within 4.8 s of its prediction the result equals the naive
