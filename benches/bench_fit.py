@@ -17,11 +17,17 @@ import passive_assoc as pa
 from scipy.optimize import least_squares
 
 SENSORS = pa.SensorNetwork.spatial([[0.0, 0.0, 0.0], [20e3, 0.0, 0.0]], 5e-3, 5e-3)
-SCHEDULE = [(0, 0.0), (1, 5.0), (0, 105.0), (1, 110.0)]
 
 
-def make_problems(n: int, seed: int = 7) -> tuple[pa.MeasurementTable, np.ndarray, np.ndarray]:
-    """Noisy measurements of n random CV targets; returns (table, groups (n, 4), initial (n, 6))."""
+def schedule(scans: int) -> list[tuple[int, float]]:
+    """(sensor, time) of each measurement: sensor 0 at 0 … 105 s, sensor 1 5 s after it."""
+    period = 105.0 / (scans - 1)
+    return [(s, k * period + 5.0 * s) for k in range(scans) for s in (0, 1)]
+
+
+def make_problems(n: int, seed: int = 7, scans: int = 2) -> tuple[pa.MeasurementTable, np.ndarray, np.ndarray]:
+    """Noisy measurements of n random CV targets; returns (table, groups (n, 2 scans),
+    initial (n, 6))."""
     rng = np.random.default_rng(seed)
     truth = np.column_stack(
         [
@@ -33,15 +39,17 @@ def make_problems(n: int, seed: int = 7) -> tuple[pa.MeasurementTable, np.ndarra
             np.zeros(n),
         ]
     )
-    which = np.array([s for s, _ in SCHEDULE])
-    times = np.array([t for _, t in SCHEDULE])
+    plan = schedule(scans)
+    which = np.array([s for s, _ in plan])
+    times = np.array([t for _, t in plan])
     pos = truth[:, None, :3] + times[None, :, None] * truth[:, None, 3:]
     rel = pos - SENSORS.positions[which][None]
-    az = np.arctan2(rel[..., 1], rel[..., 0]) + rng.normal(0, 5e-3, (n, 4))
-    el = np.arctan2(rel[..., 2], np.hypot(rel[..., 0], rel[..., 1])) + rng.normal(0, 5e-3, (n, 4))
+    m = len(plan)
+    az = np.arctan2(rel[..., 1], rel[..., 0]) + rng.normal(0, 5e-3, (n, m))
+    el = np.arctan2(rel[..., 2], np.hypot(rel[..., 0], rel[..., 1])) + rng.normal(0, 5e-3, (n, m))
     table = pa.MeasurementTable.from_arrays(np.tile(which, n), np.tile(times, n), az.ravel(), el.ravel())
     initial = truth * 1.01 + 20.0
-    return table, np.arange(4 * n).reshape(n, 4), initial
+    return table, np.arange(m * n).reshape(n, m), initial
 
 
 def scipy_fit(table: pa.MeasurementTable, rows: np.ndarray, x0: np.ndarray, method: str = "trf") -> np.ndarray:
@@ -80,8 +88,11 @@ def main() -> None:
         default=1_000,
         help="scipy is timed on the first N problems (it is slow) and scaled per fit",
     )
+    parser.add_argument("--scans", type=int, default=2, help="scans of each of the two sensors (>= 2)")
     args = parser.parse_args()
-    table, groups, initial = make_problems(args.problems)
+    if args.scans < 2:
+        parser.error("--scans: at least 2")
+    table, groups, initial = make_problems(args.problems, scans=args.scans)
 
     timings = {}
     for threads in (1, 2):
@@ -101,7 +112,7 @@ def main() -> None:
     sigma = np.sqrt(np.diagonal(fit.covariances[:n_sp], axis1=1, axis2=2))
     ok = fit.converged[:n_sp]
     agree = max(float((np.abs(fit.estimates[:n_sp] - r)[ok] / sigma[ok]).max()) for r in refs.values())
-    print(f"problems: {args.problems} (4 az/el measurements, 6-D CV state); scipy timed on {n_sp}")
+    print(f"problems: {args.problems} ({groups.shape[1]} az/el measurements, 6-D CV state); scipy timed on {n_sp}")
     print(f"passive_assoc.fit_ml, 1 thread    : {ours_1:12,.0f} fits/s")
     print(f"passive_assoc.fit_ml, 2 threads   : {ours_2:12,.0f} fits/s  ({ours_2 / ours_1:.2f}x the 1-thread rate)")
     for method, rate in scipy_rates.items():

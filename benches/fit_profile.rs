@@ -1,12 +1,15 @@
-//! One batched fit of 10 000 six-state problems (4 az/el measurements each), timed once: the
-//! target for instruction-count profiling, which does not depend on machine load:
+//! One batched fit of 10 000 six-state problems (4 az/el measurements each: two sensors, two
+//! scans), timed once: the target for instruction-count profiling, which does not depend on
+//! machine load:
 //!
 //! ```text
 //! cargo bench --bench fit_profile --no-run
 //! valgrind --tool=callgrind target/release/deps/fit_profile-<hash> 1
 //! ```
 //!
-//! Run directly with a repeat count (`... fit_profile-<hash> 20`) it prints µs per fit.
+//! Run directly with a repeat count (`... fit_profile-<hash> 20`) it prints µs per fit. A
+//! second number is the scans of each sensor (`... fit_profile-<hash> 1 8`: 16 measurements
+//! over the same 110 s, as `benches/bench_fit.py --scans 8`).
 
 use passive_assoc_core::data::{Measurements, Sensors};
 use passive_assoc_core::estimation::fit::batch::{fit_batch, Problems};
@@ -16,7 +19,17 @@ use passive_assoc_core::parallel::with_threads;
 fn main() {
     let layout = StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 0.0 });
     let pos = [[0.0, 0.0, 0.0], [20_000.0, 0.0, 0.0]];
-    let sched = [(0usize, 0.0), (1, 5.0), (0, 105.0), (1, 110.0)];
+    // `cargo bench` passes `--bench`; only numbers are the repeat count and the scans.
+    let numbers: Vec<usize> = std::env::args()
+        .skip(1)
+        .filter_map(|v| v.parse().ok())
+        .collect();
+    let reps = numbers.first().copied().unwrap_or(1);
+    let scans = numbers.get(1).copied().unwrap_or(2).max(2);
+    let period = 105.0 / (scans - 1) as f64;
+    let sched: Vec<(usize, f64)> = (0..scans)
+        .flat_map(|k| (0..2).map(move |j| (j, k as f64 * period + 5.0 * j as f64)))
+        .collect();
     let (mut s, mut t, mut a, mut e, mut idx, mut off, mut init) =
         (vec![], vec![], vec![], vec![], vec![], vec![0i64], vec![]);
     let mut seed = 1u64;
@@ -56,11 +69,6 @@ fn main() {
         offsets: &off,
         initial: Some(&init),
     };
-    // `cargo bench` passes `--bench`; only a number is a repeat count.
-    let reps: usize = std::env::args()
-        .skip(1)
-        .find_map(|v| v.parse().ok())
-        .unwrap_or(1);
     let start = std::time::Instant::now();
     let mut iters = 0u64;
     for _ in 0..reps {
@@ -73,7 +81,8 @@ fn main() {
     }
     let el = start.elapsed().as_secs_f64();
     println!(
-        "{:.3} us/fit, {:.2} iterations/fit",
+        "{} measurements: {:.3} us/fit, {:.2} iterations/fit",
+        sched.len(),
         el / (reps * n) as f64 * 1e6,
         iters as f64 / (reps * n) as f64
     );
