@@ -276,22 +276,38 @@ pub fn position_rows(
     obs: &Observation,
 ) -> Option<PositionRows> {
     let target = layout.position(state, obs.time);
-    let los = line_of_sight(layout.space, &obs.sensor, &target)?;
+    match layout.space {
+        Space::Spatial => position_rows_at::<true>(&target, obs),
+        Space::Planar => position_rows_at::<false>(&target, obs),
+    }
+}
+
+/// [`position_rows`] of a target at `target`, in 3-D (`SPATIAL`) or in the plane: the space
+/// fixed at compile time, for loops that call it once per measurement (the constant-velocity
+/// fit), where the runtime layout's branches cost more than the arithmetic.
+#[inline(always)]
+pub fn position_rows_at<const SPATIAL: bool>(
+    target: &[f64; 3],
+    obs: &Observation,
+) -> Option<PositionRows> {
+    let space = if SPATIAL {
+        Space::Spatial
+    } else {
+        Space::Planar
+    };
+    let los = line_of_sight(space, &obs.sensor, target)?;
     let [dx, dy, dz] = los.delta;
-    let count = layout.space.angles();
     let mut rows = PositionRows {
-        count,
+        count: space.angles(),
         residual: [0.0; 2],
         gradient: [[0.0; 3]; 2],
     };
-    for c in 0..count {
-        let residual = match c {
-            0 => angle_residual(&obs.unit[0], dx, dy),
-            _ => angle_residual(&obs.unit[1], los.rho, dz),
-        };
-        let w = obs.inv_sigma[c];
-        rows.residual[c] = residual * w;
-        rows.gradient[c] = los.gradient[c].map(|g| g * w);
+    let w = obs.inv_sigma;
+    rows.residual[0] = angle_residual(&obs.unit[0], dx, dy) * w[0];
+    rows.gradient[0] = los.gradient[0].map(|g| g * w[0]);
+    if SPATIAL {
+        rows.residual[1] = angle_residual(&obs.unit[1], los.rho, dz) * w[1];
+        rows.gradient[1] = los.gradient[1].map(|g| g * w[1]);
     }
     Some(rows)
 }

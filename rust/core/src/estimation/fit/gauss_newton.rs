@@ -6,7 +6,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::{FitOptions, FitOutcome, Termination};
 use crate::geometry::model::{
-    position_rows, residual_rows, Motion, Observation, StateLayout, MAX_DIM,
+    position_rows_at, residual_rows, Motion, Observation, Space, StateLayout, MAX_DIM,
 };
 
 /// Normal equations `H = Σ gᵀg`, `b = Σ gᵀr` and `χ² = Σ r²` over the residual rows at one
@@ -41,6 +41,16 @@ fn accumulate<const D: usize>(
     if let Motion::ConstantVelocity { t0 } = layout.motion {
         return accumulate_cv(layout, t0, x, obs, out);
     }
+    accumulate_rows(layout, x, obs, out)
+}
+
+/// [`accumulate`] row by row through the state gradients, for any motion.
+fn accumulate_rows<const D: usize>(
+    layout: &StateLayout,
+    x: &SVector<f64, D>,
+    obs: &[Observation],
+    out: &mut Normal<D>,
+) -> bool {
     // Local accumulators and a full (fixed-length, so vectorisable) outer product: cheaper
     // than a triangular update through memory, and H stays symmetric.
     let mut information = [[0.0; D]; D];
@@ -72,9 +82,24 @@ fn accumulate<const D: usize>(
 /// The constant-velocity normal equations by blocks. A row's state gradient is
 /// `g = [gₚ, Δt·gₚ]` (gₚ w.r.t. the position at the measurement time), so
 /// `H = Σ [[P, Δt P], [Δt P, Δt² P]]` with `P = Σ_rows gₚ gₚᵀ` per measurement: three p×p
-/// sums instead of a (2p)×(2p) outer product per row, and no chain rule per row.
+/// sums instead of a (2p)×(2p) outer product per row, and no chain rule per row. The space is
+/// fixed at compile time (`SPATIAL`), and the symmetric blocks are summed on and above the
+/// diagonal only, then mirrored (`a·b = b·a` exactly, so the sums are those of the full loop).
 fn accumulate_cv<const D: usize>(
     layout: &StateLayout,
+    t0: f64,
+    x: &SVector<f64, D>,
+    obs: &[Observation],
+    out: &mut Normal<D>,
+) -> bool {
+    match layout.space {
+        Space::Spatial => accumulate_cv_in::<D, true>(t0, x, obs, out),
+        Space::Planar => accumulate_cv_in::<D, false>(t0, x, obs, out),
+    }
+}
+
+#[inline(always)]
+fn accumulate_cv_in<const D: usize, const SPATIAL: bool>(
     t0: f64,
     x: &SVector<f64, D>,
     obs: &[Observation],
@@ -85,23 +110,27 @@ fn accumulate_cv<const D: usize>(
     let mut sums = [[0.0; 3]; 2]; // Σ q, Σ Δt q with q = Σ_rows gₚ r
     let mut chi2 = 0.0;
     for o in obs {
-        let Some(rows) = position_rows(layout, x.as_slice(), o) else {
+        let dt = o.time - t0;
+        let mut target = [0.0; 3];
+        for (k, value) in target.iter_mut().enumerate().take(p) {
+            *value = x[k] + dt * x[p + k];
+        }
+        let Some(rows) = position_rows_at::<SPATIAL>(&target, o) else {
             return false;
         };
         let (mut pm, mut qm) = ([[0.0; 3]; 3], [0.0; 3]);
         for c in 0..rows.count {
             let (g, r) = (&rows.gradient[c], rows.residual[c]);
             for a in 0..3 {
-                for b in 0..3 {
+                for b in a..3 {
                     pm[a][b] += g[a] * g[b];
                 }
                 qm[a] += g[a] * r;
             }
             chi2 += r * r;
         }
-        let dt = o.time - t0;
         for a in 0..3 {
-            for b in 0..3 {
+            for b in a..3 {
                 blocks[0][a][b] += pm[a][b];
                 blocks[1][a][b] += dt * pm[a][b];
                 blocks[2][a][b] += dt * dt * pm[a][b];
@@ -114,10 +143,11 @@ fn accumulate_cv<const D: usize>(
     let mut gradient = [0.0; D];
     for a in 0..p {
         for b in 0..p {
-            information[a][b] = blocks[0][a][b];
-            information[a][p + b] = blocks[1][a][b];
-            information[p + a][b] = blocks[1][a][b];
-            information[p + a][p + b] = blocks[2][a][b];
+            let (i, j) = (a.min(b), a.max(b));
+            information[a][b] = blocks[0][i][j];
+            information[a][p + b] = blocks[1][i][j];
+            information[p + a][b] = blocks[1][i][j];
+            information[p + a][p + b] = blocks[2][i][j];
         }
         gradient[a] = sums[0][a];
         gradient[p + a] = sums[1][a];
@@ -339,6 +369,37 @@ mod tests {
             }
         }
         out
+    }
+
+    /// The constant-velocity blocks (summed on and above the diagonal, then mirrored) are the
+    /// row-by-row normal equations, in 3-D and in the plane.
+    #[test]
+    fn the_cv_blocks_are_the_row_by_row_normal_equations() {
+        fn compare<const D: usize>(layout: &StateLayout, x: [f64; D], obs: &[Observation]) {
+            let x = SVector::<f64, D>::from_column_slice(&x);
+            let (mut blocks, mut rows) = (Normal::<D>::ZERO, Normal::<D>::ZERO);
+            assert!(accumulate(layout, &x, obs, &mut blocks));
+            assert!(accumulate_rows(layout, &x, obs, &mut rows));
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-300);
+            assert!(close(blocks.chi2, rows.chi2) && blocks.chi2 > 0.0);
+            for a in 0..D {
+                assert!(close(blocks.gradient[a], rows.gradient[a]), "b[{a}]");
+                for b in 0..D {
+                    let (h, r) = (blocks.information[a][b], rows.information[a][b]);
+                    assert!(close(h, r), "H[{a}][{b}]: {h} vs {r}");
+                    assert_eq!(h, blocks.information[b][a], "H symmetric");
+                }
+            }
+        }
+        let truth = [1_000.0, 20_000.0, 3_000.0, 120.0, -80.0, 15.0];
+        let spatial = StateLayout::new(Space::Spatial, Motion::ConstantVelocity { t0: 1.0 });
+        let obs = paper_observations(&spatial, &truth, 4e-3);
+        let off = truth.map(|v| v * 1.02 + 35.0);
+        compare(&spatial, off, &obs);
+        let planar = StateLayout::new(Space::Planar, Motion::ConstantVelocity { t0: 1.0 });
+        let flat = [truth[0], truth[1], truth[3], truth[4]];
+        let obs = paper_observations(&planar, &flat, 4e-3);
+        compare(&planar, flat.map(|v| v * 0.97 - 20.0), &obs);
     }
 
     #[test]
