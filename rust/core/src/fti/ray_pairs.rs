@@ -5,7 +5,9 @@
 
 use super::options::{InitiationOptions, OOM_HINT};
 use super::problem::Problem;
-use crate::error::{reserve_one, CoreError, CoreResult};
+use rayon::prelude::*;
+
+use crate::error::{CoreError, CoreResult};
 use crate::geometry::los::{closest_points, intersect_bearings};
 use crate::geometry::model::{Observation, Space};
 
@@ -75,6 +77,10 @@ fn meet(space: Space, [oa, ob]: &[Observation; 2]) -> Option<Meeting> {
     }
 }
 
+/// Rows of the first scan paired in one parallel step: enough work to share between threads,
+/// few enough pairs (× the other scan's rows) held before the cap is checked.
+const ROWS_PER_CHUNK: usize = 256;
+
 /// Pairs every row of `rows_a` with every row of `rows_b` under the ray gate and the
 /// behind-sensor rule; returns the survivors and how many passed the ray gate.
 pub(super) fn ray_pairs(
@@ -91,30 +97,49 @@ pub(super) fn ray_pairs(
         rows.iter().map(|&m| problem.observation(m)).collect()
     };
     let (obs_a, obs_b) = (observed(rows_a), observed(rows_b));
-    for (&ra, oa) in rows_a.iter().zip(&obs_a) {
-        for (&rb, ob) in rows_b.iter().zip(&obs_b) {
-            let pair = RayPair::from_observations(space, [ra, rb], [*oa, *ob]);
-            if !ray_gate_passes(problem, &pair, options) {
-                continue;
-            }
-            passed_ray += 1;
-            if options.reject_behind()
-                && !pair
-                    .meeting
-                    .is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
-            {
-                continue;
-            }
-            if out.len() == options.max_candidates() {
+    // The rows of a in parallel chunks, each chunk's pairs appended in order: the pairs and
+    // their order are those of the double loop, and at most one chunk's pairs are held past
+    // the cap before it is checked.
+    let a: Vec<(usize, Observation)> = rows_a.iter().copied().zip(obs_a).collect();
+    for chunk in a.chunks(ROWS_PER_CHUNK) {
+        let found: Vec<(Vec<RayPair>, usize)> = chunk
+            .par_iter()
+            .map(|&(ra, oa)| {
+                let (mut kept, mut passed) = (Vec::new(), 0usize);
+                for (&rb, ob) in rows_b.iter().zip(&obs_b) {
+                    let pair = RayPair::from_observations(space, [ra, rb], [oa, *ob]);
+                    if !ray_gate_passes(problem, &pair, options) {
+                        continue;
+                    }
+                    passed += 1;
+                    let behind = options.reject_behind()
+                        && !pair
+                            .meeting
+                            .is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0);
+                    if !behind {
+                        kept.push(pair);
+                    }
+                }
+                (kept, passed)
+            })
+            .collect();
+        for (kept, passed) in found {
+            passed_ray += passed;
+            if out.len() + kept.len() > options.max_candidates() {
                 return Err(CoreError::CapExceeded {
                     what: "ray pairs of one scan pair",
-                    count: out.len() + 1,
+                    count: out.len() + kept.len(),
                     cap: options.max_candidates(),
                     hint: "tighten ray_gate_sigmas, enable reject_behind, or raise max_candidates",
                 });
             }
-            reserve_one(&mut out, "ray pairs of one scan pair", OOM_HINT)?;
-            out.push(pair);
+            out.try_reserve(kept.len())
+                .map_err(|_| CoreError::OutOfMemory {
+                    what: "ray pairs of one scan pair",
+                    count: out.len() + kept.len(),
+                    hint: OOM_HINT,
+                })?;
+            out.extend(kept);
         }
     }
     Ok((out, passed_ray))
