@@ -55,6 +55,21 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     }
 }
 
+/// atan2(y, x) in (−π, π] for every quadrant: [`atan`] of `y/x`, moved by π when x < 0; the
+/// standard library where `y/x` is not finite or x is 0. For a window test that predicts an
+/// azimuth in any direction (module `fti::witness_gate`); within a few ulp of `f64::atan2`.
+#[inline(always)]
+pub fn atan2_any(y: f64, x: f64) -> f64 {
+    let t = y / x;
+    if !t.is_finite() || x == 0.0 {
+        return y.atan2(x);
+    }
+    match x > 0.0 {
+        true => atan(t),
+        false => atan(t) + std::f64::consts::PI.copysign(y),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -86,6 +101,25 @@ mod tests {
                     "{y} {x}: {ours} vs {std}"
                 );
             }
+        }
+        for i in -60..=60 {
+            for j in -60..=60 {
+                let (y, x) = (i as f64 * 0.37, j as f64 * 0.53);
+                let (ours, std) = (atan2_any(y, x), y.atan2(x));
+                assert!(
+                    (ours - std).abs() <= 4.0 * f64::EPSILON * std.abs().max(1e-300),
+                    "{y} {x}: {ours} vs {std}"
+                );
+            }
+        }
+        for (y, x) in [
+            (0.0, -1.0),
+            (-0.0, -1.0),
+            (1e-300, -1.0),
+            (-1e-300, -1.0),
+            (2.0, -1e-300),
+        ] {
+            assert_eq!(atan2_any(y, x), f64::atan2(y, x), "{y} {x}");
         }
         assert_eq!(atan2(0.0, 1.0), 0.0);
         assert_eq!(atan2(1.0, 0.0), FRAC_PI_2);
