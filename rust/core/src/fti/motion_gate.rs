@@ -16,7 +16,6 @@
 use super::options::InitiationOptions;
 use super::problem::Problem;
 use super::ray_pairs::RayPair;
-use crate::geometry::los::closest_points;
 use crate::geometry::model::Space;
 
 /// Whether the candidate of `first` and `last` passes (always, when the rule is off, in 2-D,
@@ -60,10 +59,13 @@ fn noise(pair: &RayPair) -> f64 {
 fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64, dv: f64) -> bool {
     let [oa, ob] = &pair.observations;
     let dt = oa.time - ob.time;
-    let shifted: [f64; 3] = std::array::from_fn(|k| ob.sensor[k] + v[k] * dt);
-    let (ua, ub) = (oa.line_of_sight(), ob.line_of_sight());
-    match closest_points(&oa.sensor, &ua, &shifted, &ub) {
-        Some(m) => m.distance <= gate * (noise + dt.abs() * dv),
+    // The lines' distance once sensor b moves by v·dt: along their common normal (module
+    // `ray_pairs`), the distance of the closest points `closest_points` would find.
+    match pair.normal {
+        Some((n, offset)) => {
+            let along = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+            (offset - dt * along).abs() <= gate * (noise + dt.abs() * dv)
+        }
         None => true, // parallel lines: nothing to judge
     }
 }

@@ -30,6 +30,10 @@ pub(super) struct RayPair {
     pub(super) rows: [usize; 2],
     pub(super) observations: [Observation; 2],
     pub(super) meeting: Option<Meeting>,
+    /// In 3-D, the unit normal `n = (u_a × u_b)/|u_a × u_b|` of the two lines of sight and
+    /// `(s_a − s_b)·n`: the distance between the lines once sensor b moves by `δ` is
+    /// `|(s_a − s_b)·n − δ·n|` (module `motion_gate`). `None` in 2-D and for parallel rays.
+    pub(super) normal: Option<([f64; 3], f64)>,
 }
 
 impl RayPair {
@@ -43,9 +47,32 @@ impl RayPair {
         Self {
             rows,
             meeting: meet(space, &observations),
+            normal: normal(space, &observations),
             observations,
         }
     }
+}
+
+/// [`RayPair::normal`]: `None` in 2-D and where the lines are parallel by
+/// [`closest_points`]' test (`1 − (u_a·u_b)² ≤ 1e-14`).
+fn normal(space: Space, [oa, ob]: &[Observation; 2]) -> Option<([f64; 3], f64)> {
+    if space == Space::Planar {
+        return None;
+    }
+    let (ua, ub) = (oa.line_of_sight(), ob.line_of_sight());
+    let b = ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2];
+    let denom = 1.0 - b * b;
+    if denom <= 1e-14 {
+        return None;
+    }
+    let scale = 1.0 / denom.sqrt();
+    let n = [
+        (ua[1] * ub[2] - ua[2] * ub[1]) * scale,
+        (ua[2] * ub[0] - ua[0] * ub[2]) * scale,
+        (ua[0] * ub[1] - ua[1] * ub[0]) * scale,
+    ];
+    let offset = (0..3).map(|k| (oa.sensor[k] - ob.sensor[k]) * n[k]).sum();
+    Some((n, offset))
 }
 
 /// Meeting of the lines of sight of two observations (of different sensors).
