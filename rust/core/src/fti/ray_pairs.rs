@@ -44,9 +44,20 @@ impl RayPair {
 
     /// The pair of rows `rows` whose observations are already built.
     fn from_observations(space: Space, rows: [usize; 2], observations: [Observation; 2]) -> Self {
+        let meeting = meet(space, &observations[0], &observations[1]);
+        Self::with_meeting(space, rows, observations, meeting)
+    }
+
+    /// [`Self::from_observations`] with the meeting already found.
+    fn with_meeting(
+        space: Space,
+        rows: [usize; 2],
+        observations: [Observation; 2],
+        meeting: Option<Meeting>,
+    ) -> Self {
         Self {
             rows,
-            meeting: meet(space, &observations),
+            meeting,
             normal: normal(space, &observations),
             observations,
         }
@@ -76,7 +87,7 @@ fn normal(space: Space, [oa, ob]: &[Observation; 2]) -> Option<([f64; 3], f64)> 
 }
 
 /// Meeting of the lines of sight of two observations (of different sensors).
-fn meet(space: Space, [oa, ob]: &[Observation; 2]) -> Option<Meeting> {
+fn meet(space: Space, oa: &Observation, ob: &Observation) -> Option<Meeting> {
     let time = 0.5 * (oa.time + ob.time);
     match space {
         Space::Planar => {
@@ -134,17 +145,17 @@ pub(super) fn ray_pairs(
             .map(|&(ra, oa)| {
                 let (mut kept, mut passed) = (Vec::new(), 0usize);
                 for (&rb, ob) in rows_b.iter().zip(&obs_b) {
-                    let pair = RayPair::from_observations(space, [ra, rb], [oa, *ob]);
-                    if !ray_gate_passes(problem, &pair, options) {
+                    // The rules read only the meeting: the pair itself (its observations
+                    // copied, its normal) is built for the few that pass.
+                    let meeting = meet(space, &oa, ob);
+                    if !ray_gate_passes(problem, [&oa, ob], meeting.as_ref(), options) {
                         continue;
                     }
                     passed += 1;
                     let behind = options.reject_behind()
-                        && !pair
-                            .meeting
-                            .is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0);
+                        && !meeting.is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0);
                     if !behind {
-                        kept.push(pair);
+                        kept.push(RayPair::with_meeting(space, [ra, rb], [oa, *ob], meeting));
                     }
                 }
                 (kept, passed)
@@ -172,20 +183,24 @@ pub(super) fn ray_pairs(
     Ok((out, passed_ray))
 }
 
-fn ray_gate_passes(problem: &Problem<'_>, pair: &RayPair, options: &InitiationOptions) -> bool {
+fn ray_gate_passes(
+    problem: &Problem<'_>,
+    [oa, ob]: [&Observation; 2],
+    meeting: Option<&Meeting>,
+    options: &InitiationOptions,
+) -> bool {
     let Some(gate) = options.ray_gate_sigmas() else {
         return true;
     };
     if problem.layout.space == Space::Planar {
         return true; // lines in the plane always meet: the rule is vacuous
     }
-    let [oa, ob] = &pair.observations;
     let motion = match options.v_max() {
         Some(v) => v * (oa.time - ob.time).abs(),
         None if oa.time != ob.time => return true, // unbounded motion between the samples
         None => 0.0,
     };
-    let Some(m) = pair.meeting else {
+    let Some(m) = meeting else {
         return false;
     };
     let (sa, sb) = (oa.sigma[0].max(oa.sigma[1]), ob.sigma[0].max(ob.sigma[1]));
