@@ -146,27 +146,26 @@ fn sees(space: Space, scan: &ScanAngles, point: &[f64; 3], covariance: &Matrix, 
         Space::Planar => [atan2_any(d[1], d[0]), 0.0],
         Space::Spatial => [atan2_any(d[1], d[0]), atan2(d[2], rho)],
     };
-    let g = [
-        [-d[1] / rho2, d[0] / rho2, 0.0],
-        [
-            -d[0] * d[2] / (r2 * rho),
-            -d[1] * d[2] / (r2 * rho),
-            rho / r2,
-        ],
-    ];
-    let carried = |a: usize, b: usize| -> f64 {
-        (0..3)
-            .map(|i| {
-                (0..3)
-                    .map(|j| g[a][i] * covariance[i][j] * g[b][j])
-                    .sum::<f64>()
-            })
-            .sum()
+    // The angles' gradients (the azimuth's has no z term) carried through the covariance:
+    // `s = σ² + g C gᵀ`, symmetric, so three entries.
+    let c = covariance;
+    let inv_rho2 = 1.0 / rho2;
+    let g0 = [-d[1] * inv_rho2, d[0] * inv_rho2];
+    let s00 = scan.sigma[0].powi(2)
+        + g0[0] * (c[0][0] * g0[0] + c[0][1] * g0[1])
+        + g0[1] * (c[1][0] * g0[0] + c[1][1] * g0[1]);
+    let s = match space {
+        Space::Planar => [[s00, 0.0], [0.0, scan.sigma[1].powi(2)]],
+        Space::Spatial => {
+            let k = 1.0 / (r2 * rho);
+            let g1 = [-d[0] * d[2] * k, -d[1] * d[2] * k, rho2 * k];
+            let cg1: [f64; 3] =
+                std::array::from_fn(|i| c[i][0] * g1[0] + c[i][1] * g1[1] + c[i][2] * g1[2]);
+            let s01 = g0[0] * cg1[0] + g0[1] * cg1[1];
+            let s11 = scan.sigma[1].powi(2) + g1[0] * cg1[0] + g1[1] * cg1[1] + g1[2] * cg1[2];
+            [[s00, s01], [s01, s11]]
+        }
     };
-    let s = [
-        [scan.sigma[0].powi(2) + carried(0, 0), carried(0, 1)],
-        [carried(1, 0), scan.sigma[1].powi(2) + carried(1, 1)],
-    ];
     let half = [(gate * s[0][0]).sqrt(), (gate * s[1][1]).sqrt()];
     let mut rows = in_box(scan, predicted, half, space);
     match space {
