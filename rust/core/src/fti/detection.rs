@@ -27,6 +27,8 @@
 //! exactly eq. 24; otherwise it is eq. 24's maximum-likelihood reading under the
 //! one-measurement-per-scan constraint. Rows related to no target are clutter.
 
+use rayon::prelude::*;
+
 use super::descent::Optimum;
 use super::options::InitiationOptions;
 use super::problem::Problem;
@@ -164,16 +166,20 @@ pub fn classify(
     let n = problem.measurements.len();
     let gate2 = gate * gate;
     // d2[t * n + m]; non-finite counts as unrelated.
+    // Targets in parallel, then scans in parallel (each scan's rows are its own): the same
+    // numbers and labels as in order, whatever the thread count.
     let mut d2 = vec![f64::INFINITY; targets.len() * n];
-    for (x, row_d2) in targets.iter().zip(d2.chunks_exact_mut(n.max(1))) {
-        for k in 0..scans.len() {
-            for_each_residual2(problem, scans.scan(k), x, |m, v| {
-                if v.is_finite() {
-                    row_d2[m] = v;
-                }
-            });
-        }
-    }
+    (d2.par_chunks_exact_mut(n.max(1)))
+        .zip(targets.par_iter())
+        .for_each(|(row_d2, x)| {
+            for k in 0..scans.len() {
+                for_each_residual2(problem, scans.scan(k), x, |m, v| {
+                    if v.is_finite() {
+                        row_d2[m] = v;
+                    }
+                });
+            }
+        });
     let mut labels = vec![-1i64; n];
     if !one_per_scan {
         for (m, label) in labels.iter_mut().enumerate() {
@@ -186,26 +192,31 @@ pub fn classify(
         }
         return Ok(labels);
     }
-    for k in 0..scans.len() {
-        assign_scan(scans.scan(k), &d2, n, targets.len(), gate2, &mut labels)?;
+    let assigned: Vec<Vec<(usize, i64)>> = (0..scans.len())
+        .into_par_iter()
+        .map(|k| assign_scan(scans.scan(k), &d2, n, targets.len(), gate2))
+        .collect::<CoreResult<_>>()?;
+    for (m, label) in assigned.into_iter().flatten() {
+        labels[m] = label;
     }
     Ok(labels)
 }
 
-/// Gated minimum-cost assignment of one scan's rows to targets (each at most once).
+/// Gated minimum-cost assignment of one scan's rows to targets (each at most once): the rows
+/// assigned and their targets.
 fn assign_scan(
     rows: &[usize],
     d2: &[f64],
     n: usize,
     n_targets: usize,
     gate2: f64,
-    labels: &mut [i64],
-) -> CoreResult<()> {
+) -> CoreResult<Vec<(usize, i64)>> {
     let involved: Vec<usize> = (0..n_targets)
         .filter(|&t| rows.iter().any(|&m| d2[t * n + m] < gate2))
         .collect();
+    let mut labels = Vec::new();
     if involved.is_empty() {
-        return Ok(());
+        return Ok(labels);
     }
     // Rows of the problem = involved targets; columns = the scan's rows, then one "no
     // measurement" column per target at cost 0. Unrelated pairs cost 1 > 0, so the optimum
@@ -223,12 +234,12 @@ fn assign_scan(
     for (i, col) in solved.row_to_col.into_iter().enumerate() {
         match col {
             Some(col) if col < rows.len() && cost[i * c + col] < 0.0 => {
-                labels[rows[col]] = involved[i] as i64;
+                labels.push((rows[col], involved[i] as i64));
             }
             _ => {}
         }
     }
-    Ok(())
+    Ok(labels)
 }
 
 #[cfg(test)]

@@ -16,6 +16,8 @@
 //! but then the joined track keeps at most one row per scan, no more than either had.
 //! A track takes part in at most one join per call.
 
+use rayon::prelude::*;
+
 use super::closeness::Precomputed;
 use super::detection::residual2;
 use super::output::Track;
@@ -47,19 +49,24 @@ pub(super) fn joined(
     let widths: Vec<[f64; 2]> = (0..scans.len())
         .map(|k| problem.scan_sigma(scans.scan(k)).map(|s| gate * s))
         .collect();
+    // A join of two tracks depends on those two alone, so every competing pair is tried at
+    // once, in parallel; the pairs are then taken in order, each track in one join at most,
+    // as a loop that tried them one by one would take them.
+    let competing: Vec<(usize, usize)> = (0..tracks.len())
+        .flat_map(|a| (a + 1..tracks.len()).map(move |b| (a, b)))
+        .filter(|&(a, b)| compete(problem, &widths, &predicted[a], &predicted[b]))
+        .collect();
+    let tried: Vec<Option<Track>> = competing
+        .par_iter()
+        .map(|&(a, b)| try_join(problem, pre, scans, &tracks[a], &tracks[b], n_detect, z))
+        .collect();
     let mut used = vec![false; tracks.len()];
-    for a in 0..tracks.len() {
-        for b in a + 1..tracks.len() {
-            if used[a] || used[b] || !compete(problem, &widths, &predicted[a], &predicted[b]) {
-                continue;
-            }
-            let Some(join) = try_join(problem, pre, scans, &tracks[a], &tracks[b], n_detect, z)
-            else {
-                continue;
-            };
-            (states[a], states[b]) = (Some(padded(&join.estimate)), None);
-            (used[a], used[b]) = (true, true);
-        }
+    for (&(a, b), join) in competing.iter().zip(tried) {
+        let Some(join) = join.filter(|_| !used[a] && !used[b]) else {
+            continue;
+        };
+        (states[a], states[b]) = (Some(padded(&join.estimate)), None);
+        (used[a], used[b]) = (true, true);
     }
     used.contains(&true)
         .then(|| states.into_iter().flatten().collect())

@@ -13,6 +13,8 @@
 //! then pass at a 10⁻⁴ tail (its remaining rows are claimed to be clean). A
 //! target with a stray row loses the row; a clutter track cannot shed rows until it fits.
 
+use rayon::prelude::*;
+
 use super::closeness::Precomputed;
 use super::coverage;
 use super::detection::residual2;
@@ -44,7 +46,8 @@ pub(super) fn tested(
     let kept: Vec<Track> = match z {
         None => tracks,
         Some(z) => {
-            let trimmed = (tracks.into_iter())
+            // In parallel, in order: each track is trimmed and refitted on its own.
+            let trimmed = (tracks.into_par_iter())
                 .filter_map(|t| trimmed(problem, pre, t, n_detect, z))
                 .collect();
             coverage::covered(problem, scans, trimmed)
