@@ -84,7 +84,6 @@ fn at_most(n: usize, p: f64, k: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::{at_most, covered};
-    use crate::fti::closeness::Precomputed;
     use crate::fti::refit::refit;
     use crate::fti::scans::Scans;
     use crate::fti::tests::sim;
@@ -99,7 +98,6 @@ mod tests {
         let sensors = sc.sensors();
         let table = sc.measurements(&sensors);
         let problem = sim::problem(sensors, table);
-        let pre = Precomputed::new(&sensors, &table, &sc.spreads(), 0.0).expect("valid");
         let scans = Scans::new(&table, sensors.len());
         let rows_of = |i: i64, keep: &dyn Fn(usize) -> bool| -> Vec<usize> {
             (0..sc.truth.len())
@@ -109,7 +107,7 @@ mod tests {
         let fit = |i: usize, rows: Vec<usize>| {
             let mut start = [0.0; MAX_DIM];
             start[..4].copy_from_slice(&sc.targets[i]);
-            refit(&problem, &pre, &start, &rows).expect("fits")
+            refit(&problem, &start, &rows).expect("fits")
         };
         let two_sensors = |m: usize| table.sensor(m) < 2;
         let alternate = |m: usize| scans.scan_of[m] % 2 == 0;

@@ -458,7 +458,7 @@ fn free_dissolved(
     let (_, kept) = match thorough {
         true => finished(problem, pre, scans, states, classified.clone(), options)?,
         false => {
-            let (tracks, labels) = final_tracks(problem, pre, states, classified.clone());
+            let (tracks, labels) = final_tracks(problem, states, classified.clone());
             let (n_rows, n_detect) = (labels.len(), options.n_detect_for(scans.len()));
             let level = options.track_test_level();
             track_quality::tested(problem, pre, scans, tracks, n_rows, n_detect, level)
@@ -489,13 +489,13 @@ fn finished(
     options: &InitiationOptions,
 ) -> CoreResult<(Vec<Track>, Vec<i64>)> {
     let (gate, one_per_scan) = (options.gate_sigmas(), options.one_per_scan());
-    let (mut tracks, mut labels) = final_tracks(problem, pre, states, labels);
+    let (mut tracks, mut labels) = final_tracks(problem, states, labels);
     let n_detect = options.n_detect_for(scans.len());
     let level = options.track_test_level();
     if let Some(z) = level {
-        if let Some(states) = track_join::joined(problem, pre, scans, &tracks, n_detect, gate, z) {
+        if let Some(states) = track_join::joined(problem, scans, &tracks, n_detect, gate, z) {
             let relabelled = classify(problem, scans, &states, gate, one_per_scan)?;
-            (tracks, labels) = final_tracks(problem, pre, &states, relabelled);
+            (tracks, labels) = final_tracks(problem, &states, relabelled);
         }
     }
     for _ in 0..options.refine_passes() {
@@ -504,7 +504,7 @@ fn finished(
         if relabelled == labels {
             break;
         }
-        (tracks, labels) = final_tracks(problem, pre, &refined, relabelled);
+        (tracks, labels) = final_tracks(problem, &refined, relabelled);
     }
     // The track test runs once, on the refined tracks: an early classification can give a
     // target wrong rows that a refine pass then corrects.
@@ -519,7 +519,6 @@ fn finished(
 /// become clutter and later tracks move up one index.
 fn final_tracks(
     problem: &Problem<'_>,
-    pre: &Precomputed,
     states: &[[f64; MAX_DIM]],
     labels: Vec<i64>,
 ) -> (Vec<Track>, Vec<i64>) {
@@ -532,7 +531,7 @@ fn final_tracks(
     let fitted: Vec<Option<Track>> = states
         .par_iter()
         .zip(rows.par_iter())
-        .map(|(x, r)| refit(problem, pre, x, r))
+        .map(|(x, r)| refit(problem, x, r))
         .collect();
     let mut tracks = Vec::new();
     let mut out = vec![-1i64; labels.len()];

@@ -1,7 +1,6 @@
 //! The Gauss-Newton ML refit of a track on its rows, which the end of the pipeline, the
 //! track join and the track test all run.
 
-use super::closeness::{closeness, Precomputed};
 use super::output::Track;
 use super::problem::Problem;
 use crate::estimation::fit::gauss_newton::fit;
@@ -16,10 +15,11 @@ pub(super) fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
 }
 
 /// The track of `rows` fitted from `start`, or `None` when they cannot determine a state
-/// (too few angles) or the fit is singular or not finite.
+/// (too few angles) or the fit is singular or not finite. Its closeness is left NaN: the
+/// joins and the track test refit many tracks that never reach the result, so R is computed
+/// once, for the tracks the track test keeps (module `track_quality`).
 pub(super) fn refit(
     problem: &Problem<'_>,
-    pre: &Precomputed,
     start: &[f64; MAX_DIM],
     rows: &[usize],
 ) -> Option<Track> {
@@ -38,7 +38,7 @@ pub(super) fn refit(
         .chain(&outcome.covariance)
         .all(|v| v.is_finite());
     usable.then(|| Track {
-        closeness: closeness(pre, &outcome.estimate),
+        closeness: f64::NAN,
         estimate: outcome.estimate,
         covariance: outcome.covariance,
         chi2: outcome.chi2,

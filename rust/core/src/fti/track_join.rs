@@ -18,7 +18,6 @@
 
 use rayon::prelude::*;
 
-use super::closeness::Precomputed;
 use super::detection::residual2;
 use super::output::Track;
 use super::problem::Problem;
@@ -32,7 +31,6 @@ use crate::geometry::model::{predict, MAX_DIM};
 /// `None` when no pair joins.
 pub(super) fn joined(
     problem: &Problem<'_>,
-    pre: &Precomputed,
     scans: &Scans,
     tracks: &[Track],
     n_detect: usize,
@@ -58,7 +56,7 @@ pub(super) fn joined(
         .collect();
     let tried: Vec<Option<Track>> = competing
         .par_iter()
-        .map(|&(a, b)| try_join(problem, pre, scans, &tracks[a], &tracks[b], n_detect, z))
+        .map(|&(a, b)| try_join(problem, scans, &tracks[a], &tracks[b], n_detect, z))
         .collect();
     let mut used = vec![false; tracks.len()];
     for (&(a, b), join) in competing.iter().zip(tried) {
@@ -98,7 +96,6 @@ fn compete(problem: &Problem<'_>, widths: &[[f64; 2]], ha: &[[f64; 2]], hb: &[[f
 /// The joined track of `a` and `b` if it passes the track test with more rows than either.
 fn try_join(
     problem: &Problem<'_>,
-    pre: &Precomputed,
     scans: &Scans,
     a: &Track,
     b: &Track,
@@ -123,8 +120,8 @@ fn try_join(
     if rows.len() <= most {
         return None;
     }
-    let joined = refit(problem, pre, &padded(x), &rows)?;
-    let kept = trimmed(problem, pre, joined, n_detect, z)?;
+    let joined = refit(problem, &padded(x), &rows)?;
+    let kept = trimmed(problem, joined, n_detect, z)?;
     // It must explain both halves: at least half of each track's rows survive the test.
     let share = |t: &Track| {
         let held = t.measurements.iter();
@@ -150,14 +147,13 @@ mod tests {
         let sensors = sc.sensors();
         let table = sc.measurements(&sensors);
         let problem = sim::problem(sensors, table);
-        let pre = Precomputed::new(&sensors, &table, &sc.spreads(), 0.0).expect("valid");
         let scans = Scans::new(&table, sensors.len());
         let rows_of =
             |i: i64| -> Vec<usize> { (0..sc.truth.len()).filter(|&m| sc.truth[m] == i).collect() };
         let track = |target: usize, rows: &[usize]| {
             let mut rows = rows.to_vec();
             rows.sort_unstable();
-            refit(&problem, &pre, &padded(&sc.targets[target]), &rows).expect("fits")
+            refit(&problem, &padded(&sc.targets[target]), &rows).expect("fits")
         };
         let own = rows_of(2);
         let (even, odd): (Vec<usize>, Vec<usize>) =
@@ -166,7 +162,6 @@ mod tests {
         let (n_detect, gate) = (4, 5.0);
         let states = joined(
             &problem,
-            &pre,
             &scans,
             &halves,
             n_detect,
@@ -182,7 +177,6 @@ mod tests {
         let targets = [track(0, &rows_of(0)), track(2, &own)];
         let apart = joined(
             &problem,
-            &pre,
             &scans,
             &targets,
             n_detect,

@@ -15,7 +15,7 @@
 
 use rayon::prelude::*;
 
-use super::closeness::Precomputed;
+use super::closeness::{closeness, Precomputed};
 use super::coverage;
 use super::detection::residual2;
 use super::output::Track;
@@ -33,7 +33,8 @@ const OUTLIER_Z: f64 = 3.090_232_306_167_813;
 const TRIMMED_Z: f64 = 3.719_016_485_455_709;
 
 /// The tracks that pass at standard-normal level `z` (all when `None`; trimmed, then the coverage test of module `coverage`),
-/// relabelled; every other row is clutter.
+/// relabelled, each with its closeness R (module `refit` leaves it to here); every other row
+/// is clutter.
 pub(super) fn tested(
     problem: &Problem<'_>,
     pre: &Precomputed,
@@ -48,11 +49,14 @@ pub(super) fn tested(
         Some(z) => {
             // In parallel, in order: each track is trimmed and refitted on its own.
             let trimmed = (tracks.into_par_iter())
-                .filter_map(|t| trimmed(problem, pre, t, n_detect, z))
+                .filter_map(|t| trimmed(problem, t, n_detect, z))
                 .collect();
             coverage::covered(problem, scans, trimmed)
         }
     };
+    let mut kept = kept;
+    kept.par_iter_mut()
+        .for_each(|t| t.closeness = closeness(pre, &t.estimate));
     let mut labels = vec![-1i64; n_rows];
     for (k, track) in kept.iter().enumerate() {
         for &m in &track.measurements {
@@ -66,7 +70,6 @@ pub(super) fn tested(
 /// Nd rows or fewer (or its refit fails).
 pub(super) fn trimmed(
     problem: &Problem<'_>,
-    pre: &Precomputed,
     mut track: Track,
     n_detect: usize,
     z: f64,
@@ -91,7 +94,7 @@ pub(super) fn trimmed(
         rows.remove(worst);
         let mut start = [0.0; MAX_DIM];
         start[..x.len()].copy_from_slice(x);
-        track = refit(problem, pre, &start, &rows)?;
+        track = refit(problem, &start, &rows)?;
         level = level.min(TRIMMED_Z);
     }
     Some(track)
@@ -107,7 +110,6 @@ fn passes(problem: &Problem<'_>, track: &Track, z: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::trimmed;
-    use crate::fti::closeness::Precomputed;
     use crate::fti::options::TRACK_TEST;
     use crate::fti::quantiles::upper_normal_level;
     use crate::fti::refit::refit;
@@ -120,7 +122,6 @@ mod tests {
         let sensors = sc.sensors();
         let table = sc.measurements(&sensors);
         let problem = sim::problem(sensors, table);
-        let pre = Precomputed::new(&sensors, &table, &sc.spreads(), 0.0).expect("valid");
         let truth = &sc.truth;
         let rows_of =
             |i: i64| -> Vec<usize> { (0..truth.len()).filter(|&m| truth[m] == i).collect() };
@@ -130,15 +131,15 @@ mod tests {
         let stray = rows_of(0)[0];
         let mut rows: Vec<usize> = rows_of(2).into_iter().chain([stray]).collect();
         rows.sort_unstable();
-        let track = refit(&problem, &pre, &start, &rows).expect("fits");
-        let kept = trimmed(&problem, &pre, track, 9, upper_normal_level(TRACK_TEST)).expect("kept");
+        let track = refit(&problem, &start, &rows).expect("fits");
+        let kept = trimmed(&problem, track, 9, upper_normal_level(TRACK_TEST)).expect("kept");
         assert_eq!(kept.measurements, rows_of(2));
         // Half of target 2's rows and half of target 3's: no single outlier to blame.
         let (two, three) = (rows_of(2), rows_of(3));
         let halves = two.iter().step_by(2).chain(three.iter().skip(1).step_by(2));
         let mut mixed: Vec<usize> = halves.copied().collect();
         mixed.sort_unstable();
-        let track = refit(&problem, &pre, &start, &mixed).expect("fits");
-        assert!(trimmed(&problem, &pre, track, 9, upper_normal_level(TRACK_TEST)).is_none());
+        let track = refit(&problem, &start, &mixed).expect("fits");
+        assert!(trimmed(&problem, track, 9, upper_normal_level(TRACK_TEST)).is_none());
     }
 }
