@@ -6,16 +6,15 @@
 //! thread count. Two things keep the work bounded (a project extension):
 //!
 //! * **An index over the last meetings.** A last pair can pass `v_max` only if its meeting
-//!   lies within `v_max · (t_last − t_first)` of the first's, so the last meetings go in an
-//!   R*-tree and a first pair is tested only against those within that ball. Where the scene
-//!   is smaller than a few such reaches the index cannot prune and every last pair is tested.
+//!   lies within `v_max · (t_last − t_first)` of the first's, so the last meetings go in a
+//!   uniform grid (module `reach_grid`) and a first pair is tested only against those within
+//!   that ball. Where the scene is smaller than a few such reaches the index cannot prune and
+//!   every last pair is tested.
 //! * **A cap on the tests, known before any is made.** More than `WORK_PER_CANDIDATE ·
 //!   max_candidates` first × last tests for one scan pair is refused (`CapExceeded`) at once,
 //!   instead of running for minutes before the survivors reach `max_candidates`.
 
 use rayon::prelude::*;
-use rstar::primitives::GeomWithData;
-use rstar::RTree;
 
 use super::batch::{Batch, ScanPairRays};
 use super::motion_gate;
@@ -23,9 +22,9 @@ use super::options::InitiationOptions;
 use super::pool::CandidateSet;
 use super::problem::Problem;
 use super::ray_pairs::RayPair;
+use super::reach_grid::Grid;
 use super::round_gate::RoundGate;
 use crate::error::{CoreError, CoreResult};
-use crate::geometry::model::Space;
 
 /// First × last tests allowed per allowed candidate (`max_candidates`): a test costs a small
 /// fraction of the fit a survivor costs, so this allows far more testing than fitting, and
@@ -41,9 +40,6 @@ const BLOCK: usize = 512;
 /// Survivors pushed to the fits between two polls of the stop flag within a block (about a
 /// batch's worth of fits, tens of milliseconds).
 const POLL_EVERY: usize = 16_384;
-
-/// Below this many reaches along the scene's longest side the index prunes too little to pay.
-const MIN_CELLS_ACROSS: f64 = 4.0;
 
 /// Combines a scan pair's first × last ray pairs (module doc) and adds the survivors to
 /// `batch`, which fits them into `set` as it fills (the caller flushes the rest).
@@ -105,7 +101,16 @@ pub(super) fn combine_with(
                         && rounds.is_none_or(|r| r.passes(done * BLOCK + i, l, f, &lasts[l]))
                 };
                 match grid {
-                    Some(g) => g.near(f).into_iter().filter(passes).collect(),
+                    Some(g) => {
+                        let mut survivors = Vec::new();
+                        g.for_each_near(f, |l| {
+                            if passes(&l) {
+                                survivors.push(l);
+                            }
+                        });
+                        survivors.sort_unstable(); // the plain double loop's order
+                        survivors
+                    }
                     None => (0..lasts.len()).filter(passes).collect(),
                 }
             })
@@ -144,77 +149,6 @@ pub(super) fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) 
         .sum::<f64>()
         .sqrt();
     distance <= v_max * (l.time - f.time)
-}
-
-/// The last pairs' meetings in an R*-tree, queried with the ball of radius
-/// `v_max · max(t_last − t_first)` around a first pair's meeting: the last pairs that may pass
-/// `v_max` with it.
-pub(super) struct Grid {
-    reach2: f64,
-    tree: RTree<GeomWithData<[f64; 3], usize>>,
-}
-
-impl Grid {
-    /// `None` when it cannot prune: no `v_max`, no meeting, an unbounded or non-positive
-    /// reach, or a scene fewer than [`MIN_CELLS_ACROSS`] reaches across.
-    pub(super) fn new(
-        space: Space,
-        firsts: &[RayPair],
-        lasts: &[RayPair],
-        v_max: Option<f64>,
-    ) -> Option<Self> {
-        let v_max = v_max?;
-        let times = |pairs: &[RayPair], pick: fn(f64, f64) -> f64, start: f64| {
-            (pairs.iter().filter_map(|p| p.meeting.map(|m| m.time))).fold(start, pick)
-        };
-        let earliest = times(firsts, f64::min, f64::INFINITY);
-        let latest = times(lasts, f64::max, f64::NEG_INFINITY);
-        let reach = v_max * (latest - earliest);
-        if !(reach.is_finite() && reach > 0.0) {
-            return None;
-        }
-        let dims = space.position_dim();
-        let points = firsts.iter().chain(lasts).filter_map(|p| p.meeting);
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for m in points {
-            for k in 0..dims {
-                (lo[k], hi[k]) = (lo[k].min(m.point[k]), hi[k].max(m.point[k]));
-            }
-        }
-        let across = (0..dims).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) / reach;
-        if across.is_nan() || across < MIN_CELLS_ACROSS {
-            return None;
-        }
-        let located = (lasts.iter().enumerate())
-            .filter_map(|(l, pair)| pair.meeting.map(|m| GeomWithData::new(m.point, l)))
-            .collect();
-        Some(Self {
-            // A hair wider than the reach: the speed test decides the pairs at its edge.
-            reach2: (reach * (1.0 + 1e-9)).powi(2),
-            tree: RTree::bulk_load(located),
-        })
-    }
-
-    /// The last pairs that may pass `v_max` with `f`, ascending (none without a meeting: it
-    /// fails `v_max` anyway).
-    fn near(&self, f: &RayPair) -> Vec<usize> {
-        let Some(m) = f.meeting else {
-            return Vec::new();
-        };
-        let mut out: Vec<usize> = (self.tree.locate_within_distance(m.point, self.reach2))
-            .map(|hit| hit.data)
-            .collect();
-        out.sort_unstable();
-        out
-    }
-
-    fn count_near(&self, f: &RayPair) -> usize {
-        f.meeting.map_or(0, |m| {
-            self.tree
-                .locate_within_distance(m.point, self.reach2)
-                .count()
-        })
-    }
 }
 
 #[cfg(test)]

@@ -57,6 +57,7 @@ mod pool;
 mod problem;
 mod quantiles;
 mod ray_pairs;
+mod reach_grid;
 mod refit;
 mod round_gate;
 mod scans;

@@ -1,0 +1,236 @@
+//! The last pairs' meetings in a uniform grid, queried with the ball of radius
+//! `v_max · max(t_last − t_first)` (the *reach*) around a first pair's meeting: the last pairs
+//! that may pass `v_max` with it (module `combine`).
+//!
+//! Cells are cubes at least a reach wide, so a ball meets only the 3 × 3 (× 3) cells around its
+//! centre's; each of those cells' meetings is tested against the ball. The cell is widened past
+//! the reach where the scene would need more than [`MAX_CELLS_PER_AXIS`] of them along an axis
+//! (a tiny reach in a large scene), which only puts more meetings in each tested cell. A grid
+//! visits about six meetings per meeting in the ball (the ball fills a sixth of its 27 cells):
+//! plain arithmetic, where an R*-tree's walk cost more per meeting found, and the visits need no
+//! sorting (the survivors of a visit are sorted instead, and they are few).
+
+use super::ray_pairs::RayPair;
+use crate::geometry::model::Space;
+
+/// Below this many reaches along the scene's longest side the grid prunes too little to pay.
+const MIN_CELLS_ACROSS: f64 = 4.0;
+
+/// Cells along one axis at most: 128³ cells of offsets in 3-D (8 MB) at the very worst.
+const MAX_CELLS_PER_AXIS: usize = 128;
+
+pub(super) struct Grid {
+    reach2: f64,
+    origin: [f64; 3],
+    /// Cells per unit of length (one over the cell's side).
+    scale: f64,
+    cells: [usize; 3],
+    /// The meetings of cell `c` are `entries[starts[c]..starts[c + 1]]`.
+    starts: Vec<usize>,
+    /// Last pair index and its meeting, by cell, ascending within a cell.
+    entries: Vec<(usize, [f64; 3])>,
+}
+
+impl Grid {
+    /// `None` when it cannot prune: no `v_max`, no meeting, an unbounded or non-positive
+    /// reach, or a scene fewer than [`MIN_CELLS_ACROSS`] reaches across.
+    pub(super) fn new(
+        space: Space,
+        firsts: &[RayPair],
+        lasts: &[RayPair],
+        v_max: Option<f64>,
+    ) -> Option<Self> {
+        let v_max = v_max?;
+        let times = |pairs: &[RayPair], pick: fn(f64, f64) -> f64, start: f64| {
+            (pairs.iter().filter_map(|p| p.meeting.map(|m| m.time))).fold(start, pick)
+        };
+        let earliest = times(firsts, f64::min, f64::INFINITY);
+        let latest = times(lasts, f64::max, f64::NEG_INFINITY);
+        let reach = v_max * (latest - earliest);
+        if !(reach.is_finite() && reach > 0.0) {
+            return None;
+        }
+        let dims = space.position_dim();
+        let (lo, hi) = bulk(firsts.iter().chain(lasts), dims)?;
+        let longest = (0..dims).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+        let across = longest / reach;
+        if !across.is_finite() || across < MIN_CELLS_ACROSS {
+            return None;
+        }
+        let side = reach.max(longest / (MAX_CELLS_PER_AXIS - 1) as f64);
+        let scale = 1.0 / side;
+        let cells: [usize; 3] =
+            std::array::from_fn(|k| ((hi[k] - lo[k]) * scale).floor() as usize + 1);
+        let mut grid = Self {
+            // A hair wider than the reach: the speed test decides the pairs at its edge.
+            reach2: (reach * (1.0 + 1e-9)).powi(2),
+            origin: lo,
+            scale,
+            cells,
+            starts: Vec::new(),
+            entries: Vec::new(),
+        };
+        let located: Vec<(usize, usize, [f64; 3])> = (lasts.iter().enumerate())
+            .filter_map(|(l, pair)| pair.meeting.map(|m| (grid.cell_of(&m.point), l, m.point)))
+            .collect();
+        let n_cells = cells.iter().product::<usize>();
+        let mut starts = vec![0usize; n_cells + 1];
+        for &(c, _, _) in &located {
+            starts[c + 1] += 1;
+        }
+        for c in 0..n_cells {
+            starts[c + 1] += starts[c];
+        }
+        let mut at = starts.clone();
+        let mut entries = vec![(0, [0.0; 3]); located.len()];
+        for &(c, l, point) in &located {
+            entries[at[c]] = (l, point);
+            at[c] += 1;
+        }
+        (grid.starts, grid.entries) = (starts, entries);
+        Some(grid)
+    }
+
+    /// The cell of a point, clamped into the grid. Clamping keeps two points within a cell's
+    /// side of each other in the same or neighbouring cells, so the meetings outside the bulk
+    /// (far meetings of nearly parallel rays) are still found: in the edge cells.
+    fn cell_of(&self, point: &[f64; 3]) -> usize {
+        let [i, j, k] = self.index_of(point);
+        (i * self.cells[1] + j) * self.cells[2] + k
+    }
+
+    fn index_of(&self, point: &[f64; 3]) -> [usize; 3] {
+        std::array::from_fn(|k| {
+            let at = ((point[k] - self.origin[k]) * self.scale).floor();
+            // NaN and negative cells go to 0, far ones to the last.
+            (at.max(0.0) as usize).min(self.cells[k] - 1)
+        })
+    }
+
+    /// Calls `visit(l)` for every last pair whose meeting lies within reach of `f`'s (none
+    /// without a meeting: it fails `v_max` anyway), in no particular order.
+    pub(super) fn for_each_near(&self, f: &RayPair, mut visit: impl FnMut(usize)) {
+        let Some(m) = f.meeting else {
+            return;
+        };
+        let centre = self.index_of(&m.point);
+        let span = |k: usize| centre[k].saturating_sub(1)..=(centre[k] + 1).min(self.cells[k] - 1);
+        for i in span(0) {
+            for j in span(1) {
+                let row = (i * self.cells[1] + j) * self.cells[2];
+                let ks = span(2);
+                let (first, last) = (row + ks.start(), row + ks.end());
+                for &(l, p) in &self.entries[self.starts[first]..self.starts[last + 1]] {
+                    let d2 = (0..3).map(|k| (p[k] - m.point[k]).powi(2)).sum::<f64>();
+                    if d2 <= self.reach2 {
+                        visit(l);
+                    }
+                }
+            }
+        }
+    }
+
+    /// How many last pairs [`Self::for_each_near`] visits for `f`.
+    pub(super) fn count_near(&self, f: &RayPair) -> usize {
+        let mut count = 0;
+        self.for_each_near(f, |_| count += 1);
+        count
+    }
+}
+
+/// The box that holds the bulk of the pairs' meetings: per axis, from the 1 % to the 99 %
+/// quantile (a few far meetings of nearly parallel rays would otherwise stretch the cells);
+/// `None` without a meeting.
+fn bulk<'a>(pairs: impl Iterator<Item = &'a RayPair>, dims: usize) -> Option<([f64; 3], [f64; 3])> {
+    let points: Vec<[f64; 3]> = pairs.filter_map(|p| p.meeting.map(|m| m.point)).collect();
+    if points.is_empty() {
+        return None;
+    }
+    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+    let mut axis = vec![0.0; points.len()];
+    let (low, high) = (points.len() / 100, points.len() - 1 - points.len() / 100);
+    for k in 0..dims {
+        for (value, p) in axis.iter_mut().zip(&points) {
+            *value = p[k];
+        }
+        lo[k] = *axis.select_nth_unstable_by(low, f64::total_cmp).1;
+        hi[k] = *axis.select_nth_unstable_by(high, f64::total_cmp).1;
+    }
+    Some((lo, hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fti::options::InitiationOptions;
+    use crate::fti::ray_pairs::ray_pairs;
+    use crate::fti::scans::Scans;
+    use crate::fti::tests::sim;
+
+    /// Every first pair visits exactly the last pairs within reach, found by brute force, in
+    /// 2-D and 3-D, with far meetings (nearly parallel rays) among both firsts and lasts.
+    #[test]
+    fn the_grid_visits_exactly_the_meetings_within_reach() {
+        for (seed, planar) in [(1, true), (3, false)] {
+            let sc = match planar {
+                true => sim::planar(seed, true, 20, 8),
+                false => sim::paper(seed, true, 16, 8),
+            };
+            let sensors = sc.sensors();
+            let table = sc.measurements(&sensors);
+            let problem = sim::problem(sensors, table);
+            let scans = Scans::new(&table, sensors.len());
+            let options = InitiationOptions::default();
+            let ((a1, a2), (b1, b2)) = (
+                scans.first_last(0).expect("scans"),
+                scans.first_last(1).expect("scans"),
+            );
+            let pairs = |a: usize, b: usize| {
+                ray_pairs(&problem, scans.scan(a), scans.scan(b), &options)
+                    .expect("fits")
+                    .0
+            };
+            let (mut firsts, mut lasts) = (pairs(a1, b1), pairs(a2, b2));
+            // Far meetings: one far out in each direction, and one near another far one.
+            for (k, far) in [[1e7, 0.0, 0.0], [-1e7, -3e6, 0.0], [1e7, 5.0, 0.0]]
+                .iter()
+                .enumerate()
+            {
+                let list = if k % 2 == 0 { &mut lasts } else { &mut firsts };
+                let mut pair = list[k];
+                if let Some(m) = pair.meeting.as_mut() {
+                    m.point = *far;
+                }
+                list.push(pair);
+            }
+            let mut far_first = firsts[0];
+            if let Some(m) = far_first.meeting.as_mut() {
+                m.point = [1e7, 1.0, 0.0];
+            }
+            firsts.push(far_first);
+            let v_max = Some(60.0);
+            let grid = Grid::new(sc.space, &firsts, &lasts, v_max).expect("prunes");
+            let mut visited_all = 0;
+            for f in &firsts {
+                let mut visited = Vec::new();
+                grid.for_each_near(f, |l| visited.push(l));
+                visited.sort_unstable();
+                let m = f.meeting.expect("met");
+                let brute: Vec<usize> = (lasts.iter().enumerate())
+                    .filter(|(_, l)| {
+                        l.meeting.is_some_and(|q| {
+                            (0..3)
+                                .map(|k| (q.point[k] - m.point[k]).powi(2))
+                                .sum::<f64>()
+                                <= grid.reach2
+                        })
+                    })
+                    .map(|(l, _)| l)
+                    .collect();
+                assert_eq!(visited, brute, "seed {seed}");
+                visited_all += visited.len();
+            }
+            assert!(visited_all > 0 && visited_all < firsts.len() * lasts.len() / 2);
+        }
+    }
+}
