@@ -16,8 +16,8 @@ use crate::geometry::model::Space;
 /// Below this many reaches along the scene's longest side the grid prunes too little to pay.
 const MIN_CELLS_ACROSS: f64 = 4.0;
 
-/// Cells along one axis at most: 128³ cells of offsets in 3-D (8 MB) at the very worst.
-const MAX_CELLS_PER_AXIS: usize = 128;
+/// Cells along one axis at most: 64³ cells of offsets in 3-D (2 MB) at the very worst.
+const MAX_CELLS_PER_AXIS: usize = 64;
 
 pub(super) struct Grid {
     reach2: f64,
