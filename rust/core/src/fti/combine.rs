@@ -17,7 +17,7 @@
 use rayon::prelude::*;
 
 use super::batch::{Batch, ScanPairRays};
-use super::motion_gate;
+use super::motion_gate::{self, Motion};
 use super::options::InitiationOptions;
 use super::pool::CandidateSet;
 use super::problem::Problem;
@@ -25,6 +25,7 @@ use super::ray_pairs::RayPair;
 use super::reach_grid::Grid;
 use super::round_gate::RoundGate;
 use crate::error::{CoreError, CoreResult};
+use crate::geometry::model::Space;
 
 /// First × last tests allowed per allowed candidate (`max_candidates`): a test costs a small
 /// fraction of the fit a survivor costs, so this allows far more testing than fitting, and
@@ -85,6 +86,12 @@ pub(super) fn combine_with(
         });
     }
     let pair = batch.begin(rays.clone(), set)?;
+    // What the speed rule and the motion gate read of each pair, in small records (module
+    // `motion_gate`): a test reads two of them, not two ray pairs.
+    let motion =
+        |pairs: &[RayPair]| -> Vec<Option<Motion>> { pairs.par_iter().map(Motion::of).collect() };
+    let (first_motion, last_motion) = (motion(firsts), motion(lasts));
+    let (space, v_max) = (problem.layout.space, options.v_max());
     let blocks = firsts.len().div_ceil(BLOCK).max(1) as f64;
     for (done, block) in firsts.chunks(BLOCK).enumerate() {
         (problem.progress).report("candidates", done as f64 / blocks);
@@ -95,23 +102,28 @@ pub(super) fn combine_with(
             .par_iter()
             .enumerate()
             .map(|(i, f)| {
-                let passes = |&l: &usize| {
-                    speed_passes(f, &lasts[l], options.v_max())
-                        && motion_gate::passes(problem, f, &lasts[l], options)
+                let fm = first_motion[done * BLOCK + i].as_ref();
+                let passes = |l: usize, lm: Option<&Motion>| {
+                    speed_passes(fm, lm, v_max)
+                        && motion_passes(space, fm, lm, options)
                         && rounds.is_none_or(|r| r.passes(done * BLOCK + i, l, f, &lasts[l]))
                 };
-                match grid {
-                    Some(g) => {
+                match (grid, fm) {
+                    (Some(g), Some(fm)) => {
                         let mut survivors = Vec::new();
-                        g.for_each_near(f, |l| {
-                            if passes(&l) {
+                        g.for_each_near(&fm.point, |l, lm| {
+                            if passes(l, Some(lm)) {
                                 survivors.push(l);
                             }
                         });
                         survivors.sort_unstable(); // the plain double loop's order
                         survivors
                     }
-                    None => (0..lasts.len()).filter(passes).collect(),
+                    // Without a meeting a first pair fails `v_max` with every last one.
+                    (Some(_), None) => Vec::new(),
+                    (None, _) => (0..lasts.len())
+                        .filter(|&l| passes(l, last_motion[l].as_ref()))
+                        .collect(),
                 }
             })
             .collect();
@@ -139,9 +151,15 @@ pub(super) fn combine_with(
     Ok(())
 }
 
-pub(super) fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) -> bool {
+/// The `v_max` rule on two pairs' records: their meetings no farther apart than `v_max` allows
+/// in the time between them (always without `v_max`; never without a meeting).
+pub(super) fn speed_passes(
+    first: Option<&Motion>,
+    last: Option<&Motion>,
+    v_max: Option<f64>,
+) -> bool {
     let Some(v_max) = v_max else { return true };
-    let (Some(f), Some(l)) = (first.meeting, last.meeting) else {
+    let (Some(f), Some(l)) = (first, last) else {
         return false;
     };
     let distance = (0..3)
@@ -149,6 +167,19 @@ pub(super) fn speed_passes(first: &RayPair, last: &RayPair, v_max: Option<f64>) 
         .sum::<f64>()
         .sqrt();
     distance <= v_max * (l.time - f.time)
+}
+
+/// The motion gate on two pairs' records (module `motion_gate`; passes without a meeting).
+fn motion_passes(
+    space: Space,
+    first: Option<&Motion>,
+    last: Option<&Motion>,
+    options: &InitiationOptions,
+) -> bool {
+    match (first, last) {
+        (Some(f), Some(l)) => motion_gate::passes_motion(space, f, l, options),
+        _ => true,
+    }
 }
 
 #[cfg(test)]

@@ -14,57 +14,73 @@
 //! meeting points are each good to their noise. Rejected candidates are never fitted.
 
 use super::options::InitiationOptions;
-use super::problem::Problem;
 use super::ray_pairs::RayPair;
 use crate::geometry::model::Space;
 
-/// Whether the candidate of `first` and `last` passes (always, when the rule is off, in 2-D,
-/// or when a meeting is missing: the rules before it decide those).
-pub(super) fn passes(
-    problem: &Problem<'_>,
-    first: &RayPair,
-    last: &RayPair,
+/// What the speed rule and this gate read of a ray pair with a meeting, in one small record:
+/// the tests visit millions of pairs, and a [`RayPair`] spans several cache lines.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Motion {
+    /// The meeting's point and time.
+    pub(super) point: [f64; 3],
+    pub(super) time: f64,
+    /// Lateral spread of the meeting from angle noise, as the ray gate computes it.
+    noise: f64,
+    /// `t_a − t_b`, the time between the pair's two rays.
+    dt: f64,
+    /// [`RayPair::normal`].
+    normal: Option<([f64; 3], f64)>,
+}
+
+impl Motion {
+    /// The record of `pair`, or `None` without a meeting.
+    pub(super) fn of(pair: &RayPair) -> Option<Self> {
+        let m = pair.meeting?;
+        let [oa, ob] = &pair.observations;
+        let (sa, sb) = (oa.sigma[0].max(oa.sigma[1]), ob.sigma[0].max(ob.sigma[1]));
+        Some(Self {
+            point: m.point,
+            time: m.time,
+            noise: ((sa * m.range_a).powi(2) + (sb * m.range_b).powi(2)).sqrt(),
+            dt: oa.time - ob.time,
+            normal: pair.normal,
+        })
+    }
+}
+
+/// Whether the candidate of two pairs with meetings, their records `f` and `l`, passes
+/// (always when the rule is off, and in 2-D).
+pub(super) fn passes_motion(
+    space: Space,
+    f: &Motion,
+    l: &Motion,
     options: &InitiationOptions,
 ) -> bool {
     let Some(gate) = options.ray_gate_sigmas() else {
         return true;
     };
-    if problem.layout.space == Space::Planar {
+    if space == Space::Planar {
         return true;
     }
-    let (Some(f), Some(l)) = (first.meeting, last.meeting) else {
-        return true;
-    };
     let span = l.time - f.time;
     if span.is_nan() || span <= 0.0 {
         return true;
     }
     let v: [f64; 3] = std::array::from_fn(|k| (l.point[k] - f.point[k]) / span);
-    let (noise_f, noise_l) = (noise(first), noise(last));
-    let dv = (noise_f + noise_l) / span;
-    [(first, noise_f), (last, noise_l)]
+    let dv = (f.noise + l.noise) / span;
+    [f, l]
         .iter()
-        .all(|&(pair, noise)| corrected_distance_passes(pair, &v, gate, noise, dv))
+        .all(|pair| corrected_distance_passes(pair, &v, gate, dv))
 }
 
-/// Lateral spread of the pair's meeting from angle noise, as the ray gate computes it.
-fn noise(pair: &RayPair) -> f64 {
-    let [oa, ob] = &pair.observations;
-    let (sa, sb) = (oa.sigma[0].max(oa.sigma[1]), ob.sigma[0].max(ob.sigma[1]));
-    pair.meeting.map_or(f64::INFINITY, |m| {
-        ((sa * m.range_a).powi(2) + (sb * m.range_b).powi(2)).sqrt()
-    })
-}
-
-fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64, dv: f64) -> bool {
-    let [oa, ob] = &pair.observations;
-    let dt = oa.time - ob.time;
+fn corrected_distance_passes(pair: &Motion, v: &[f64; 3], gate: f64, dv: f64) -> bool {
+    let dt = pair.dt;
     // The lines' distance once sensor b moves by v·dt: along their common normal (module
     // `ray_pairs`), the distance of the closest points `closest_points` would find.
     match pair.normal {
         Some((n, offset)) => {
             let along = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-            (offset - dt * along).abs() <= gate * (noise + dt.abs() * dv)
+            (offset - dt * along).abs() <= gate * (pair.noise + dt.abs() * dv)
         }
         None => true, // parallel lines: nothing to judge
     }
@@ -72,12 +88,26 @@ fn corrected_distance_passes(pair: &RayPair, v: &[f64; 3], gate: f64, noise: f64
 
 #[cfg(test)]
 mod tests {
-    use super::passes;
+    use super::{passes_motion, Motion};
     use crate::fti::candidate::fit_candidate;
     use crate::fti::options::{InitiationOptions, CHI2_2DOF_999};
+    use crate::fti::problem::Problem;
     use crate::fti::ray_pairs::{ray_pairs, RayPair};
     use crate::fti::scans::Scans;
     use crate::fti::tests::sim;
+
+    /// The gate on two ray pairs (passes when either has no meeting).
+    fn passes(
+        problem: &Problem<'_>,
+        f: &RayPair,
+        l: &RayPair,
+        options: &InitiationOptions,
+    ) -> bool {
+        match (Motion::of(f), Motion::of(l)) {
+            (Some(f), Some(l)) => passes_motion(problem.layout.space, &f, &l, options),
+            _ => true,
+        }
+    }
 
     /// Every 4-tuple of the outer scans of two cluttered paper runs, brute force: the gate
     /// keeps every candidate whose fit passes the χ² gate and rejects most of the others.

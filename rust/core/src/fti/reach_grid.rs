@@ -10,6 +10,7 @@
 //! plain arithmetic, where an R*-tree's walk cost more per meeting found, and the visits need no
 //! sorting (the survivors of a visit are sorted instead, and they are few).
 
+use super::motion_gate::Motion;
 use super::ray_pairs::RayPair;
 use crate::geometry::model::Space;
 
@@ -27,8 +28,9 @@ pub(super) struct Grid {
     cells: [usize; 3],
     /// The meetings of cell `c` are `entries[starts[c]..starts[c + 1]]`.
     starts: Vec<usize>,
-    /// Last pair index and its meeting, by cell, ascending within a cell.
-    entries: Vec<(usize, [f64; 3])>,
+    /// Last pair index and what the tests read of it, by cell, ascending within a cell: a
+    /// visit reads the cells' records in memory order.
+    entries: Vec<(usize, Motion)>,
 }
 
 impl Grid {
@@ -70,8 +72,8 @@ impl Grid {
             starts: Vec::new(),
             entries: Vec::new(),
         };
-        let located: Vec<(usize, usize, [f64; 3])> = (lasts.iter().enumerate())
-            .filter_map(|(l, pair)| pair.meeting.map(|m| (grid.cell_of(&m.point), l, m.point)))
+        let located: Vec<(usize, usize, Motion)> = (lasts.iter().enumerate())
+            .filter_map(|(l, pair)| Motion::of(pair).map(|m| (grid.cell_of(&m.point), l, m)))
             .collect();
         let n_cells = cells.iter().product::<usize>();
         let mut starts = vec![0usize; n_cells + 1];
@@ -82,11 +84,13 @@ impl Grid {
             starts[c + 1] += starts[c];
         }
         let mut at = starts.clone();
-        let mut entries = vec![(0, [0.0; 3]); located.len()];
-        for &(c, l, point) in &located {
-            entries[at[c]] = (l, point);
+        let mut entries = Vec::with_capacity(located.len());
+        let mut order: Vec<usize> = vec![0; located.len()];
+        for (k, &(c, _, _)) in located.iter().enumerate() {
+            order[at[c]] = k;
             at[c] += 1;
         }
+        entries.extend(order.iter().map(|&k| (located[k].1, located[k].2)));
         (grid.starts, grid.entries) = (starts, entries);
         Some(grid)
     }
@@ -107,33 +111,34 @@ impl Grid {
         })
     }
 
-    /// Calls `visit(l)` for every last pair whose meeting lies within reach of `f`'s (none
-    /// without a meeting: it fails `v_max` anyway), in no particular order.
-    pub(super) fn for_each_near(&self, f: &RayPair, mut visit: impl FnMut(usize)) {
-        let Some(m) = f.meeting else {
-            return;
-        };
-        let centre = self.index_of(&m.point);
+    /// Calls `visit(l, motion)` for every last pair whose meeting lies within reach of
+    /// `point` (a first pair's meeting), in no particular order.
+    pub(super) fn for_each_near(&self, point: &[f64; 3], mut visit: impl FnMut(usize, &Motion)) {
+        let centre = self.index_of(point);
         let span = |k: usize| centre[k].saturating_sub(1)..=(centre[k] + 1).min(self.cells[k] - 1);
         for i in span(0) {
             for j in span(1) {
                 let row = (i * self.cells[1] + j) * self.cells[2];
                 let ks = span(2);
                 let (first, last) = (row + ks.start(), row + ks.end());
-                for &(l, p) in &self.entries[self.starts[first]..self.starts[last + 1]] {
-                    let d2 = (0..3).map(|k| (p[k] - m.point[k]).powi(2)).sum::<f64>();
+                for (l, motion) in &self.entries[self.starts[first]..self.starts[last + 1]] {
+                    let p = &motion.point;
+                    let d2 = (0..3).map(|k| (p[k] - point[k]).powi(2)).sum::<f64>();
                     if d2 <= self.reach2 {
-                        visit(l);
+                        visit(*l, motion);
                     }
                 }
             }
         }
     }
 
-    /// How many last pairs [`Self::for_each_near`] visits for `f`.
+    /// How many last pairs [`Self::for_each_near`] visits for `f` (none without a meeting:
+    /// it fails `v_max` anyway).
     pub(super) fn count_near(&self, f: &RayPair) -> usize {
         let mut count = 0;
-        self.for_each_near(f, |_| count += 1);
+        if let Some(m) = f.meeting {
+            self.for_each_near(&m.point, |_, _| count += 1);
+        }
         count
     }
 }
@@ -213,9 +218,9 @@ mod tests {
             let mut visited_all = 0;
             for f in &firsts {
                 let mut visited = Vec::new();
-                grid.for_each_near(f, |l| visited.push(l));
-                visited.sort_unstable();
                 let m = f.meeting.expect("met");
+                grid.for_each_near(&m.point, |l, _| visited.push(l));
+                visited.sort_unstable();
                 let brute: Vec<usize> = (lasts.iter().enumerate())
                     .filter(|(_, l)| {
                         l.meeting.is_some_and(|q| {
