@@ -18,6 +18,8 @@
 //! rescored when it reaches the top: the first whose score is still current is the largest.
 
 use std::cmp::Ordering;
+
+use rayon::prelude::*;
 use std::collections::BinaryHeap;
 
 use super::descent::Optimum;
@@ -95,13 +97,17 @@ fn detect_by_membership(
         (rows, score)
     };
     // An optimum's related rows only shrink as rows are taken, so one with `Nd` or fewer now
-    // can never be accepted: most optima leave here, after one scoring.
-    let mut heap: BinaryHeap<Ranked> = (order.iter().enumerate())
+    // can never be accepted: most optima leave here, after one scoring. The first scorings
+    // read the same rows, so they run in parallel; the heap orders by (score, position), a
+    // total order, so it pops the same whatever the order they arrive in.
+    let first: &[bool] = available;
+    let ranked: Vec<Ranked> = (order.par_iter().enumerate())
         .filter_map(|(position, &i)| {
-            let (rows, score) = taken(i, available);
+            let (rows, score) = taken(i, first);
             (rows.len() > n_detect).then_some(Ranked { score, position })
         })
         .collect();
+    let mut heap = BinaryHeap::from(ranked);
     let mut accepted = Vec::new();
     while let Some(top) = heap.pop() {
         let i = order[top.position];
