@@ -25,7 +25,6 @@ use super::ray_pairs::RayPair;
 use super::reach_grid::Grid;
 use super::round_gate::RoundGate;
 use crate::error::{CoreError, CoreResult};
-use crate::geometry::model::Space;
 
 /// First × last tests allowed per allowed candidate (`max_candidates`): a test costs a small
 /// fraction of the fit a survivor costs, so this allows far more testing than fitting, and
@@ -87,10 +86,16 @@ pub(super) fn combine_with(
     }
     let pair = batch.begin(rays.clone(), set)?;
     // What the speed rule and the motion gate read of each pair, in small records (module
-    // `motion_gate`): a test reads two of them, not two ray pairs.
+    // `motion_gate`): a test reads two of them, not two ray pairs. The grid holds the last
+    // pairs' own; without it they are read in order.
     let motion =
         |pairs: &[RayPair]| -> Vec<Option<Motion>> { pairs.par_iter().map(Motion::of).collect() };
-    let (first_motion, last_motion) = (motion(firsts), motion(lasts));
+    let first_motion = motion(firsts);
+    let last_motion = if grid.is_none() {
+        motion(lasts)
+    } else {
+        Vec::new()
+    };
     let (space, v_max) = (problem.layout.space, options.v_max());
     let blocks = firsts.len().div_ceil(BLOCK).max(1) as f64;
     for (done, block) in firsts.chunks(BLOCK).enumerate() {
@@ -105,7 +110,7 @@ pub(super) fn combine_with(
                 let fm = first_motion[done * BLOCK + i].as_ref();
                 let passes = |l: usize, lm: Option<&Motion>| {
                     speed_passes(fm, lm, v_max)
-                        && motion_passes(space, fm, lm, options)
+                        && motion_gate::passes(space, fm, lm, options)
                         && rounds.is_none_or(|r| r.passes(done * BLOCK + i, l, f, &lasts[l]))
                 };
                 match (grid, fm) {
@@ -167,19 +172,6 @@ pub(super) fn speed_passes(
         .sum::<f64>()
         .sqrt();
     distance <= v_max * (l.time - f.time)
-}
-
-/// The motion gate on two pairs' records (module `motion_gate`; passes without a meeting).
-fn motion_passes(
-    space: Space,
-    first: Option<&Motion>,
-    last: Option<&Motion>,
-    options: &InitiationOptions,
-) -> bool {
-    match (first, last) {
-        (Some(f), Some(l)) => motion_gate::passes_motion(space, f, l, options),
-        _ => true,
-    }
 }
 
 #[cfg(test)]

@@ -48,14 +48,23 @@ impl Motion {
     }
 }
 
-/// Whether the candidate of two pairs with meetings, their records `f` and `l`, passes
-/// (always when the rule is off, and in 2-D).
-pub(super) fn passes_motion(
+/// Whether the candidate of two pairs, their records `first` and `last`, passes (always
+/// when the rule is off, in 2-D, or when a meeting is missing: the rules before it decide
+/// those).
+pub(super) fn passes(
     space: Space,
-    f: &Motion,
-    l: &Motion,
+    first: Option<&Motion>,
+    last: Option<&Motion>,
     options: &InitiationOptions,
 ) -> bool {
+    match (first, last) {
+        (Some(f), Some(l)) => passes_motion(space, f, l, options),
+        _ => true,
+    }
+}
+
+/// [`passes`] of two pairs with meetings.
+fn passes_motion(space: Space, f: &Motion, l: &Motion, options: &InitiationOptions) -> bool {
     let Some(gate) = options.ray_gate_sigmas() else {
         return true;
     };
@@ -88,7 +97,7 @@ fn corrected_distance_passes(pair: &Motion, v: &[f64; 3], gate: f64, dv: f64) ->
 
 #[cfg(test)]
 mod tests {
-    use super::{passes_motion, Motion};
+    use super::Motion;
     use crate::fti::candidate::fit_candidate;
     use crate::fti::options::{InitiationOptions, CHI2_2DOF_999};
     use crate::fti::problem::Problem;
@@ -96,17 +105,15 @@ mod tests {
     use crate::fti::scans::Scans;
     use crate::fti::tests::sim;
 
-    /// The gate on two ray pairs (passes when either has no meeting).
+    /// The gate on two ray pairs.
     fn passes(
         problem: &Problem<'_>,
         f: &RayPair,
         l: &RayPair,
         options: &InitiationOptions,
     ) -> bool {
-        match (Motion::of(f), Motion::of(l)) {
-            (Some(f), Some(l)) => passes_motion(problem.layout.space, &f, &l, options),
-            _ => true,
-        }
+        let (f, l) = (Motion::of(f), Motion::of(l));
+        super::passes(problem.layout.space, f.as_ref(), l.as_ref(), options)
     }
 
     /// Every 4-tuple of the outer scans of two cluttered paper runs, brute force: the gate
