@@ -77,10 +77,21 @@ pub fn reserve_one<T>(vec: &mut Vec<T>, what: &'static str, hint: &'static str) 
     if vec.len() < vec.capacity() {
         return Ok(());
     }
-    vec.try_reserve(vec.len().max(64))
+    reserve(vec, vec.len().max(64), what, hint)
+}
+
+/// Makes room for `additional` more entries in `vec` through `try_reserve`: a failed
+/// allocation is [`CoreError::OutOfMemory`] instead of the process aborting.
+pub fn reserve<T>(
+    vec: &mut Vec<T>,
+    additional: usize,
+    what: &'static str,
+    hint: &'static str,
+) -> CoreResult<()> {
+    vec.try_reserve(additional)
         .map_err(|_| CoreError::OutOfMemory {
             what,
-            count: vec.len().saturating_mul(2),
+            count: vec.len().saturating_add(additional),
             hint,
         })
 }

@@ -18,9 +18,9 @@
 //! rescored when it reaches the top: the first whose score is still current is the largest.
 
 use std::cmp::Ordering;
+use std::collections::BinaryHeap;
 
 use rayon::prelude::*;
-use std::collections::BinaryHeap;
 
 use super::descent::Optimum;
 use super::detection::{detect_by_closeness, related_rows_with};

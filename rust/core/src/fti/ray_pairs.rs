@@ -3,11 +3,11 @@
 //! behind-sensor rule (module `candidates` describes every rule). A candidate is a first-scan
 //! and a last-scan ray pair (module `candidate`).
 
-use super::options::{InitiationOptions, OOM_HINT};
-use super::problem::Problem;
 use rayon::prelude::*;
 
-use crate::error::{CoreError, CoreResult};
+use super::options::{InitiationOptions, OOM_HINT};
+use super::problem::Problem;
+use crate::error::{reserve, CoreError, CoreResult};
 use crate::geometry::los::{closest_points, intersect_bearings};
 use crate::geometry::model::{Observation, Space};
 
@@ -171,12 +171,7 @@ pub(super) fn ray_pairs(
                     hint: "tighten ray_gate_sigmas, enable reject_behind, or raise max_candidates",
                 });
             }
-            out.try_reserve(kept.len())
-                .map_err(|_| CoreError::OutOfMemory {
-                    what: "ray pairs of one scan pair",
-                    count: out.len() + kept.len(),
-                    hint: OOM_HINT,
-                })?;
+            reserve(&mut out, kept.len(), "ray pairs of one scan pair", OOM_HINT)?;
             out.extend(kept);
         }
     }

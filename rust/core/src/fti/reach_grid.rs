@@ -72,26 +72,19 @@ impl Grid {
             starts: Vec::new(),
             entries: Vec::new(),
         };
-        let located: Vec<(usize, usize, Motion)> = (lasts.iter().enumerate())
+        let mut located: Vec<(usize, usize, Motion)> = (lasts.iter().enumerate())
             .filter_map(|(l, pair)| Motion::of(pair).map(|m| (grid.cell_of(&m.point), l, m)))
             .collect();
-        let n_cells = cells.iter().product::<usize>();
-        let mut starts = vec![0usize; n_cells + 1];
-        for &(c, _, _) in &located {
-            starts[c + 1] += 1;
+        located.sort_by_key(|&(cell, _, _)| cell); // stable: ascending l within a cell
+        let mut starts = vec![0usize; cells.iter().product::<usize>() + 1];
+        for &(cell, _, _) in &located {
+            starts[cell + 1] += 1;
         }
-        for c in 0..n_cells {
-            starts[c + 1] += starts[c];
+        for c in 1..starts.len() {
+            starts[c] += starts[c - 1];
         }
-        let mut at = starts.clone();
-        let mut entries = Vec::with_capacity(located.len());
-        let mut order: Vec<usize> = vec![0; located.len()];
-        for (k, &(c, _, _)) in located.iter().enumerate() {
-            order[at[c]] = k;
-            at[c] += 1;
-        }
-        entries.extend(order.iter().map(|&k| (located[k].1, located[k].2)));
-        (grid.starts, grid.entries) = (starts, entries);
+        grid.starts = starts;
+        grid.entries = located.into_iter().map(|(_, l, m)| (l, m)).collect();
         Some(grid)
     }
 

@@ -44,7 +44,7 @@ pub(super) fn tested(
     n_detect: usize,
     z: Option<f64>,
 ) -> (Vec<Track>, Vec<i64>) {
-    let kept: Vec<Track> = match z {
+    let mut kept: Vec<Track> = match z {
         None => tracks,
         Some(z) => {
             // In parallel, in order: each track is trimmed and refitted on its own.
@@ -54,7 +54,6 @@ pub(super) fn tested(
             coverage::covered(problem, scans, trimmed)
         }
     };
-    let mut kept = kept;
     kept.par_iter_mut()
         .for_each(|t| t.closeness = closeness(pre, &t.estimate));
     let mut labels = vec![-1i64; n_rows];
