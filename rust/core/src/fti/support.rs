@@ -14,8 +14,9 @@
 //! standard deviation includes the candidate's own uncertainty: `σ²_pred = σ² + |∇h·L|²` —
 //! so the gate is wider than detection's and widest where the candidate is least sure, which
 //! is where the descent may still move it. The candidate survives when more than Nd scans
-//! support it. Each scan's rows are kept sorted by azimuth and found by binary search.
+//! support it. Each scan's rows are kept sorted by azimuth and indexed (module `azimuths`).
 
+use super::azimuths::Azimuths;
 use super::candidate::Candidate;
 use super::problem::Problem;
 use super::scans::Scans;
@@ -27,7 +28,7 @@ use crate::geometry::model::{gradient_rows, predict, Observation, Space};
 pub(super) struct ScanAngles {
     pub(super) probe: Observation,
     pub(super) sigma: [f64; 2],
-    pub(super) angles: Vec<[f64; 2]>,
+    pub(super) angles: Azimuths,
 }
 
 /// Every scan of a table, prepared once per initiation.
@@ -47,16 +48,15 @@ impl SupportTable {
             .map(|k| {
                 let rows = scans.scan(k);
                 let first = problem.observation(rows[0]);
-                let mut angles: Vec<[f64; 2]> = (rows.iter())
+                let angles: Vec<[f64; 2]> = (rows.iter())
                     .filter(|&&m| available.is_none_or(|a| a[m]))
                     .map(|&m| problem.observation(m).angles.map(wrap))
                     .collect();
-                angles.sort_by(|a, b| a[0].total_cmp(&b[0]));
                 ScanAngles {
                     // Unit stds: `residual_rows` then returns the plain gradient ∇h.
                     probe: Observation::new(first.sensor, first.time, [0.0; 2], [1.0; 2]),
                     sigma: problem.scan_sigma(rows),
-                    angles,
+                    angles: Azimuths::new(angles),
                 }
             })
             .collect();
@@ -135,8 +135,8 @@ fn scan_supports(problem: &Problem<'_>, scan: &ScanAngles, c: &Candidate, gate: 
 
 /// Where `centre` falls among a scan's rows sorted by azimuth. In 2-D a window holds a row
 /// exactly when the nearest row on either side (modulo 2π) is in it, so the fixed gate's two
-/// windows need one binary search instead of two each (this test is most of the gate's work
-/// on dense 2-D scenes).
+/// windows need one search instead of two each (this test is most of the gate's work on
+/// dense 2-D scenes).
 struct Neighbours<'s> {
     sorted: &'s [[f64; 2]],
     centre: f64,
@@ -145,16 +145,15 @@ struct Neighbours<'s> {
 }
 
 impl<'s> Neighbours<'s> {
-    fn around(sorted: &'s [[f64; 2]], centre: f64) -> Self {
-        let above = sorted.partition_point(|a| a[0] < centre);
+    fn around(azimuths: &'s Azimuths, centre: f64) -> Self {
         Self {
-            sorted,
+            sorted: azimuths.rows(),
             centre,
-            above,
+            above: azimuths.first_not_below(centre),
         }
     }
 
-    /// Whether [`azimuth_window`] of `width` around the centre holds a row; the same
+    /// Whether [`Azimuths::window`] of `width` around the centre holds a row; the same
     /// comparisons on the only rows that can decide it, so the same answer.
     fn any_within(&self, width: f64) -> bool {
         use std::f64::consts::PI;
@@ -182,34 +181,11 @@ pub(super) fn in_box(
     half: [f64; 2],
     space: Space,
 ) -> impl Iterator<Item = &[f64; 2]> {
-    azimuth_window(&scan.angles, centre[0], half[0]).filter(move |angles| {
-        space == Space::Planar || wrap(angles[1] - centre[1]).abs() <= half[1]
-    })
-}
-
-/// The rows of `sorted` (by wrapped azimuth) within `width` of `centre`, modulo 2π.
-pub(super) fn azimuth_window(
-    sorted: &[[f64; 2]],
-    centre: f64,
-    width: f64,
-) -> impl Iterator<Item = &[f64; 2]> {
-    use std::f64::consts::PI;
-    let range = |lo: f64, hi: f64| {
-        let start = sorted.partition_point(|a| a[0] < lo);
-        let end = sorted.partition_point(|a| a[0] <= hi);
-        &sorted[start..end.max(start)]
-    };
-    let (lo, hi) = (centre - width, centre + width);
-    let (main, wrapped): (&[[f64; 2]], &[[f64; 2]]) = if width >= PI || width.is_nan() {
-        (sorted, &[])
-    } else if lo < -PI {
-        (range(-PI, hi), range(lo + 2.0 * PI, PI))
-    } else if hi > PI {
-        (range(lo, PI), range(-PI, hi - 2.0 * PI))
-    } else {
-        (range(lo, hi), &[])
-    };
-    main.iter().chain(wrapped)
+    scan.angles
+        .window(centre[0], half[0])
+        .filter(move |angles| {
+            space == Space::Planar || wrap(angles[1] - centre[1]).abs() <= half[1]
+        })
 }
 
 /// The support gate's tables and settings, as the fitting stage applies it to each fitted
@@ -228,43 +204,30 @@ pub struct Gate<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::{azimuth_window, Neighbours};
+    use super::{Azimuths, Neighbours};
     use crate::fti::options::InitiationOptions;
     use crate::fti::tests::run;
     use crate::fti::tests::sim;
     use std::f64::consts::PI;
-
-    #[test]
-    fn the_azimuth_window_wraps_around_pi() {
-        let sorted = [[-3.1, 0.0], [-1.0, 0.0], [0.0, 0.0], [3.1, 0.0]];
-        let found = |c: f64, w: f64| {
-            azimuth_window(&sorted, c, w)
-                .map(|a| a[0])
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(found(PI, 0.1), vec![3.1, -3.1]);
-        assert_eq!(found(-PI + 0.01, 0.1), vec![-3.1, 3.1]);
-        assert_eq!(found(0.0, 0.5), vec![0.0]);
-        assert_eq!(found(0.0, 4.0).len(), 4);
-    }
 
     /// The one-search test agrees with the window it replaces, around and across ±π, on
     /// both edges of each window (rows exactly at `centre ± width`).
     #[test]
     fn neighbours_agree_with_the_azimuth_window() {
         let sorted = [[-3.1, 0.0], [-1.0, 0.0], [0.0, 0.0], [0.5, 0.0], [3.1, 0.0]];
+        let azimuths = Azimuths::new(sorted.to_vec());
         for centre in [-PI, -3.12, -2.0, -0.5, 0.0, 0.25, 1.0, 3.0, 3.13, PI] {
-            let neighbours = Neighbours::around(&sorted, centre);
+            let neighbours = Neighbours::around(&azimuths, centre);
             let edges = sorted.iter().map(|a| (a[0] - centre).abs());
             for width in [0.0, 0.01, 0.1, 0.3, 1.0, 3.0, 3.2, f64::NAN]
                 .into_iter()
                 .chain(edges)
             {
-                let expected = azimuth_window(&sorted, centre, width).next().is_some();
+                let expected = azimuths.window(centre, width).next().is_some();
                 assert_eq!(neighbours.any_within(width), expected, "{centre} ± {width}");
             }
         }
-        assert!(!Neighbours::around(&[], 0.0).any_within(1.0));
+        assert!(!Neighbours::around(&Azimuths::new(Vec::new()), 0.0).any_within(1.0));
     }
 
     #[test]

@@ -41,7 +41,7 @@ use std::f64::consts::PI;
 
 use super::candidate::Candidate;
 use super::problem::Problem;
-use super::support::{azimuth_window, in_box, Gate, ScanAngles};
+use super::support::{in_box, Gate, ScanAngles};
 use crate::geometry::angles::wrap;
 use crate::geometry::model::{gradient_rows, predict, Space, MAX_DIM};
 
@@ -182,7 +182,7 @@ impl Prediction {
         gate: f64,
     ) -> impl Iterator<Item = (f64, [f64; 2])> + 'a {
         let width = move |a: usize| gate * self.variance[a].sqrt();
-        azimuth_window(&scan.angles, self.angles[0], width(0)).filter_map(move |angles| {
+        (scan.angles.window(self.angles[0], width(0))).filter_map(move |angles| {
             let mut d2 = 0.0;
             let pairs = angles.iter().zip(&self.angles).take(self.count);
             for (a, (&z, &h)) in pairs.enumerate() {
