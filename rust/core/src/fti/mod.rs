@@ -37,7 +37,7 @@
 //! Parallel stages (fits, descents, final fits) run on rayon and collect in input order; the
 //! sequential stages are order-defined, so results are bit-identical for any thread count.
 
-mod azimuths;
+mod angle_index;
 mod batch;
 mod candidate;
 mod candidates;

@@ -16,7 +16,7 @@
 //! is where the descent may still move it. The candidate survives when more than Nd scans
 //! support it. Each scan's rows are kept sorted by azimuth and indexed (module `azimuths`).
 
-use super::azimuths::Azimuths;
+use super::angle_index::Azimuths;
 use super::candidate::Candidate;
 use super::problem::Problem;
 use super::scans::Scans;

@@ -1,0 +1,215 @@
+//! A scan's rows sorted by azimuth, with a bucket index that finds where an azimuth falls
+//! among them in a step or two instead of a binary search.
+//!
+//! The witness, support and tracking gates ask, per candidate and scan, which rows lie within a
+//! window of azimuths: at 5 sensors × 100 targets that is millions of windows a run, and the
+//! two binary searches of each (their branches unpredictable) were a tenth of the
+//! initiation's samples. [`BucketIndex`] cuts the range of a scan's sorted angles into as many
+//! equal buckets as there are angles (a power of two) and keeps, per bucket, its first angle;
+//! a search looks in its bucket only. The bucket of an angle is a monotone function of it, so
+//! the angles of earlier buckets all lie below it and those of later buckets above: the answer
+//! is always within its bucket, and is exactly [`slice::partition_point`]'s (checked at the
+//! bucket's ends all the same, so no input, NaN or infinite, can make it differ). The
+//! closeness's windows (module `closeness`) keep their binary searches: there the `exp` of
+//! each row in the window is the cost, and the index measured no faster
+//! (`benches/bench_closeness.py --sensors 5 --targets 100`).
+
+use std::f64::consts::PI;
+
+/// The bucket index of one scan's sorted angles (held by the caller).
+#[derive(Clone, Debug)]
+pub(super) struct BucketIndex {
+    /// `starts[b]`: the angles of bucket `b` are `[starts[b]..starts[b + 1]]`.
+    starts: Vec<usize>,
+    /// The smallest angle, and buckets per radian (0 when the angles span none).
+    low: f64,
+    scale: f64,
+}
+
+impl BucketIndex {
+    /// The index of `sorted` (ascending by `total_cmp`).
+    pub(super) fn new(sorted: &[f64]) -> Self {
+        let buckets = sorted.len().next_power_of_two();
+        let (low, high) = match (sorted.first(), sorted.last()) {
+            (Some(&low), Some(&high)) => (low, high),
+            _ => (0.0, 0.0),
+        };
+        let scale = buckets as f64 / (high - low);
+        let mut index = Self {
+            starts: vec![0usize; buckets + 1],
+            low,
+            scale: if scale.is_finite() { scale } else { 0.0 },
+        };
+        for &angle in sorted {
+            let b = index.bucket(angle);
+            index.starts[b + 1] += 1;
+        }
+        for b in 1..index.starts.len() {
+            index.starts[b] += index.starts[b - 1];
+        }
+        index
+    }
+
+    /// The first angle not below `x`: `sorted.partition_point(|&a| a < x)`.
+    #[inline]
+    pub(super) fn first_not_below(&self, sorted: &[f64], x: f64) -> usize {
+        self.point(sorted, x, |a| a < x)
+    }
+
+    /// The first angle above `x`: `sorted.partition_point(|&a| a <= x)`.
+    #[inline]
+    pub(super) fn first_above(&self, sorted: &[f64], x: f64) -> usize {
+        self.point(sorted, x, |a| a <= x)
+    }
+
+    /// The angles of `sorted` in `[lo, hi]`, as a range of positions.
+    #[inline]
+    pub(super) fn between(&self, sorted: &[f64], lo: f64, hi: f64) -> std::ops::Range<usize> {
+        let start = self.first_not_below(sorted, lo);
+        start..self.first_above(sorted, hi).max(start)
+    }
+
+    /// `sorted.partition_point(|&a| below(a))` for a `below` that holds up to some angle near
+    /// `x` and not past it, searched within `x`'s bucket.
+    #[inline]
+    fn point(&self, sorted: &[f64], x: f64, below: impl Fn(f64) -> bool) -> usize {
+        let n = sorted.len();
+        let b = self.bucket(x);
+        let (mut lo, mut hi) = (self.starts[b], self.starts[b + 1]);
+        // Never taken for sorted angles (the buckets are monotone in the angle); a guard, so
+        // that the answer is partition_point's whatever the input.
+        if lo > 0 && !below(sorted[lo - 1]) {
+            lo = 0;
+        }
+        if hi < n && below(sorted[hi]) {
+            hi = n;
+        }
+        lo + sorted[lo..hi].partition_point(|&a| below(a))
+    }
+
+    /// The bucket of angle `x`: monotone in `x`; below the smallest angle and NaN go to the
+    /// first, from the largest on to the last.
+    #[inline]
+    fn bucket(&self, x: f64) -> usize {
+        let at = (x - self.low) * self.scale;
+        if at >= 0.0 {
+            (at as usize).min(self.starts.len() - 2)
+        } else {
+            0
+        }
+    }
+}
+
+/// The rows `[azimuth, elevation]` (wrapped) of one scan, sorted by azimuth, and the index of
+/// their azimuths.
+pub(super) struct Azimuths {
+    rows: Vec<[f64; 2]>,
+    azimuths: Vec<f64>,
+    index: BucketIndex,
+}
+
+impl Azimuths {
+    /// Sorts `rows` by azimuth (`total_cmp`) and indexes them.
+    pub(super) fn new(mut rows: Vec<[f64; 2]>) -> Self {
+        rows.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        let azimuths: Vec<f64> = rows.iter().map(|a| a[0]).collect();
+        Self {
+            index: BucketIndex::new(&azimuths),
+            rows,
+            azimuths,
+        }
+    }
+
+    pub(super) fn rows(&self) -> &[[f64; 2]] {
+        &self.rows
+    }
+
+    /// The first row whose azimuth is not below `x`: `rows.partition_point(|a| a[0] < x)`.
+    pub(super) fn first_not_below(&self, x: f64) -> usize {
+        self.index.first_not_below(&self.azimuths, x)
+    }
+
+    /// The rows within `width` of `centre`, modulo 2π (every row when `width` reaches π or
+    /// is NaN): those from `centre − width` up, then those past ±π.
+    pub(super) fn window(&self, centre: f64, width: f64) -> impl Iterator<Item = &[f64; 2]> {
+        let range = |lo: f64, hi: f64| &self.rows[self.index.between(&self.azimuths, lo, hi)];
+        let (lo, hi) = (centre - width, centre + width);
+        let (main, wrapped): (&[[f64; 2]], &[[f64; 2]]) = if width >= PI || width.is_nan() {
+            (&self.rows, &[])
+        } else if lo < -PI {
+            (range(-PI, hi), range(lo + 2.0 * PI, PI))
+        } else if hi > PI {
+            (range(lo, PI), range(-PI, hi - 2.0 * PI))
+        } else {
+            (range(lo, hi), &[])
+        };
+        main.iter().chain(wrapped)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The index's searches equal `partition_point` on scans of 0 to 300 rows, clustered and
+    /// spread (one row alone, all rows at one angle), with repeated azimuths, at the rows' own azimuths, between them, at ±π, past
+    /// it, at infinities and NaN.
+    #[test]
+    fn the_searches_are_partition_points() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let mut checked = 0;
+        for case in 0..200 {
+            let n = case * 3 / 2;
+            let clustered = case % 3 == 0;
+            let rows: Vec<[f64; 2]> = (0..n)
+                .map(|_| {
+                    let a = match clustered {
+                        true => 0.3 + rng.random_range(-0.01..0.01),
+                        false => rng.random_range(-PI..=PI),
+                    };
+                    // Some repeated azimuths.
+                    let a = if rng.random_bool(0.1) {
+                        (a * 8.0).round() / 8.0
+                    } else {
+                        a
+                    };
+                    [a.clamp(-PI, PI), 0.0]
+                })
+                .collect();
+            let index = Azimuths::new(rows);
+            let (rows, keys) = (index.rows(), &index.azimuths);
+            let mut probes = vec![-PI, PI, -4.0, 4.0, 0.0, -0.0, f64::INFINITY];
+            probes.extend([f64::NEG_INFINITY, f64::NAN]);
+            probes.extend(rows.iter().map(|a| a[0]));
+            probes.extend((0..50).map(|_| rng.random_range(-3.5..3.5)));
+            probes.extend(rows.iter().map(|a| a[0].next_up()));
+            for x in probes {
+                assert_eq!(
+                    index.first_not_below(x),
+                    rows.partition_point(|a| a[0] < x),
+                    "{x}"
+                );
+                assert_eq!(
+                    index.index.first_above(keys, x),
+                    rows.partition_point(|a| a[0] <= x),
+                    "{x}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 20_000, "{checked}");
+    }
+
+    #[test]
+    fn the_window_wraps_around_pi() {
+        let index = Azimuths::new(vec![[3.1, 0.0], [-1.0, 0.0], [0.0, 0.0], [-3.1, 0.0]]);
+        let found = |c: f64, w: f64| index.window(c, w).map(|a| a[0]).collect::<Vec<_>>();
+        assert_eq!(found(PI, 0.1), vec![3.1, -3.1]);
+        assert_eq!(found(-PI + 0.01, 0.1), vec![-3.1, 3.1]);
+        assert_eq!(found(0.0, 0.5), vec![0.0]);
+        assert_eq!(found(0.0, 4.0).len(), 4);
+        assert_eq!(found(0.0, f64::NAN).len(), 4);
+    }
+}
