@@ -19,7 +19,7 @@
 
 use super::meeting::{Located3, Matrix};
 use super::ray_pairs::RayPair;
-use super::support::{in_box, ScanAngles};
+use super::support::ScanAngles;
 use crate::geometry::angles::wrap;
 use crate::geometry::fastmath::{atan2, atan2_any};
 use crate::geometry::los::closest_points;
@@ -139,13 +139,9 @@ fn sees(space: Space, scan: &ScanAngles, point: &[f64; 3], covariance: &Matrix, 
     if !(rho2 > 0.0 && rho2.is_finite()) {
         return true; // overhead the azimuth is undefined: do not judge
     }
-    let rho = rho2.sqrt();
-    // The angles `predict` gives, by the residual kernel's arctangent (a few ulp from the
+    // The azimuth `predict` gives, by the residual kernel's arctangent (a few ulp from the
     // standard library's, at a fraction of its cost: this runs per witness scan per candidate).
-    let predicted = match space {
-        Space::Planar => [atan2_any(d[1], d[0]), 0.0],
-        Space::Spatial => [atan2_any(d[1], d[0]), atan2(d[2], rho)],
-    };
+    let azimuth = atan2_any(d[1], d[0]);
     // The angles' gradients (the azimuth's has no z term) carried through the covariance:
     // `s = σ² + g C gᵀ`, symmetric, so three entries.
     let c = covariance;
@@ -154,34 +150,33 @@ fn sees(space: Space, scan: &ScanAngles, point: &[f64; 3], covariance: &Matrix, 
     let s00 = scan.sigma[0].powi(2)
         + g0[0] * (c[0][0] * g0[0] + c[0][1] * g0[1])
         + g0[1] * (c[1][0] * g0[0] + c[1][1] * g0[1]);
-    let s = match space {
-        Space::Planar => [[s00, 0.0], [0.0, scan.sigma[1].powi(2)]],
-        Space::Spatial => {
-            let k = 1.0 / (r2 * rho);
-            let g1 = [-d[0] * d[2] * k, -d[1] * d[2] * k, rho2 * k];
-            let cg1: [f64; 3] =
-                std::array::from_fn(|i| c[i][0] * g1[0] + c[i][1] * g1[1] + c[i][2] * g1[2]);
-            let s01 = g0[0] * cg1[0] + g0[1] * cg1[1];
-            let s11 = scan.sigma[1].powi(2) + g1[0] * cg1[0] + g1[1] * cg1[1] + g1[2] * cg1[2];
-            [[s00, s01], [s01, s11]]
-        }
-    };
-    let half = [(gate * s[0][0]).sqrt(), (gate * s[1][1]).sqrt()];
-    let mut rows = in_box(scan, predicted, half, space);
-    match space {
-        Space::Planar => rows.next().is_some(),
-        Space::Spatial => {
-            let det = s[0][0] * s[1][1] - s[0][1] * s[1][0];
-            if !(det.is_finite() && det > 0.0) {
-                return true;
-            }
-            rows.any(|angles| {
-                let e = [wrap(angles[0] - predicted[0]), angles[1] - predicted[1]];
-                let q = (s[1][1] * e[0] * e[0] - 2.0 * s[0][1] * e[0] * e[1]
-                    + s[0][0] * e[1] * e[1])
-                    / det;
-                q <= gate
-            })
-        }
+    let mut window = scan.angles.window(azimuth, (gate * s00).sqrt());
+    if space == Space::Planar {
+        return window.next().is_some();
     }
+    let rho = rho2.sqrt();
+    let k = 1.0 / (r2 * rho);
+    let g1 = [-d[0] * d[2] * k, -d[1] * d[2] * k, rho2 * k];
+    let cg1: [f64; 3] =
+        std::array::from_fn(|i| c[i][0] * g1[0] + c[i][1] * g1[1] + c[i][2] * g1[2]);
+    let s01 = g0[0] * cg1[0] + g0[1] * cg1[1];
+    let s11 = scan.sigma[1].powi(2) + g1[0] * cg1[0] + g1[1] * cg1[1] + g1[2] * cg1[2];
+    let det = s00 * s11 - s01 * s01;
+    if !(det.is_finite() && det > 0.0) {
+        return true;
+    }
+    // Most ghosts find no row in the azimuth window: then the elevation is never predicted.
+    let Some(first) = window.next() else {
+        return false;
+    };
+    let elevation = atan2(d[2], rho);
+    let half = (gate * s11).sqrt();
+    std::iter::once(first)
+        .chain(window)
+        .filter(|angles| wrap(angles[1] - elevation).abs() <= half)
+        .any(|angles| {
+            let e = [wrap(angles[0] - azimuth), angles[1] - elevation];
+            let q = (s11 * e[0] * e[0] - 2.0 * s01 * e[0] * e[1] + s00 * e[1] * e[1]) / det;
+            q <= gate
+        })
 }
