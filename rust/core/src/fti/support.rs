@@ -14,7 +14,7 @@
 //! standard deviation includes the candidate's own uncertainty: `σ²_pred = σ² + |∇h·L|²` —
 //! so the gate is wider than detection's and widest where the candidate is least sure, which
 //! is where the descent may still move it. The candidate survives when more than Nd scans
-//! support it. Each scan's rows are kept sorted by azimuth and indexed (module `azimuths`).
+//! support it. Each scan's rows are kept sorted by azimuth and indexed (module `angle_index`).
 
 use super::angle_index::Azimuths;
 use super::candidate::Candidate;

@@ -165,7 +165,8 @@ fn sees(space: Space, scan: &ScanAngles, point: &[f64; 3], covariance: &Matrix, 
     if !(det.is_finite() && det > 0.0) {
         return true;
     }
-    // Most ghosts find no row in the azimuth window: then the elevation is never predicted.
+    // A scan without a row in the azimuth window cannot see the candidate: the elevation's
+    // arctangent is then not taken.
     let Some(first) = window.next() else {
         return false;
     };
