@@ -184,10 +184,9 @@ impl<'a> Prepared<'a> {
                 }
                 chi2 += r2;
             }
-            let d = match self.layout.space {
-                Space::Planar => direction(o.angles[0], 0.0),
-                Space::Spatial => direction(o.angles[0], o.angles[1]),
-            };
+            // The measured line of sight from the cosines and sines the observation caches
+            // (what `direction` of its angles gives, bit for bit: this runs per prefix fit).
+            let d = o.line_of_sight();
             let ahead: f64 = (0..dim).map(|k| (point[k] - o.sensor[k]) * d[k]).sum();
             if ahead.is_nan() || ahead <= 0.0 {
                 return None;
