@@ -17,6 +17,7 @@
 use std::f64::consts::PI;
 
 use crate::geometry::angles::wrap;
+use crate::geometry::fastmath::atan2_any;
 use crate::geometry::los::intersect_bearings;
 
 /// Wedges wider than this (half-angle, rad) are not used: convexity needs < π/2.
@@ -38,7 +39,7 @@ impl Wedge {
         if dx == 0.0 && dy == 0.0 {
             return true;
         }
-        wrap(dy.atan2(dx) - self.bearing).abs() <= self.half_width + margin
+        wrap(atan2_any(dy, dx) - self.bearing).abs() <= self.half_width + margin
     }
 }
 
@@ -107,7 +108,7 @@ impl Window {
             return None;
         }
         let vertices = &self.vertices[..self.count];
-        let bearing = |v: &[f64; 2]| (v[1] - q[1]).atan2(v[0] - q[0]);
+        let bearing = |v: &[f64; 2]| atan2_any(v[1] - q[1], v[0] - q[0]);
         let reference = bearing(vertices.first()?);
         let (mut lo, mut hi) = (0.0f64, 0.0f64);
         for v in vertices {
