@@ -183,9 +183,12 @@ pub(super) fn in_box(
 ) -> impl Iterator<Item = &[f64; 2]> {
     scan.angles
         .window(centre[0], half[0])
-        .filter(move |angles| {
-            space == Space::Planar || wrap(angles[1] - centre[1]).abs() <= half[1]
-        })
+        .filter(move |angles| space == Space::Planar || in_elevation(angles, centre[1], half[1]))
+}
+
+/// Whether a row's elevation lies within `half` of `centre` (the box test's second angle).
+pub(super) fn in_elevation(angles: &[f64; 2], centre: f64, half: f64) -> bool {
+    wrap(angles[1] - centre).abs() <= half
 }
 
 /// The support gate's tables and settings, as the fitting stage applies it to each fitted

@@ -19,7 +19,7 @@
 
 use super::meeting::{Located3, Matrix};
 use super::ray_pairs::RayPair;
-use super::support::ScanAngles;
+use super::support::{in_elevation, ScanAngles};
 use crate::geometry::angles::wrap;
 use crate::geometry::fastmath::{atan2, atan2_any};
 use crate::geometry::los::closest_points;
@@ -174,7 +174,7 @@ fn sees(space: Space, scan: &ScanAngles, point: &[f64; 3], covariance: &Matrix, 
     let half = (gate * s11).sqrt();
     std::iter::once(first)
         .chain(window)
-        .filter(|angles| wrap(angles[1] - elevation).abs() <= half)
+        .filter(|angles| in_elevation(angles, elevation, half))
         .any(|angles| {
             let e = [wrap(angles[0] - azimuth), angles[1] - elevation];
             let q = (s11 * e[0] * e[0] - 2.0 * s01 * e[0] * e[1] + s00 * e[1] * e[1]) / det;
