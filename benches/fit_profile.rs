@@ -10,6 +10,9 @@
 //! Run directly with a repeat count (`... fit_profile-<hash> 20`) it prints µs per fit. A
 //! second number is the scans of each sensor (`... fit_profile-<hash> 1 8`: 16 measurements
 //! over the same 110 s, as `benches/bench_fit.py --scans 8`).
+//!
+//! For where the time goes (docs/performance.md, *Where the floor is*), the same binary under
+//! `perf record` with `60 8` (sixty repeats: the data generation drops out of the profile).
 
 use passive_assoc_core::data::{Measurements, Sensors};
 use passive_assoc_core::estimation::fit::batch::{fit_batch, Problems};
