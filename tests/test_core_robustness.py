@@ -86,6 +86,7 @@ def _initiate(args: dict[str, Any], kw: dict[str, Any]) -> Any:
         candidates="auto",
         prefit_gates=True,
         sweep=True,
+        untangle=True,
         on_limit="warn",
         detection_order="membership",
         descent_scaling="whitened",

@@ -45,6 +45,7 @@ pub fn option_defaults(py: Python<'_>, paper: bool) -> BindResult<Bound<'_, PyDi
     d.set_item("candidates", o.candidates().name())?;
     d.set_item("prefit_gates", o.prefit_gates())?;
     d.set_item("sweep", o.sweep())?;
+    d.set_item("untangle", o.untangle())?;
     d.set_item("on_limit", if o.stop_at_limit() { "warn" } else { "raise" })?;
     d.set_item("pairs", pairs)?;
     d.set_item("gate_sigmas", o.gate_sigmas())?;

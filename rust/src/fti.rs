@@ -30,6 +30,7 @@ pub struct InitiationSettings {
     candidates: String,
     prefit_gates: bool,
     sweep: bool,
+    untangle: bool,
     on_limit: String,
     gate_sigmas: f64,
     n_detect: Option<i64>,
@@ -61,6 +62,7 @@ impl InitiationSettings {
             .with_candidates(parse("candidates", &self.candidates)?)
             .with_prefit_gates(self.prefit_gates)
             .with_sweep(self.sweep)
+            .with_untangle(self.untangle)
             .with_stop_at_limit(stop_at_limit(&self.on_limit)?)
             .with_pairs(pairs)
             .with_gate_sigmas(self.gate_sigmas)?

@@ -79,6 +79,27 @@ def test_issue_16s_eight_target_2d_scene_gives_one_track_per_target() -> None:
     assert targets_tracked(result, scenario) == list(range(8))
 
 
+def test_two_tracks_that_took_each_others_rows_at_one_sensor_are_untangled() -> None:
+    """``bearing_only_2d_scenario(1, n_targets=8, pd=0.9)``: targets 0 and 5 fly close, and
+    without untangling each of their tracks holds the other's rows of the third sensor, so
+    neither holds a target. Untangled, both are found, and every row is still in one track
+    or the clutter."""
+    scenario = pa.bearing_only_2d_scenario(1, n_targets=8, pd=0.9)
+    args = (scenario.measurements, scenario.sensors)
+    tangled = FuzzyTrackInitiator(untangle=False).initiate(*args, t0=scenario.t0)
+    untangled = FuzzyTrackInitiator().initiate(*args, t0=scenario.t0)
+    truth = scenario.measurements.truth
+    held_before = set(track_targets(tangled.labels, truth).tolist())
+    held_after = set(track_targets(untangled.labels, truth).tolist())
+    assert not {0, 5} & held_before
+    assert {0, 5} <= held_after
+    assert len(held_after - {-1}) > len(held_before - {-1})
+    for result in (tangled, untangled):
+        in_tracks = sorted(m for track in result.tracks for m in track.measurements)
+        assert in_tracks == np.flatnonzero(result.labels >= 0).tolist()
+        assert len(result.labels) == len(scenario.measurements)
+
+
 def test_detection_in_membership_order_leaves_no_ghost_tracks() -> None:
     """Seed 1 of the same scene: in the paper's order (decreasing R over every row) optima
     between targets are detected first and 13 tracks come out for 8 targets; in membership

@@ -188,6 +188,11 @@ class FuzzyTrackInitiator(Configurable):
         and ``diagnostics.limit`` speak of ``max_candidates`` only); it does not run when the
         rounds reached ``max_candidates``. False skips it (at 20 targets and fewer it is most
         of the fitted candidates).
+    untangle : bool
+        At the end, two tracks that compete for rows exchange one sensor's rows (from one of
+        its scans on) when both then fit better, by a summed chi-square drop above 2: where
+        two targets fly close, each track can hold the other's rows at one sensor
+        (docs/methods.md §1, *Untangling*). False keeps the classification's assignment.
     ray_gate_sigmas : float or None
         Prune a pair of first- or last-scan rays whose closest approach exceeds this many
         standard deviations of the crossing, plus ``v_max`` times the two sensors' time
@@ -304,6 +309,7 @@ class FuzzyTrackInitiator(Configurable):
     ] = "auto"
     prefit_gates: Annotated[bool, Boolean()] = True
     sweep: Annotated[bool, Boolean()] = True
+    untangle: Annotated[bool, Boolean()] = True
     ray_gate_sigmas: Annotated[float | None, POSITIVE, None] = 5.0
     reject_behind: Annotated[bool, Boolean()] = True
     v_max: Annotated[float | None, POSITIVE, None] = 500.0

@@ -66,6 +66,7 @@ mod stages;
 mod support;
 mod track_join;
 mod track_quality;
+mod track_swap;
 mod tracking_gate;
 mod witness_gate;
 

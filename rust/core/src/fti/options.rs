@@ -125,6 +125,7 @@ impl std::str::FromStr for DetectionOrder {
 /// | `descent` | see [`DescentOptions`] | |
 /// | `max_candidates` | 500 000 | bounds the work: fitting and gating 465 152 candidates takes ≈ 1.4 s on one thread (the 8-target 2-D scene of `benches/bench_initiation_2d.py` with `candidates="paper"`); with the support gate off every candidate is stored (≈ 0.45 kB each) |
 /// | `refine_passes` | 2 | see [`with_refine_passes`](Self::with_refine_passes) |
+/// | `untangle` | on | two tracks that took each other's rows at one sensor exchange them; see [`with_untangle`](Self::with_untangle) |
 /// | `track_test` | 10⁻⁶ (z = 4.753) | see [`with_track_test`](Self::with_track_test) |
 /// | `support_gate` | on | see module `support` |
 /// | `candidate_scans` | 4 | see [`with_candidate_scans`](Self::with_candidate_scans) |
@@ -167,6 +168,7 @@ pub struct InitiationOptions {
     descent: DescentOptions,
     max_candidates: usize,
     refine_passes: usize,
+    untangle: bool,
     candidate_scans: usize,
     support_gate: bool,
     track_test: Option<f64>,
@@ -187,8 +189,8 @@ impl InitiationOptions {
     /// `n_detect` automatic, `ray_gate_sigmas = Some(5)`, `reject_behind`,
     /// `v_max = Some(500)`, `chi2_gate = Some(`[`CHI2_2DOF_999`]`)`, `one_per_scan`, the
     /// membership detection order, `merge_tol = 1`, the recommended descent,
-    /// `max_candidates = 500_000`, `refine_passes = 2`, `candidate_scans = 4`, the support
-    /// gate on, `track_test = Some(`[`TRACK_TEST`]`)`, misses not priced,
+    /// `max_candidates = 500_000`, `refine_passes = 2`, untangling on, `candidate_scans = 4`,
+    /// the support gate on, `track_test = Some(`[`TRACK_TEST`]`)`, misses not priced,
     /// `search_stage = Some(8192)` (the table of [`InitiationOptions`] says why).
     pub fn recommended() -> Self {
         Self {
@@ -209,6 +211,7 @@ impl InitiationOptions {
             descent: DescentOptions::default(),
             max_candidates: 500_000,
             refine_passes: 2,
+            untangle: true,
             candidate_scans: 4,
             support_gate: true,
             track_test: Some(TRACK_TEST),
@@ -228,8 +231,8 @@ impl InitiationOptions {
     /// * `one_per_scan` off and the closeness detection order: eq. 23 as printed;
     /// * the diagonal descent scaling ([`DescentOptions::paper`]): per-component standard
     ///   deviations, the scaling METHODS names;
-    /// * `candidates = Paper`, `refine_passes = 0`, `candidate_scans = 1`, the support gate
-    ///   off, `track_test` `None`, `search_stage` `None`: the project extensions, each off, so
+    /// * `candidates = Paper`, `refine_passes = 0`, untangling off, `candidate_scans = 1`, the
+    ///   support gate off, `track_test` `None`, `search_stage` `None`: the project extensions, each off, so
     ///   candidates come from the first and last scans only and every candidate is descended
     ///   before detection.
     ///
@@ -247,6 +250,7 @@ impl InitiationOptions {
             detection_order: DetectionOrder::Closeness,
             descent: DescentOptions::paper(),
             refine_passes: 0,
+            untangle: false,
             candidate_scans: 1,
             candidates: Formation::Paper,
             support_gate: false,
@@ -291,6 +295,18 @@ impl InitiationOptions {
 
     pub fn sweep(&self) -> bool {
         self.sweep
+    }
+
+    /// At the end of the pipeline, exchange one sensor's rows between two competing tracks
+    /// when both then fit better (on by default; module `track_swap`): where two targets fly
+    /// close, each track can hold the other's rows at one sensor.
+    pub fn with_untangle(mut self, untangle: bool) -> Self {
+        self.untangle = untangle;
+        self
+    }
+
+    pub fn untangle(&self) -> bool {
+        self.untangle
     }
 
     /// What reaching `max_candidates` (or the test cap it sets) does: `true` ends the

@@ -17,6 +17,7 @@ use super::stages::search_and_detect;
 use super::support::{Gate, SupportTable};
 use super::track_join;
 use super::track_quality;
+use super::track_swap;
 use crate::data::{Measurements, Sensors};
 use crate::error::{CoreError, CoreResult};
 use crate::geometry::model::{Motion, StateLayout, MAX_DIM};
@@ -505,6 +506,18 @@ fn finished(
             break;
         }
         (tracks, labels) = final_tracks(problem, &refined, relabelled);
+    }
+    if options.untangle() {
+        let (untangled, any) = track_swap::untangled(problem, scans, tracks, gate);
+        tracks = untangled;
+        if any {
+            labels.fill(-1);
+            for (k, track) in tracks.iter().enumerate() {
+                for &m in &track.measurements {
+                    labels[m] = k as i64;
+                }
+            }
+        }
     }
     // The track test runs once, on the refined tracks: an early classification can give a
     // target wrong rows that a refine pass then corrects.

@@ -39,21 +39,10 @@ pub(super) fn joined(
 ) -> Option<Vec<[f64; MAX_DIM]>> {
     let mut states: Vec<Option<[f64; MAX_DIM]>> =
         tracks.iter().map(|t| Some(padded(&t.estimate))).collect();
-    let predicted: Vec<Vec<[f64; 2]>> = tracks
-        .iter()
-        .map(|t| predictions(problem, scans, t))
-        .collect();
-    // Each scan's width once, not once per pair of tracks (the pairs are many at 100 targets).
-    let widths: Vec<[f64; 2]> = (0..scans.len())
-        .map(|k| problem.scan_sigma(scans.scan(k)).map(|s| gate * s))
-        .collect();
     // A join of two tracks depends on those two alone, so every competing pair is tried at
     // once, in parallel; the pairs are then taken in order, each track in one join at most,
     // as a loop that tried them one by one would take them.
-    let competing: Vec<(usize, usize)> = (0..tracks.len())
-        .flat_map(|a| (a + 1..tracks.len()).map(move |b| (a, b)))
-        .filter(|&(a, b)| compete(problem, &widths, &predicted[a], &predicted[b]))
-        .collect();
+    let competing = competing(problem, scans, tracks, gate);
     let tried: Vec<Option<Track>> = competing
         .par_iter()
         .map(|&(a, b)| try_join(problem, scans, &tracks[a], &tracks[b], n_detect, z))
@@ -68,6 +57,28 @@ pub(super) fn joined(
     }
     used.contains(&true)
         .then(|| states.into_iter().flatten().collect())
+}
+
+/// The pairs `(a, b)`, `a < b`, of `tracks` that compete for rows: their predicted angles
+/// come within the `gate` (σ) of each other, in every angle, in some scan.
+pub(super) fn competing(
+    problem: &Problem<'_>,
+    scans: &Scans,
+    tracks: &[Track],
+    gate: f64,
+) -> Vec<(usize, usize)> {
+    let predicted: Vec<Vec<[f64; 2]>> = tracks
+        .iter()
+        .map(|t| predictions(problem, scans, t))
+        .collect();
+    // Each scan's width once, not once per pair of tracks (the pairs are many at 100 targets).
+    let widths: Vec<[f64; 2]> = (0..scans.len())
+        .map(|k| problem.scan_sigma(scans.scan(k)).map(|s| gate * s))
+        .collect();
+    (0..tracks.len())
+        .flat_map(|a| (a + 1..tracks.len()).map(move |b| (a, b)))
+        .filter(|&(a, b)| compete(problem, &widths, &predicted[a], &predicted[b]))
+        .collect()
 }
 
 /// A track's predicted angles in every scan (once per track, not once per pair).
