@@ -79,12 +79,27 @@ LATENCY = {"exact S-D": 1.5, "formation locator": 2.0, "topology scan": 1.5, "fu
 def test_sigint_interrupts_a_long_call(case: str) -> None:
     handler = "\nexcept KeyboardInterrupt:\n    print('interrupted', time.monotonic() - sent[0])\n"
     script = _PRELUDE + "try:\n" + _indent(CASES[case]) + handler
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    done = _run_with_sigint(script)
     assert done.returncode == 0, done.stderr[-2000:]
     word, seconds = done.stdout.split()
     assert word == "interrupted", (done.stdout, done.stderr[-2000:])
     bound = LATENCY[case]
     assert bound is None or float(seconds) < bound, f"{case}: KeyboardInterrupt {float(seconds):.2f} s after SIGINT"
+
+
+def _run_with_sigint(script: str) -> subprocess.CompletedProcess[str]:
+    """``script`` in a subprocess whose SIGINT is at its default, as in a terminal, even when
+    the test run itself was started with SIGINT ignored (a background job of a non-interactive
+    shell, whose children inherit the ignored disposition; the next test covers that case)."""
+    import signal
+
+    return subprocess.run(
+        [sys.executable, "-c", script],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
 
 
 def _indent(code: str) -> str:
@@ -169,6 +184,6 @@ def test_ctrl_c_stops_the_calls_of_every_thread() -> None:
     """Two long calls, one on the main thread and one on another: one Ctrl-C stops both,
     promptly. (Each call once cleared a process-wide flag on entry, so a call started on a
     second thread could swallow the request meant for the first.)"""
-    done = subprocess.run([sys.executable, "-c", _TWO_THREADS], capture_output=True, text=True, timeout=120)
+    done = _run_with_sigint(_TWO_THREADS)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.split("\n")[:2] == ["main interrupted", "worker interrupted True"], done.stdout
