@@ -7,6 +7,13 @@ use crate::estimation::fit::gauss_newton::fit;
 use crate::estimation::fit::{FitOptions, Termination};
 use crate::geometry::model::MAX_DIM;
 
+/// The track of `rows` (in any order) refitted from `start`; the tests' tracks.
+#[cfg(test)]
+pub(super) fn refit_rows(problem: &Problem<'_>, start: &[f64], mut rows: Vec<usize>) -> Track {
+    rows.sort_unstable();
+    refit(problem, &padded(start), &rows).expect("fits")
+}
+
 /// `estimate` (X0 of the layout's dimension) in a state of the stages' fixed size.
 pub(super) fn padded(estimate: &[f64]) -> [f64; MAX_DIM] {
     let mut x = [0.0; MAX_DIM];

@@ -148,6 +148,7 @@ mod tests {
     use super::*;
     use crate::fti::options::TRACK_TEST;
     use crate::fti::quantiles::upper_normal_level;
+    use crate::fti::refit::refit_rows;
     use crate::fti::tests::sim;
 
     /// One target's rows shared between two tracks (even and odd scans)
@@ -159,12 +160,9 @@ mod tests {
         let table = sc.measurements(&sensors);
         let problem = sim::problem(sensors, table);
         let scans = Scans::new(&table, sensors.len());
-        let rows_of =
-            |i: i64| -> Vec<usize> { (0..sc.truth.len()).filter(|&m| sc.truth[m] == i).collect() };
+        let rows_of = |i: i64| sc.rows_of(i);
         let track = |target: usize, rows: &[usize]| {
-            let mut rows = rows.to_vec();
-            rows.sort_unstable();
-            refit(&problem, &padded(&sc.targets[target]), &rows).expect("fits")
+            refit_rows(&problem, &sc.targets[target], rows.to_vec())
         };
         let own = rows_of(2);
         let (even, odd): (Vec<usize>, Vec<usize>) =

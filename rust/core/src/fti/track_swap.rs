@@ -141,6 +141,7 @@ fn best_exchange(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fti::refit::refit_rows;
     use crate::fti::tests::sim;
 
     /// Two targets' tracks that hold each other's rows at one sensor are untangled, every row
@@ -152,16 +153,11 @@ mod tests {
         let table = sc.measurements(&sensors);
         let problem = sim::problem(sensors, table);
         let scans = Scans::new(&table, sensors.len());
-        let rows_of =
-            |i: i64| -> Vec<usize> { (0..sc.truth.len()).filter(|&m| sc.truth[m] == i).collect() };
-        let fitted = |target: usize, rows: Vec<usize>| {
-            let mut rows = rows;
-            rows.sort_unstable();
-            refit(&problem, &padded(&sc.targets[target]), &rows).expect("fits")
-        };
+        let fitted =
+            |target: usize, rows: Vec<usize>| refit_rows(&problem, &sc.targets[target], rows);
         // Two targets, and their rows of sensor 1 exchanged between their tracks.
         let (t0, t1) = (0usize, 1usize);
-        let (r0, r1) = (rows_of(t0 as i64), rows_of(t1 as i64));
+        let (r0, r1) = (sc.rows_of(t0 as i64), sc.rows_of(t1 as i64));
         let at_1 = |m: &usize| table.sensor(*m) == 1;
         let tangled = |own: &[usize], other: &[usize]| -> Vec<usize> {
             (own.iter().filter(|m| !at_1(m)))

@@ -77,6 +77,13 @@ impl Scenario {
         .expect("valid table")
     }
 
+    /// The rows of target `i`, ascending.
+    pub fn rows_of(&self, i: i64) -> Vec<usize> {
+        (0..self.truth.len())
+            .filter(|&m| self.truth[m] == i)
+            .collect()
+    }
+
     /// Drops the rows whose `keep` flag is false (a missed detection or a removed report).
     pub fn keep_rows(&mut self, keep: &[bool]) {
         fn kept<T: Copy>(v: &[T], keep: &[bool]) -> Vec<T> {
