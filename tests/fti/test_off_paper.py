@@ -82,12 +82,15 @@ def test_issue_16s_eight_target_2d_scene_gives_one_track_per_target() -> None:
 def test_two_tracks_that_took_each_others_rows_at_one_sensor_are_untangled() -> None:
     """``bearing_only_2d_scenario(1, n_targets=8, pd=0.9)``: targets 0 and 5 fly close, and
     without untangling each of their tracks holds the other's rows of the third sensor, so
-    neither holds a target. Untangled, both are found, and every row is still in one track
-    or the clutter."""
+    neither holds a target. Untangled, both are found, every row is still in one track or the
+    clutter, and one thread gives the same tracks as two."""
     scenario = pa.bearing_only_2d_scenario(1, n_targets=8, pd=0.9)
     args = (scenario.measurements, scenario.sensors)
     tangled = FuzzyTrackInitiator(untangle=False).initiate(*args, t0=scenario.t0)
-    untangled = FuzzyTrackInitiator().initiate(*args, t0=scenario.t0)
+    untangled = FuzzyTrackInitiator(n_threads=2).initiate(*args, t0=scenario.t0)
+    alone = FuzzyTrackInitiator(n_threads=1).initiate(*args, t0=scenario.t0)
+    assert np.array_equal(alone.labels, untangled.labels)
+    assert all(np.array_equal(a.state, b.state) for a, b in zip(alone.tracks, untangled.tracks, strict=True))
     truth = scenario.measurements.truth
     held_before = set(track_targets(tangled.labels, truth).tolist())
     held_after = set(track_targets(untangled.labels, truth).tolist())
