@@ -27,9 +27,9 @@
 //! 6. `detection` and `detection_order`: detection (eq. 23) and ambiguity resolution
 //!    (eq. 24).
 //! 7. `pipeline` ([`initiate`]): the driver; the end of the pipeline is the Gauss-Newton
-//!    refit of each track (`refit`), the join of split tracks (`track_join`) and the track
-//!    test (`track_quality`, with the coverage test of `coverage`; its levels come from
-//!    `quantiles`).
+//!    refit of each track (`refit`), the join of split tracks (`track_join`), the exchange of
+//!    rows between tangled tracks (`track_swap`) and the track test (`track_quality`, with
+//!    the coverage test of `coverage`; its levels come from `quantiles`).
 //!
 //! The settings are `options` ([`InitiationOptions`]) and `descent_options`
 //! ([`DescentOptions`]); the tests of the whole initiation and their simulator are `tests`.

@@ -480,7 +480,7 @@ fn free_dissolved(
 }
 
 /// From classified states to the result's tracks: the final fit, the joining of split tracks,
-/// the refine passes and the track test.
+/// the refine passes, the untangling (module `track_swap`) and the track test.
 fn finished(
     problem: &Problem<'_>,
     pre: &Precomputed,
