@@ -508,19 +508,11 @@ fn finished(
         (tracks, labels) = final_tracks(problem, &refined, relabelled);
     }
     if options.untangle() {
-        let (untangled, any) = track_swap::untangled(problem, scans, tracks, gate);
-        tracks = untangled;
-        if any {
-            labels.fill(-1);
-            for (k, track) in tracks.iter().enumerate() {
-                for &m in &track.measurements {
-                    labels[m] = k as i64;
-                }
-            }
-        }
+        tracks = track_swap::untangled(problem, scans, tracks, gate);
     }
     // The track test runs once, on the refined tracks: an early classification can give a
-    // target wrong rows that a refine pass then corrects.
+    // target wrong rows that a refine pass then corrects. It labels the rows from the tracks
+    // it keeps, so the labels above give only their count.
     let n_rows = labels.len();
     Ok(track_quality::tested(
         problem, pre, scans, tracks, n_rows, n_detect, level,

@@ -37,17 +37,17 @@ pub(super) const MARGIN: f64 = 2.0;
 /// try only the pairs a round changed.
 const MAX_ROUNDS: usize = 8;
 
-/// `tracks` with their rows exchanged where that fits both better (module doc), and whether
-/// any exchange was made; rows keep their tracks' indices.
+/// `tracks` with their rows exchanged where that fits both better (module doc); rows keep
+/// their tracks' indices.
 pub(super) fn untangled(
     problem: &Problem<'_>,
     scans: &Scans,
     mut tracks: Vec<Track>,
     gate: f64,
-) -> (Vec<Track>, bool) {
+) -> Vec<Track> {
     let pairs = competing(problem, scans, &tracks, gate);
     if pairs.is_empty() {
-        return (tracks, false);
+        return tracks;
     }
     // Each scan's sensor and its place among that sensor's scans.
     let mut place = vec![(0usize, 0usize); scans.len()];
@@ -58,7 +58,6 @@ pub(super) fn untangled(
     }
     let gate2 = gate * gate;
     let mut changed = vec![true; tracks.len()];
-    let mut any = false;
     for _ in 0..MAX_ROUNDS {
         // A pair's best exchange depends on its two tracks alone: one whose tracks did not
         // change keeps the answer it had (below the margin, or beaten on one of its tracks,
@@ -80,13 +79,12 @@ pub(super) fn untangled(
             }
             (tracks[a], tracks[b]) = (ta, tb);
             (changed[a], changed[b]) = (true, true);
-            any = true;
         }
         if !changed.contains(&true) {
             break;
         }
     }
-    (tracks, any)
+    tracks
 }
 
 /// The exchange of `a`'s and `b`'s rows that lowers their summed χ² most, if by more than
@@ -168,23 +166,29 @@ mod tests {
         let gate = 1e9; // they compete everywhere: the exchange itself must decide
         let tracks = vec![fitted(t0, tangled(&r0, &r1)), fitted(t1, tangled(&r1, &r0))];
         let held: usize = tracks.iter().map(|t| t.measurements.len()).sum();
-        let (out, any) = untangled(&problem, &scans, tracks, gate);
-        assert!(any, "nothing was exchanged");
+        let sets = |ts: &[Track]| -> Vec<Vec<usize>> {
+            let mut v: Vec<Vec<usize>> = ts.iter().map(|t| t.measurements.clone()).collect();
+            v.sort();
+            v
+        };
+        let mut own_sets = vec![r0.clone(), r1.clone()];
+        own_sets.sort();
+        assert_ne!(
+            sets(&tracks),
+            own_sets,
+            "the tracks are tangled to begin with"
+        );
+        let out = untangled(&problem, &scans, tracks, gate);
         // Each track holds one target's rows (exchanging the other sensor's rows does it too,
         // with the tracks' roles swapped).
-        let mut held_sets: Vec<&[usize]> = out.iter().map(|t| &t.measurements[..]).collect();
-        held_sets.sort();
-        let mut own_sets = [&r0[..], &r1[..]];
-        own_sets.sort();
-        assert_eq!(held_sets, own_sets);
+        assert_eq!(sets(&out), own_sets);
         assert_eq!(
             out.iter().map(|t| t.measurements.len()).sum::<usize>(),
             held
         );
         // Untangled tracks stay so.
         let own = vec![fitted(t0, r0), fitted(t1, r1)];
-        let (again, any) = untangled(&problem, &scans, own.clone(), gate);
-        assert!(!any);
+        let again = untangled(&problem, &scans, own.clone(), gate);
         let rows = |ts: &[Track]| -> Vec<Vec<usize>> {
             ts.iter().map(|t| t.measurements.clone()).collect()
         };
