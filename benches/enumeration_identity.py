@@ -13,11 +13,11 @@ passes of `enumerate_candidates` over the already simulated scans, in ms an enum
 from __future__ import annotations
 
 import argparse
-import pickle
 import time
 
 import numpy as np
 import passive_assoc as pa
+from build_dump import dump_and_compare
 from passive_assoc.simulation import static_scan
 
 #: (sensors, targets, seeds) of the identity set.
@@ -56,15 +56,7 @@ def main() -> None:
     print(f"{len(mine)} enumerations, {sum(len(m[1]) // 8 for m in mine)} candidates")
     for n_sensors in (3, 5):
         print(f"S = {n_sensors}, M = 20: {timing(n_sensors):.3f} ms an enumeration")
-    if args.out:
-        with open(args.out, "wb") as f:
-            pickle.dump(mine, f)
-        print(f"written to {args.out}")
-    if args.against:
-        with open(args.against, "rb") as f:
-            theirs = pickle.load(f)
-        differ = [k for k, (a, b) in enumerate(zip(theirs, mine, strict=True)) if a != b]
-        print(f"{len(mine)} enumerations: {len(differ)} differ (tuples, costs or sizes) {differ[:10]}")
+    dump_and_compare(mine, args.out, args.against, "enumerations", "tuples, costs or sizes")
 
 
 if __name__ == "__main__":

@@ -12,12 +12,12 @@ the new one with ``--against``.
 from __future__ import annotations
 
 import argparse
-import pickle
 import time
 from typing import Any
 
 import numpy as np
 import passive_assoc as pa
+from build_dump import dump_and_compare
 from passive_assoc.simulation import Scenario
 from passive_assoc.simulation.scenario import ConstantVelocityTarget, simulate
 
@@ -73,15 +73,7 @@ def main() -> None:
     start = time.perf_counter()
     mine = initiations(args.detection_order)
     print(f"{len(mine)} initiations in {time.perf_counter() - start:.1f} s")
-    if args.out:
-        with open(args.out, "wb") as f:
-            pickle.dump(mine, f)
-        print(f"written to {args.out}")
-    if args.against:
-        with open(args.against, "rb") as f:
-            theirs = pickle.load(f)
-        differ = [k for k, (a, b) in enumerate(zip(theirs, mine, strict=True)) if a != b]
-        print(f"{len(mine)} initiations: {len(differ)} differ (labels, states or stage counts) {differ[:10]}")
+    dump_and_compare(mine, args.out, args.against, "initiations", "labels, states or stage counts")
 
 
 if __name__ == "__main__":
