@@ -135,8 +135,8 @@ def report(label: str, cases: list[dict[str, Solver]], repeats: int, exact: set[
     cells = "  ".join(f"{k} {v * 1e3:.4f} ms" for k, v in times.items())
     ratios = ", ".join(f"{k} ÷ {fastest} = {times[k] / rivals[fastest]:.2f}" for k in ours)
     double = {k: v for k, v in rivals.items() if exact is None or k in exact}
-    if double and min(double, key=double.__getitem__) != fastest:
-        fastest64 = min(double, key=double.__getitem__)
+    fastest64 = min(double, key=double.__getitem__) if double else fastest
+    if fastest64 != fastest:
         ratios += ", " + ", ".join(f"{k} ÷ {fastest64} = {times[k] / double[fastest64]:.2f}" for k in ours)
     print(f"{label:<14} {cells}\n{'':<14} {ratios}")
 
