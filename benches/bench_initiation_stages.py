@@ -7,11 +7,13 @@ instruction counts in CHANGELOG.md were taken on:
     valgrind --tool=callgrind python3 benches/bench_initiation_stages.py --threads 1 --seeds 0 --repeat 1
 
     python3 benches/bench_initiation_stages.py [--sensors 5] [--targets 100] [--seeds 0] [--threads 1 2] [--repeat 2]
+    python3 benches/bench_initiation_stages.py --options '{"untangle": false}'   # FuzzyTrackInitiator keywords
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import time
 
 import passive_assoc as pa
@@ -24,14 +26,16 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--threads", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--repeat", type=int, default=2, help="runs of each seed and thread count")
+    parser.add_argument("--options", default="{}", help="FuzzyTrackInitiator keywords as JSON")
     args = parser.parse_args()
+    options = json.loads(args.options)
     header = False
     for seed in args.seeds:
         sc = pa.ring_scenario(seed, n_sensors=args.sensors, n_targets=args.targets)
         for run in range(args.repeat):
             for threads in args.threads:
                 start = time.perf_counter()
-                r = pa.FuzzyTrackInitiator(n_threads=threads).initiate(
+                r = pa.FuzzyTrackInitiator(n_threads=threads, **options).initiate(
                     sc.measurements, sc.sensors, t0=sc.t0, progress=False
                 )
                 call = time.perf_counter() - start

@@ -57,6 +57,7 @@ OTHER_SCENES = {
     "2d_8_async": 8,
     "2d_8_pd08": 10,
     "2d_5_pd07": 10,
+    "paper4_pd1": 10,
 }
 
 CASE = r"""
@@ -77,6 +78,8 @@ def scene(seed):
         return pa.bearing_only_2d_scenario(seed, n_targets=8, pd=0.9)
     if name == "paper4":
         return pa.paper_fti_scenario(seed, n_scans=4, pd=0.9)
+    if name == "paper4_pd1":
+        return pa.paper_fti_scenario(seed, n_scans=4)
     other = {
         "2d_10": dict(n_targets=10),
         "2d_8_4s": dict(n_targets=8, n_sensors=4, pd=0.9),
