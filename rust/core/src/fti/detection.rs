@@ -32,6 +32,7 @@ use rayon::prelude::*;
 use super::descent::Optimum;
 use super::options::InitiationOptions;
 use super::problem::Problem;
+use super::row_window::RowWindows;
 use super::scans::Scans;
 use crate::assign::lap::solve_dense;
 use crate::error::CoreResult;
@@ -65,25 +66,30 @@ fn residual2_from(
     }
 }
 
-/// Calls `each(m, d²)` for every row `m` of one scan's `rows`, in order, with the number
-/// [`residual2`] gives. The rows share the sensor and the time, hence the prediction: it is
-/// made once (two arctangents) instead of once per row. Detection and classification visit
-/// every row for every optimum or target, and that prediction would be most of their time.
-fn for_each_residual2(
+/// Calls `each(m, d²)`, with the number [`residual2`] gives, for the rows `m` of scan `k` that
+/// can relate to `x` under `gate2` (module `row_window`), in the scan's order; the others have
+/// `d² ≥ gate2`. The rows share the sensor and the time, hence the prediction: it is made once
+/// (two arctangents) instead of once per row. `near` is scratch.
+fn for_each_near_residual2(
     problem: &Problem<'_>,
-    rows: &[usize],
-    x: &[f64],
+    scans: &Scans,
+    windows: &RowWindows,
+    k: usize,
+    (x, gate2): (&[f64], f64),
+    near: &mut Vec<usize>,
     mut each: impl FnMut(usize, f64),
 ) {
+    let rows = scans.scan(k);
     let Some(&first) = rows.first() else {
         return;
     };
     let probe = problem.observation(first);
     let target = problem.layout.position(x, probe.time);
     let predicted = predict(problem.layout.space, &probe.sensor, &target);
+    windows.near(k, predicted[0], gate2.sqrt(), near);
     let space = problem.layout.space;
-    for &m in rows {
-        // In the plane the stored elevation (NaN) is not read.
+    for &p in near.iter() {
+        let m = rows[p];
         let angles = problem.measurements.angles(m);
         let sigma = problem.measurements.sigma(&problem.sensors, m);
         each(m, residual2_from(space, angles, sigma, predicted));
@@ -92,9 +98,12 @@ fn for_each_residual2(
 
 /// Related rows of `x` among the `available` ones (all related, or the smallest-residual
 /// related row of each scan), ascending; `each_d2` sees the `d²` of each, in scan order.
+/// `windows` indexes `scans` (module `row_window`).
+#[allow(clippy::too_many_arguments)] // the query, its table and its index; a struct would only rename them
 pub(super) fn related_rows_with(
     problem: &Problem<'_>,
     scans: &Scans,
+    windows: &RowWindows,
     x: &[f64],
     gate2: f64,
     one_per_scan: bool,
@@ -102,23 +111,32 @@ pub(super) fn related_rows_with(
     mut each_d2: impl FnMut(f64),
 ) -> Vec<usize> {
     let mut out = Vec::new();
+    let mut near = Vec::new();
     for k in 0..scans.len() {
         let rows = scans.scan(k);
         if !rows.iter().any(|&m| available[m]) {
             continue; // nothing to relate: no prediction
         }
         let mut best: Option<(f64, usize)> = None;
-        for_each_residual2(problem, rows, x, |m, d2| {
-            if !available[m] || d2.is_nan() || d2 >= gate2 {
-                return;
-            }
-            if !one_per_scan {
-                out.push(m);
-                each_d2(d2);
-            } else if best.is_none_or(|(b, _)| d2 < b) {
-                best = Some((d2, m));
-            }
-        });
+        for_each_near_residual2(
+            problem,
+            scans,
+            windows,
+            k,
+            (x, gate2),
+            &mut near,
+            |m, d2| {
+                if !available[m] || d2.is_nan() || d2 >= gate2 {
+                    return;
+                }
+                if !one_per_scan {
+                    out.push(m);
+                    each_d2(d2);
+                } else if best.is_none_or(|(b, _)| d2 < b) {
+                    best = Some((d2, m));
+                }
+            },
+        );
         if let Some((d2, m)) = best {
             out.push(m);
             each_d2(d2);
@@ -141,10 +159,11 @@ pub(super) fn detect_by_closeness(
     let gate2 = options.gate_sigmas() * options.gate_sigmas();
     let n_detect = options.n_detect_for(scans.len());
     let one = options.one_per_scan();
+    let windows = RowWindows::new(problem, scans);
     let mut accepted = Vec::new();
     for &i in order {
         let x = &optima[i].x;
-        let related = related_rows_with(problem, scans, x, gate2, one, available, |_| {});
+        let related = related_rows_with(problem, scans, &windows, x, gate2, one, available, |_| {});
         if related.len() > n_detect {
             for &m in &related {
                 available[m] = false;
@@ -168,12 +187,17 @@ pub fn classify(
     // d2[t * n + m]; non-finite counts as unrelated.
     // Targets in parallel, then scans in parallel (each scan's rows are its own): the same
     // numbers and labels as in order, whatever the thread count.
+    // Only rows that can relate are computed (module `row_window`): the others keep ∞, and
+    // every use below asks `d² < g²`.
+    let windows = RowWindows::new(problem, scans);
     let mut d2 = vec![f64::INFINITY; targets.len() * n];
     (d2.par_chunks_exact_mut(n.max(1)))
         .zip(targets.par_iter())
         .for_each(|(row_d2, x)| {
+            let mut near = Vec::new();
             for k in 0..scans.len() {
-                for_each_residual2(problem, scans.scan(k), x, |m, v| {
+                let query = (&x[..], gate2);
+                for_each_near_residual2(problem, scans, &windows, k, query, &mut near, |m, v| {
                     if v.is_finite() {
                         row_d2[m] = v;
                     }
@@ -244,9 +268,120 @@ fn assign_scan(
 
 #[cfg(test)]
 mod tests {
-    use super::{for_each_residual2, residual2};
+    use super::{for_each_near_residual2, predict, residual2, residual2_from};
+    use crate::fti::problem::Problem;
+    use crate::fti::row_window::RowWindows;
     use crate::fti::scans::Scans;
     use crate::fti::tests::sim;
+
+    /// Calls `each(m, d²)` for every row `m` of one scan's `rows`, in order, with one prediction
+    /// for the scan: the full scan that [`for_each_near_residual2`] stands in for.
+    fn for_each_residual2(
+        problem: &Problem<'_>,
+        rows: &[usize],
+        x: &[f64],
+        mut each: impl FnMut(usize, f64),
+    ) {
+        let Some(&first) = rows.first() else {
+            return;
+        };
+        let probe = problem.observation(first);
+        let target = problem.layout.position(x, probe.time);
+        let predicted = predict(problem.layout.space, &probe.sensor, &target);
+        let space = problem.layout.space;
+        for &m in rows {
+            // In the plane the stored elevation (NaN) is not read.
+            let angles = problem.measurements.angles(m);
+            let sigma = problem.measurements.sigma(&problem.sensors, m);
+            each(m, residual2_from(space, angles, sigma, predicted));
+        }
+    }
+
+    /// The windowed query visits, in the same order and with the same numbers, every row the
+    /// full scan relates at gates of 1, 3, 5 and 30 σ (30 σ: windows past π, every row): in
+    /// 3-D and in the plane, with per-report azimuth noise from half to three times the
+    /// sensor's (the window takes the scan's widest), at the true states, near them, and far
+    /// from any row; and it leaves out rows.
+    #[test]
+    fn the_windowed_residuals_are_those_of_the_full_scan() {
+        let (mut related, mut skipped) = (0, 0);
+        for sc in [sim::paper(7, true, 30, 8), sim::planar(7, true, 30, 8)] {
+            let sensors = sc.sensors();
+            let n = sc.sensor.len();
+            let noise: Vec<f64> = (0..n)
+                .map(|m| {
+                    sensors.sigma(sc.sensor[m] as usize)[0]
+                        * (0.5 + 2.5 * ((m * 7919) % 101) as f64 / 100.0)
+                })
+                .collect();
+            let overrides = crate::data::ReportOverrides {
+                positions: None,
+                sigma_azimuth: Some(&noise),
+                sigma_elevation: None,
+            };
+            let table = sc
+                .measurements(&sensors)
+                .with_overrides(&sensors, overrides)
+                .expect("valid");
+            let problem: Problem<'_> = sim::problem(sensors, table);
+            let scans = Scans::new(&table, sensors.len());
+            let windows = RowWindows::new(&problem, &scans);
+            let d = problem.layout.dim();
+            let far: Vec<f64> = (0..d).map(|k| 1e5 * (k as f64 + 1.0)).collect();
+            let near: Vec<Vec<f64>> = (sc.targets.iter())
+                .map(|t| {
+                    t[..d]
+                        .iter()
+                        .enumerate()
+                        .map(|(k, v)| v + 150.0 * (k as f64 - 1.5))
+                        .collect()
+                })
+                .collect();
+            let states = sc
+                .targets
+                .iter()
+                .map(|t| t[..d].to_vec())
+                .chain(near)
+                .chain([far]);
+            let mut scratch = Vec::new();
+            for x in states {
+                for gate in [1.0f64, 3.0, 5.0, 30.0] {
+                    let gate2 = gate * gate;
+                    for k in 0..scans.len() {
+                        let mut full = Vec::new();
+                        for_each_residual2(&problem, scans.scan(k), &x, |m, v| {
+                            if v < gate2 {
+                                full.push((m, v.to_bits()));
+                            }
+                        });
+                        let (mut windowed, mut visited) = (Vec::new(), 0);
+                        let query = (&x[..], gate2);
+                        for_each_near_residual2(
+                            &problem,
+                            &scans,
+                            &windows,
+                            k,
+                            query,
+                            &mut scratch,
+                            |m, v| {
+                                visited += 1;
+                                if v < gate2 {
+                                    windowed.push((m, v.to_bits()));
+                                }
+                            },
+                        );
+                        assert_eq!(windowed, full, "scan {k}, gate {gate}");
+                        related += full.len();
+                        skipped += scans.scan(k).len() - visited;
+                    }
+                }
+            }
+        }
+        assert!(
+            related > 100 && skipped > 10 * related,
+            "{related} related, {skipped} skipped"
+        );
+    }
 
     /// The per-scan prediction gives every row the number `residual2` gives, bit for bit, in
     /// 3-D and in the plane (where the stored elevation is NaN and must not be read), for the

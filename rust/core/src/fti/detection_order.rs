@@ -26,6 +26,7 @@ use super::descent::Optimum;
 use super::detection::{detect_by_closeness, related_rows_with};
 use super::options::{DetectionOrder, InitiationOptions};
 use super::problem::Problem;
+use super::row_window::RowWindows;
 use super::scans::Scans;
 
 /// Eq. 23 detection over the merged optima `order` (by decreasing R), visited in the
@@ -89,9 +90,11 @@ fn detect_by_membership(
     let gate2 = options.gate_sigmas() * options.gate_sigmas();
     let n_detect = options.n_detect_for(scans.len());
     let one = options.one_per_scan();
+    let windows = RowWindows::new(problem, scans);
     let taken = |i: usize, available: &[bool]| {
         let mut score = 0.0;
-        let rows = related_rows_with(problem, scans, &optima[i].x, gate2, one, available, |d2| {
+        let x = &optima[i].x;
+        let rows = related_rows_with(problem, scans, &windows, x, gate2, one, available, |d2| {
             score += (-d2 / 4.0).exp();
         });
         (rows, score)

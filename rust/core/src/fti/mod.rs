@@ -61,6 +61,7 @@ mod ray_pairs;
 mod reach_grid;
 mod refit;
 mod round_gate;
+mod row_window;
 mod scans;
 mod stages;
 mod support;
