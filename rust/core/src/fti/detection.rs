@@ -90,6 +90,7 @@ fn for_each_near_residual2(
     let space = problem.layout.space;
     for &p in near.iter() {
         let m = rows[p];
+        // In the plane the stored elevation (NaN) is not read.
         let angles = problem.measurements.angles(m);
         let sigma = problem.measurements.sigma(&problem.sensors, m);
         each(m, residual2_from(space, angles, sigma, predicted));
