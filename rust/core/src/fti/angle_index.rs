@@ -15,6 +15,7 @@
 //! (`benches/bench_closeness.py --sensors 5 --targets 100`).
 
 use std::f64::consts::PI;
+use std::ops::Range;
 
 /// The bucket index of one scan's sorted angles (held by the caller).
 #[derive(Clone, Debug)]
@@ -64,7 +65,7 @@ impl BucketIndex {
 
     /// The angles of `sorted` in `[lo, hi]`, as a range of positions.
     #[inline]
-    pub(super) fn between(&self, sorted: &[f64], lo: f64, hi: f64) -> std::ops::Range<usize> {
+    pub(super) fn between(&self, sorted: &[f64], lo: f64, hi: f64) -> Range<usize> {
         let start = self.first_not_below(sorted, lo);
         start..self.first_above(sorted, hi).max(start)
     }
@@ -85,6 +86,23 @@ impl BucketIndex {
             hi = n;
         }
         lo + sorted[lo..hi].partition_point(|&a| below(a))
+    }
+
+    /// The positions of `sorted` (angles in (−π, π]) within `width` of `centre`, modulo 2π, as
+    /// two ranges: those from `centre − width` up, then those past ±π (often empty). Every
+    /// position when `width` reaches π or is NaN; none when `centre` is NaN.
+    pub(super) fn window(&self, sorted: &[f64], centre: f64, width: f64) -> [Range<usize>; 2] {
+        let range = |lo: f64, hi: f64| self.between(sorted, lo, hi);
+        let (lo, hi) = (centre - width, centre + width);
+        if width >= PI || width.is_nan() {
+            [0..sorted.len(), 0..0]
+        } else if lo < -PI {
+            [range(-PI, hi), range(lo + 2.0 * PI, PI)]
+        } else if hi > PI {
+            [range(lo, PI), range(-PI, hi - 2.0 * PI)]
+        } else {
+            [range(lo, hi), 0..0]
+        }
     }
 
     /// The bucket of angle `x`: monotone in `x`; below the smallest angle and NaN go to the
@@ -132,18 +150,8 @@ impl Azimuths {
     /// The rows within `width` of `centre`, modulo 2π (every row when `width` reaches π or
     /// is NaN): those from `centre − width` up, then those past ±π.
     pub(super) fn window(&self, centre: f64, width: f64) -> impl Iterator<Item = &[f64; 2]> {
-        let range = |lo: f64, hi: f64| &self.rows[self.index.between(&self.azimuths, lo, hi)];
-        let (lo, hi) = (centre - width, centre + width);
-        let (main, wrapped): (&[[f64; 2]], &[[f64; 2]]) = if width >= PI || width.is_nan() {
-            (&self.rows, &[])
-        } else if lo < -PI {
-            (range(-PI, hi), range(lo + 2.0 * PI, PI))
-        } else if hi > PI {
-            (range(lo, PI), range(-PI, hi - 2.0 * PI))
-        } else {
-            (range(lo, hi), &[])
-        };
-        main.iter().chain(wrapped)
+        let [main, wrapped] = self.index.window(&self.azimuths, centre, width);
+        self.rows[main].iter().chain(&self.rows[wrapped])
     }
 }
 

@@ -72,14 +72,14 @@ fn residual2_from(
 /// (two arctangents) instead of once per row. `near` is scratch.
 fn for_each_near_residual2(
     problem: &Problem<'_>,
-    scans: &Scans,
-    windows: &RowWindows,
+    windows: &RowWindows<'_>,
     k: usize,
-    (x, gate2): (&[f64], f64),
+    x: &[f64],
+    gate2: f64,
     near: &mut Vec<usize>,
     mut each: impl FnMut(usize, f64),
 ) {
-    let rows = scans.scan(k);
+    let rows = windows.scans.scan(k);
     let Some(&first) = rows.first() else {
         return;
     };
@@ -99,12 +99,10 @@ fn for_each_near_residual2(
 
 /// Related rows of `x` among the `available` ones (all related, or the smallest-residual
 /// related row of each scan), ascending; `each_d2` sees the `d²` of each, in scan order.
-/// `windows` indexes `scans` (module `row_window`).
-#[allow(clippy::too_many_arguments)] // the query, its table and its index; a struct would only rename them
+/// `windows` indexes the scans (module `row_window`).
 pub(super) fn related_rows_with(
     problem: &Problem<'_>,
-    scans: &Scans,
-    windows: &RowWindows,
+    windows: &RowWindows<'_>,
     x: &[f64],
     gate2: f64,
     one_per_scan: bool,
@@ -113,31 +111,23 @@ pub(super) fn related_rows_with(
 ) -> Vec<usize> {
     let mut out = Vec::new();
     let mut near = Vec::new();
-    for k in 0..scans.len() {
-        let rows = scans.scan(k);
+    for k in 0..windows.scans.len() {
+        let rows = windows.scans.scan(k);
         if !rows.iter().any(|&m| available[m]) {
             continue; // nothing to relate: no prediction
         }
         let mut best: Option<(f64, usize)> = None;
-        for_each_near_residual2(
-            problem,
-            scans,
-            windows,
-            k,
-            (x, gate2),
-            &mut near,
-            |m, d2| {
-                if !available[m] || d2.is_nan() || d2 >= gate2 {
-                    return;
-                }
-                if !one_per_scan {
-                    out.push(m);
-                    each_d2(d2);
-                } else if best.is_none_or(|(b, _)| d2 < b) {
-                    best = Some((d2, m));
-                }
-            },
-        );
+        for_each_near_residual2(problem, windows, k, x, gate2, &mut near, |m, d2| {
+            if !available[m] || d2.is_nan() || d2 >= gate2 {
+                return;
+            }
+            if !one_per_scan {
+                out.push(m);
+                each_d2(d2);
+            } else if best.is_none_or(|(b, _)| d2 < b) {
+                best = Some((d2, m));
+            }
+        });
         if let Some((d2, m)) = best {
             out.push(m);
             each_d2(d2);
@@ -164,7 +154,7 @@ pub(super) fn detect_by_closeness(
     let mut accepted = Vec::new();
     for &i in order {
         let x = &optima[i].x;
-        let related = related_rows_with(problem, scans, &windows, x, gate2, one, available, |_| {});
+        let related = related_rows_with(problem, &windows, x, gate2, one, available, |_| {});
         if related.len() > n_detect {
             for &m in &related {
                 available[m] = false;
@@ -197,8 +187,7 @@ pub fn classify(
         .for_each(|(row_d2, x)| {
             let mut near = Vec::new();
             for k in 0..scans.len() {
-                let query = (&x[..], gate2);
-                for_each_near_residual2(problem, scans, &windows, k, query, &mut near, |m, v| {
+                for_each_near_residual2(problem, &windows, k, x, gate2, &mut near, |m, v| {
                     if v.is_finite() {
                         row_d2[m] = v;
                     }
@@ -301,8 +290,8 @@ mod tests {
     /// The windowed query visits, in the same order and with the same numbers, every row the
     /// full scan relates at gates of 1, 3, 5 and 30 σ (30 σ: windows past π, every row): in
     /// 3-D and in the plane, with per-report azimuth noise from half to three times the
-    /// sensor's (the window takes the scan's widest), at the true states, near them, and far
-    /// from any row; and it leaves out rows.
+    /// sensor's (the window takes the scan's widest), at the true states, near them, far from
+    /// any row and at a non-finite state (no row relates); and it leaves out rows.
     #[test]
     fn the_windowed_residuals_are_those_of_the_full_scan() {
         let (mut related, mut skipped) = (0, 0);
@@ -343,7 +332,7 @@ mod tests {
                 .iter()
                 .map(|t| t[..d].to_vec())
                 .chain(near)
-                .chain([far]);
+                .chain([far, vec![f64::NAN; d]]);
             let mut scratch = Vec::new();
             for x in states {
                 for gate in [1.0f64, 3.0, 5.0, 30.0] {
@@ -356,13 +345,12 @@ mod tests {
                             }
                         });
                         let (mut windowed, mut visited) = (Vec::new(), 0);
-                        let query = (&x[..], gate2);
                         for_each_near_residual2(
                             &problem,
-                            &scans,
                             &windows,
                             k,
-                            query,
+                            &x,
+                            gate2,
                             &mut scratch,
                             |m, v| {
                                 visited += 1;

@@ -94,7 +94,7 @@ fn detect_by_membership(
     let taken = |i: usize, available: &[bool]| {
         let mut score = 0.0;
         let x = &optima[i].x;
-        let rows = related_rows_with(problem, scans, &windows, x, gate2, one, available, |d2| {
+        let rows = related_rows_with(problem, &windows, x, gate2, one, available, |d2| {
             score += (-d2 / 4.0).exp();
         });
         (rows, score)
