@@ -58,16 +58,9 @@ impl BucketIndex {
     }
 
     /// The first angle above `x`: `sorted.partition_point(|&a| a <= x)`.
-    #[inline]
-    pub(super) fn first_above(&self, sorted: &[f64], x: f64) -> usize {
+    #[cfg(test)]
+    fn first_above(&self, sorted: &[f64], x: f64) -> usize {
         self.point(sorted, x, |a| a <= x)
-    }
-
-    /// The angles of `sorted` in `[lo, hi]`, as a range of positions.
-    #[inline]
-    pub(super) fn between(&self, sorted: &[f64], lo: f64, hi: f64) -> Range<usize> {
-        let start = self.first_not_below(sorted, lo);
-        start..self.first_above(sorted, hi).max(start)
     }
 
     /// `sorted.partition_point(|&a| below(a))` for a `below` that holds up to some angle near
@@ -92,16 +85,37 @@ impl BucketIndex {
     /// two ranges: those from `centre − width` up, then those past ±π (often empty). Every
     /// position when `width` reaches π or is NaN; none when `centre` is NaN.
     pub(super) fn window(&self, sorted: &[f64], centre: f64, width: f64) -> [Range<usize>; 2] {
-        let range = |lo: f64, hi: f64| self.between(sorted, lo, hi);
+        self.spans(sorted, centre, width)
+            .map(|span| span.start..span.start + span.len_in(sorted))
+    }
+
+    /// [`Self::window`]'s two parts, each as where it starts and where it ends (module doc):
+    /// a caller that reads the rows in order can stop at the end itself.
+    pub(super) fn spans(&self, sorted: &[f64], centre: f64, width: f64) -> [Span; 2] {
+        let span = |lo: f64, hi: f64| Span {
+            start: self.first_not_below(sorted, lo),
+            hi,
+            every: false,
+        };
+        let none = Span {
+            start: sorted.len(),
+            hi: f64::NEG_INFINITY,
+            every: false,
+        };
         let (lo, hi) = (centre - width, centre + width);
         if width >= PI || width.is_nan() {
-            [0..sorted.len(), 0..0]
+            let every = Span {
+                start: 0,
+                hi,
+                every: true,
+            };
+            [every, none]
         } else if lo < -PI {
-            [range(-PI, hi), range(lo + 2.0 * PI, PI)]
+            [span(-PI, hi), span(lo + 2.0 * PI, PI)]
         } else if hi > PI {
-            [range(lo, PI), range(-PI, hi - 2.0 * PI)]
+            [span(lo, PI), span(-PI, hi - 2.0 * PI)]
         } else {
-            [range(lo, hi), 0..0]
+            [span(lo, hi), none]
         }
     }
 
@@ -114,6 +128,42 @@ impl BucketIndex {
             (at as usize).min(self.starts.len() - 2)
         } else {
             0
+        }
+    }
+}
+
+/// How many of `sorted`'s first angles are `≤ hi` (all of them satisfy it up to some point).
+#[inline]
+fn prefix_within(sorted: &[f64], hi: f64) -> usize {
+    sorted.iter().take_while(|&&a| a <= hi).count()
+}
+
+/// One part of a window: the angles from `start` (the first not below the part's lower end)
+/// on, while they are `≤ hi` (all of them from `start` on when `every`). Its end is found by
+/// stepping past the angles in it, which the callers read anyway: a window holds a few rows,
+/// and a second search cost more than the steps. The angles `≤ hi` are a prefix of the sorted
+/// angles, so the part is `start..first_above(hi).max(start)`, as the unit test checks.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Span {
+    start: usize,
+    hi: f64,
+    every: bool,
+}
+
+impl Span {
+    /// Whether an angle from `start` on, read in order, is still in the span.
+    #[inline]
+    fn holds(&self, angle: f64) -> bool {
+        self.every || angle <= self.hi
+    }
+
+    /// The span's length in `sorted`.
+    #[inline]
+    fn len_in(&self, sorted: &[f64]) -> usize {
+        let rest = sorted.get(self.start..).unwrap_or_default();
+        match self.every {
+            true => rest.len(),
+            false => prefix_within(rest, self.hi),
         }
     }
 }
@@ -149,9 +199,15 @@ impl Azimuths {
 
     /// The rows within `width` of `centre`, modulo 2π (every row when `width` reaches π or
     /// is NaN): those from `centre − width` up, then those past ±π.
+    /// The rows are read as they are taken, so a caller that stops at the first it wants
+    /// reads no further.
     pub(super) fn window(&self, centre: f64, width: f64) -> impl Iterator<Item = &[f64; 2]> {
-        let [main, wrapped] = self.index.window(&self.azimuths, centre, width);
-        self.rows[main].iter().chain(&self.rows[wrapped])
+        let [main, wrapped] = self.index.spans(&self.azimuths, centre, width);
+        let part = |span: Span| {
+            let rows = self.rows.get(span.start..).unwrap_or_default();
+            rows.iter().take_while(move |row| span.holds(row[0]))
+        };
+        part(main).chain(part(wrapped))
     }
 }
 
@@ -210,6 +266,62 @@ mod tests {
             }
         }
         assert!(checked > 20_000, "{checked}");
+    }
+
+    /// The windows are those of two `partition_point`s a part (`first_not_below(lo)..
+    /// first_above(hi).max(start)`), and `Azimuths::window` reads their rows, at widths from 0
+    /// past π, centres across ±π, NaN and infinite centres and widths, on scans with repeated
+    /// azimuths.
+    #[test]
+    fn the_windows_are_two_searches_a_part() {
+        let reference = |keys: &[f64], centre: f64, width: f64| -> [Range<usize>; 2] {
+            let range = |lo: f64, hi: f64| {
+                let start = keys.partition_point(|&a| a < lo);
+                start..keys.partition_point(|&a| a <= hi).max(start)
+            };
+            let (lo, hi) = (centre - width, centre + width);
+            if width >= PI || width.is_nan() {
+                [0..keys.len(), 0..0]
+            } else if lo < -PI {
+                [range(-PI, hi), range(lo + 2.0 * PI, PI)]
+            } else if hi > PI {
+                [range(lo, PI), range(-PI, hi - 2.0 * PI)]
+            } else {
+                [range(lo, hi), 0..0]
+            }
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        let mut nonempty = 0;
+        for case in 0..100 {
+            let n = case * 2;
+            let rows: Vec<[f64; 2]> = (0..n)
+                .map(|k| match case % 4 {
+                    0 => [(rng.random_range(-PI..=PI) * 4.0).round() / 4.0, k as f64],
+                    _ => [rng.random_range(-PI..=PI), k as f64],
+                })
+                .collect();
+            let index = Azimuths::new(rows);
+            let keys = &index.azimuths;
+            let mut centres = vec![-PI, PI, 0.0, -0.0, f64::INFINITY, f64::NAN];
+            centres.extend(keys.iter().copied());
+            centres.extend((0..20).map(|_| rng.random_range(-3.5..3.5)));
+            for &centre in &centres {
+                for width in [0.0, 0.01, 0.3, 1.0, 3.0, PI, 4.0, f64::NAN, f64::INFINITY] {
+                    // Empty parts may sit at any position.
+                    let plain = |parts: [Range<usize>; 2]| {
+                        parts.map(|r| if r.is_empty() { 0..0 } else { r })
+                    };
+                    let expected = plain(reference(keys, centre, width));
+                    let got = plain(index.index.window(keys, centre, width));
+                    assert_eq!(got, expected, "{centre} ± {width}");
+                    let rows: Vec<[f64; 2]> = index.window(centre, width).copied().collect();
+                    let [a, b] = expected;
+                    nonempty += usize::from(!rows.is_empty());
+                    assert_eq!(rows, [&index.rows[a], &index.rows[b]].concat());
+                }
+            }
+        }
+        assert!(nonempty > 5_000, "{nonempty}");
     }
 
     #[test]
