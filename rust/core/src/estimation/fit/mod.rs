@@ -14,7 +14,9 @@ pub enum Termination {
     /// The step became smaller than `xtol` relative to the state, or than `step_sigmas`
     /// standard deviations of the estimate.
     Converged = 0,
-    /// `max_iter` iterations without convergence; the estimate is the last iterate.
+    /// `max_iter` iterations without convergence; the estimate is the last iterate. A state
+    /// that stands still (its accepted step rounds to nothing, so every later iteration would
+    /// repeat the same one) ends here at once, reporting `max_iter` iterations.
     MaxIterations = 1,
     /// No step length along the Gauss-Newton direction lowered χ²: a minimum to rounding.
     Stalled = 2,
