@@ -175,40 +175,53 @@ pub fn classify(
 ) -> CoreResult<Vec<i64>> {
     let n = problem.measurements.len();
     let gate2 = gate * gate;
-    // d2[t * n + m]; non-finite counts as unrelated.
-    // Targets in parallel, then scans in parallel (each scan's rows are its own): the same
-    // numbers and labels as in order, whatever the thread count.
-    // Only rows that can relate are computed (module `row_window`): the others keep ∞, and
-    // every use below asks `d² < g²`.
+    // Each target's related rows, scan by scan; targets in parallel, then scans in parallel
+    // (each scan's rows are its own): the same numbers and labels as in order, whatever the
+    // thread count. Only rows that can relate are computed (module `row_window`), and only
+    // those with a finite `d² < g²` are kept: every use below asks that, so the rest read as
+    // unrelated.
     let windows = RowWindows::new(problem, scans);
-    let mut d2 = vec![f64::INFINITY; targets.len() * n];
-    (d2.par_chunks_exact_mut(n.max(1)))
-        .zip(targets.par_iter())
-        .for_each(|(row_d2, x)| {
-            let mut near = Vec::new();
+    let related: Vec<Related> = targets
+        .par_iter()
+        .map(|x| {
+            let (mut near, mut rows) = (Vec::new(), Vec::new());
+            let mut starts = Vec::with_capacity(scans.len() + 1);
+            starts.push(0);
             for k in 0..scans.len() {
                 for_each_near_residual2(problem, &windows, k, x, gate2, &mut near, |m, v| {
-                    if v.is_finite() {
-                        row_d2[m] = v;
+                    if v.is_finite() && v < gate2 {
+                        rows.push((m, v));
                     }
                 });
+                starts.push(rows.len());
             }
-        });
+            Related { rows, starts }
+        })
+        .collect();
     let mut labels = vec![-1i64; n];
     if !one_per_scan {
-        for (m, label) in labels.iter_mut().enumerate() {
-            let best = (0..targets.len())
-                .filter(|&t| d2[t * n + m] < gate2)
-                .min_by(|&a, &b| d2[a * n + m].total_cmp(&d2[b * n + m]).then(a.cmp(&b)));
-            if let Some(t) = best {
-                *label = t as i64;
+        // Each row to its nearest target, the first of equals (targets in order, a later
+        // one taking the row only when strictly nearer).
+        let mut best = vec![f64::INFINITY; n];
+        for (t, target) in related.iter().enumerate() {
+            for &(m, v) in &target.rows {
+                if v < best[m] {
+                    (best[m], labels[m]) = (v, t as i64);
+                }
             }
         }
         return Ok(labels);
     }
+    // Each row's column in its scan's problem: its position among the scan's rows.
+    let mut column = vec![0usize; n];
+    for k in 0..scans.len() {
+        for (j, &m) in scans.scan(k).iter().enumerate() {
+            column[m] = j;
+        }
+    }
     let assigned: Vec<Vec<(usize, i64)>> = (0..scans.len())
         .into_par_iter()
-        .map(|k| assign_scan(scans.scan(k), &d2, n, targets.len(), gate2))
+        .map(|k| assign_scan(scans.scan(k), k, &related, &column, gate2))
         .collect::<CoreResult<_>>()?;
     for (m, label) in assigned.into_iter().flatten() {
         labels[m] = label;
@@ -216,17 +229,30 @@ pub fn classify(
     Ok(labels)
 }
 
-/// Gated minimum-cost assignment of one scan's rows to targets (each at most once): the rows
+/// One target's rows with a finite `d² < g²`, as `(row, d²)`: those of scan `k` are
+/// `rows[starts[k]..starts[k + 1]]`, in the scan's order.
+struct Related {
+    rows: Vec<(usize, f64)>,
+    starts: Vec<usize>,
+}
+
+impl Related {
+    fn in_scan(&self, k: usize) -> &[(usize, f64)] {
+        &self.rows[self.starts[k]..self.starts[k + 1]]
+    }
+}
+
+/// Gated minimum-cost assignment of scan `k`'s rows to targets (each at most once): the rows
 /// assigned and their targets.
 fn assign_scan(
     rows: &[usize],
-    d2: &[f64],
-    n: usize,
-    n_targets: usize,
+    k: usize,
+    related: &[Related],
+    column: &[usize],
     gate2: f64,
 ) -> CoreResult<Vec<(usize, i64)>> {
-    let involved: Vec<usize> = (0..n_targets)
-        .filter(|&t| rows.iter().any(|&m| d2[t * n + m] < gate2))
+    let involved: Vec<usize> = (0..related.len())
+        .filter(|&t| !related[t].in_scan(k).is_empty())
         .collect();
     let mut labels = Vec::new();
     if involved.is_empty() {
@@ -238,9 +264,9 @@ fn assign_scan(
     let (r, c) = (involved.len(), rows.len() + involved.len());
     let mut cost = vec![0.0; r * c];
     for (i, &t) in involved.iter().enumerate() {
-        for (j, &m) in rows.iter().enumerate() {
-            let v = d2[t * n + m];
-            cost[i * c + j] = if v < gate2 { v - gate2 } else { 1.0 };
+        cost[i * c..i * c + rows.len()].fill(1.0);
+        for &(m, v) in related[t].in_scan(k) {
+            cost[i * c + column[m]] = v - gate2;
         }
     }
     // r <= c and every entry finite: the project's dense solver assigns every row.
