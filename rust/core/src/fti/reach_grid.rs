@@ -10,6 +10,8 @@
 //! plain arithmetic, where an R*-tree's walk cost more per meeting found, and the visits need no
 //! sorting (the survivors of a visit are sorted instead, and they are few).
 
+use rayon::prelude::*;
+
 use super::motion_gate::Motion;
 use super::ray_pairs::RayPair;
 use crate::geometry::model::Space;
@@ -72,19 +74,30 @@ impl Grid {
             starts: Vec::new(),
             entries: Vec::new(),
         };
-        let mut located: Vec<(usize, usize, Motion)> = (lasts.iter().enumerate())
-            .filter_map(|(l, pair)| Motion::of(pair).map(|m| (grid.cell_of(&m.point), l, m)))
+        let located: Vec<Option<(usize, Motion)>> = (lasts.par_iter())
+            .map(|pair| Motion::of(pair).map(|m| (grid.cell_of(&m.point), m)))
             .collect();
-        located.sort_by_key(|&(cell, _, _)| cell); // stable: ascending l within a cell
         let mut starts = vec![0usize; cells.iter().product::<usize>() + 1];
-        for &(cell, _, _) in &located {
+        for &(cell, _) in located.iter().flatten() {
             starts[cell + 1] += 1;
         }
         for c in 1..starts.len() {
             starts[c] += starts[c - 1];
         }
+        // A counting sort by cell, ascending `l` within a cell: the pairs in `entries` order.
+        // (The stable sort by cell it replaces was 58 M serial instructions a 5 × 100 run.)
+        let mut next = starts.clone();
+        let mut order = vec![0usize; starts[starts.len() - 1]];
+        for (l, x) in located.iter().enumerate() {
+            if let Some((cell, _)) = x {
+                order[next[*cell]] = l;
+                next[*cell] += 1;
+            }
+        }
         grid.starts = starts;
-        grid.entries = located.into_iter().map(|(_, l, m)| (l, m)).collect();
+        grid.entries = (order.into_iter())
+            .filter_map(|l| Some((l, located[l]?.1)))
+            .collect();
         Some(grid)
     }
 
