@@ -10,6 +10,8 @@ stopped at `max_candidates`.
     python3 benches/bench_initiation_scaling.py                       # 10 -> 200 targets, 3/4/5 sensors
     python3 benches/bench_initiation_scaling.py --sensors 5 --targets 20 50 100 200 --seeds 3
     python3 benches/bench_initiation_scaling.py --fixed-box
+    python3 benches/bench_initiation_scaling.py --fixed-box --seeds 1 --targets 200 \
+        --options '{"max_candidates": 2000000}'                        # FuzzyTrackInitiator keywords
 """
 
 from __future__ import annotations
@@ -28,17 +30,20 @@ import numpy as np
 STAGES = ("candidates", "fit", "support", "descent", "final", "other")
 
 CASE = r"""
-import json, resource, statistics, sys, time
+import json, resource, statistics, sys, time, warnings
 import numpy as np
 import passive_assoc as pa
 from passive_assoc.evaluation import track_targets
 
 s, n, seeds, half = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
+options = json.loads(sys.argv[5])
 rows = []
 for seed in range(seeds):
     sc = pa.ring_scenario(seed, n_sensors=s, n_targets=n, half_width=half, radius=1.5 * half)
     start = time.perf_counter()
-    r = pa.FuzzyTrackInitiator().initiate(sc.measurements, sc.sensors, t0=sc.t0, progress=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", pa.LimitWarning)
+        r = pa.FuzzyTrackInitiator(**options).initiate(sc.measurements, sc.sensors, t0=sc.t0, progress=False)
     seconds = time.perf_counter() - start
     held = track_targets(r.labels, sc.measurements.truth)
     rows.append({
@@ -50,11 +55,13 @@ print(json.dumps({"rows": rows, "peak_rss_mb": resource.getrusage(resource.RUSAG
 """
 
 
-def run(sensors: int, targets: int, seeds: int, half_width: float, cap: float) -> dict[str, Any] | None:
-    """The case's figures, or None past `cap` seconds."""
+def run(
+    sensors: int, targets: int, seeds: int, half_width: float, cap: float, options: dict[str, Any]
+) -> dict[str, Any] | None:
+    """The case's figures with `FuzzyTrackInitiator(**options)`, or None past `cap` seconds."""
     try:
         out = subprocess.run(
-            [sys.executable, "-c", CASE, str(sensors), str(targets), str(seeds), str(half_width)],
+            [sys.executable, "-c", CASE, str(sensors), str(targets), str(seeds), str(half_width), json.dumps(options)],
             capture_output=True,
             text=True,
             check=True,
@@ -82,7 +89,9 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--cap", type=float, default=600.0, help="seconds per case (all its seeds) before giving up")
     parser.add_argument("--fixed-box", action="store_true", help="keep the 40 x 40 km box at every N")
+    parser.add_argument("--options", default="{}", help="FuzzyTrackInitiator keywords as JSON")
     args = parser.parse_args()
+    options = json.loads(args.options)
     print(
         "| sensors | targets | box km | found | false / scene | median s | candidates s | fit s | support s "
         "| descent s | final fit s | other s | fitted | limit reached | peak RSS MB |"
@@ -92,7 +101,7 @@ def main() -> None:
         ns, medians = [], []
         for n in args.targets:
             half = 20e3 if args.fixed_box else 20e3 * math.sqrt(n / 20)
-            r = run(s, n, args.seeds, half, args.cap)
+            r = run(s, n, args.seeds, half, args.cap, options)
             if r is None:
                 print(f"| {s} | {n} | {2 * half / 1e3:.0f} | over {args.cap:g} s |" + " |" * 11, flush=True)
                 break
