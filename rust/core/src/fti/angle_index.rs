@@ -199,6 +199,7 @@ impl Azimuths {
 
     /// The rows within `width` of `centre`, modulo 2π (every row when `width` reaches π or
     /// is NaN): those from `centre − width` up, then those past ±π.
+    ///
     /// The rows are read as they are taken, so a caller that stops at the first it wants
     /// reads no further.
     pub(super) fn window(&self, centre: f64, width: f64) -> impl Iterator<Item = &[f64; 2]> {
