@@ -34,11 +34,12 @@ pub(super) const BATCH: usize = 16_384;
 const MAX_HELD_PAIRS: usize = 1 << 18;
 
 /// One scan pair's first-scan and last-scan ray pairs, shared by its combination and the
-/// batch that fits its 4-tuples.
+/// batch that fits its 4-tuples. The vectors are shared as built: an `Arc<[RayPair]>` would
+/// copy them, serially, and a pair is 344 bytes, thousands of them a scan pair at 5 × 100.
 #[derive(Clone)]
 pub(super) struct ScanPairRays {
-    pub(super) firsts: Arc<[RayPair]>,
-    pub(super) lasts: Arc<[RayPair]>,
+    pub(super) firsts: Arc<Vec<RayPair>>,
+    pub(super) lasts: Arc<Vec<RayPair>>,
 }
 
 /// The 4-tuples waiting to be fitted, in the order the combination found them (the order of

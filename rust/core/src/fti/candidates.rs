@@ -28,6 +28,7 @@
 //! A ray pair without a unique meeting (parallel rays) fails every enabled geometric rule;
 //! with the rules off its candidate starts from the pseudo-linear solution instead.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::batch::{Batch, ScanPairRays};
@@ -136,8 +137,8 @@ fn form_slot(
         ..*problem
     };
     let rays = ScanPairRays {
-        firsts: firsts.into(),
-        lasts: lasts.into(),
+        firsts: Arc::new(firsts),
+        lasts: Arc::new(lasts),
     };
     let round_gate = match slot.is_tested() {
         false => None,

@@ -161,6 +161,11 @@ pub(super) fn ray_pairs(
                 (kept, passed)
             })
             .collect();
+        // Room for the chunk's pairs at once (up to the cap), so that `out` grows, and moves
+        // the pairs it holds, at most once a chunk.
+        let chunk_pairs: usize = found.iter().map(|(kept, _)| kept.len()).sum();
+        let room = chunk_pairs.min(options.max_candidates().saturating_sub(out.len()));
+        reserve(&mut out, room, "ray pairs of one scan pair", OOM_HINT)?;
         for (kept, passed) in found {
             passed_ray += passed;
             if out.len() + kept.len() > options.max_candidates() {
