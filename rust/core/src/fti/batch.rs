@@ -35,7 +35,8 @@ const MAX_HELD_PAIRS: usize = 1 << 18;
 
 /// One scan pair's first-scan and last-scan ray pairs, shared by its combination and the
 /// batch that fits its 4-tuples. The vectors are shared as built: an `Arc<[RayPair]>` would
-/// copy them, serially, and a pair is 344 bytes, thousands of them a scan pair at 5 × 100.
+/// copy them, serially, and a pair is a few hundred bytes, thousands of them a scan pair at
+/// 5 × 100.
 #[derive(Clone)]
 pub(super) struct ScanPairRays {
     pub(super) firsts: Arc<Vec<RayPair>>,

@@ -161,8 +161,8 @@ pub(super) fn ray_pairs(
                 (kept, passed)
             })
             .collect();
-        // Room for the chunk's pairs at once (up to the cap), so that `out` grows, and moves
-        // the pairs it holds, at most once a chunk.
+        // Room for the chunk's pairs at once (up to the cap, which the rows below check), so
+        // that `out` grows, and moves the pairs it holds, at most once a chunk.
         let chunk_pairs: usize = found.iter().map(|(kept, _)| kept.len()).sum();
         let room = chunk_pairs.min(options.max_candidates().saturating_sub(out.len()));
         reserve(&mut out, room, "ray pairs of one scan pair", OOM_HINT)?;
@@ -176,7 +176,6 @@ pub(super) fn ray_pairs(
                     hint: "tighten ray_gate_sigmas, enable reject_behind, or raise max_candidates",
                 });
             }
-            reserve(&mut out, kept.len(), "ray pairs of one scan pair", OOM_HINT)?;
             out.extend(kept);
         }
     }

@@ -3,12 +3,12 @@
 //!
 //! A row relates to a state when its `d² = (Δβ/σβ)² + (Δε/σε)²` is below `g²`, so only rows whose
 //! azimuth lies within `g·σβ` of the predicted one can. Detection and classification ask this for
-//! every optimum or target against every scan, and computed every row's residual (an angle read,
-//! its noise, a wrap and a division per row): at 5 sensors × 100 targets the detection stage took
-//! 0.055–0.073 s that way and takes 0.017–0.030 s this way (`benches/bench_initiation_stages.py
-//! --seeds 0 1 --threads 2`). The index holds each scan's row positions sorted by azimuth, with a
-//! bucket index ([`BucketIndex`], whose window it shares with the gates'
-//! [`super::angle_index::Azimuths`]) and the scan's widest azimuth noise; a query visits the rows
+//! every optimum or target against every scan; a residual costs an angle read, its noise, a wrap
+//! and a division, and at 5 sensors × 100 targets a scan holds about 290 rows of which a window
+//! holds a few (`benches/bench_initiation_stages.py` times the detection stage). The index
+//! holds each scan's row positions sorted by azimuth, with a bucket index ([`BucketIndex`],
+//! whose window it shares with the gates' [`super::angle_index::Azimuths`]) and the scan's
+//! widest azimuth noise; a query visits the rows
 //! within `g·σβ,max`, widened by a part in 10⁹ and 10⁻¹² rad so that rounding cannot leave out a
 //! row the full scan would relate, in the scan's own row order. Rows outside have `d² ≥ g²`, which
 //! every caller treats as unrelated: the answers are those of the full scan, bit for bit.
