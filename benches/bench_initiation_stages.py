@@ -6,6 +6,10 @@ instruction counts in CHANGELOG.md were taken on:
 
     valgrind --tool=callgrind python3 benches/bench_initiation_stages.py --threads 1 --seeds 0 --repeat 1
 
+(``python3`` must be the interpreter itself, as in an active virtual environment: valgrind
+follows no child process, so through a shell-script shim such as pyenv's it profiles only the
+shell and writes an empty profile.)
+
     python3 benches/bench_initiation_stages.py [--sensors 5] [--targets 100] [--seeds 0] [--threads 1 2] [--repeat 2]
     python3 benches/bench_initiation_stages.py --options '{"untangle": false}'   # FuzzyTrackInitiator keywords
 """
