@@ -136,6 +136,18 @@ impl SdProblem {
         by_cost
     }
 
+    /// The same problem with only the tuples of `active` (ascending, drawn from
+    /// [`Self::active`]) worth choosing: the Lagrangian solver's, once it has proven the
+    /// others out of every solution better than its incumbent (module `lagrangian`).
+    pub(crate) fn with_active(&self, active: Vec<usize>) -> Self {
+        debug_assert!(active.windows(2).all(|w| w[0] < w[1]));
+        Self {
+            set: self.set.clone(),
+            active,
+            report_offs: self.report_offs.clone(),
+        }
+    }
+
     /// The same problem with its sensors in `order` (sensor `s` of the result is sensor
     /// `order[s]` of `self`); tuple indices, costs and hence every solution are unchanged.
     /// `order` must be a permutation of `0..n_sensors` (the solvers compute it themselves).

@@ -10,11 +10,14 @@
 //! The bound is raised by projected subgradient ascent with a Polyak step aimed at the best
 //! primal; a feasible solution is recovered each iteration by successive 2-D assignments and
 //! polished by a local search, and, if asked, the best one once at the end by compound moves
-//! (private module `recovery`). Which sensors play 0 and 1 is
+//! (private module `recovery`). Every few iterations the relaxed 2-D solve's prices prove
+//! some tuples out of every solution better than the incumbent, and those leave the problem
+//! (`prove_out`). Which sensors play 0 and 1 is
 //! [`SensorOrder`]'s choice: by default, at S = 3, the two with the fewest reports.
 //!
 //! Speed: every iteration touches every candidate tuple, so the per-solve structures
-//! (`Relaxation`, `Recovery`) are built once and their buffers reused, and work
+//! (`Relaxation`, `Recovery`) are built once (and again when tuples leave) and their buffers
+//! reused, and work
 //! whose result is already known is skipped (a repeated relaxed solution or search start). With
 //! cold 2-D solves the result is the same, bit for bit, as a plain implementation of the steps
 //! above; warm ones may pick another 2-D optimum of equal cost (see [`WarmStart`]).
@@ -66,6 +69,9 @@ pub fn solve(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
 fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolution {
     let mut relax = Relaxation::new(problem, options.warm_start());
     let mut recovery = Recovery::new(problem);
+    // The problem without the tuples proven out so far (`None`: none yet); see `prove_out`.
+    let mut reduced: Option<SdProblem> = None;
+    let mut out = Vec::new();
     let mut mult: Vec<Vec<f64>> = problem.sizes().iter().map(|&n| vec![0.0; n + 1]).collect();
     let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
@@ -80,6 +86,7 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
             termination = Termination::NotProven(Limit::Time);
             break;
         }
+        let current = reduced.as_ref().unwrap_or(problem);
         iterations += 1;
         let dual = relax.evaluate(&mult, &mut relaxed);
         if dual > dual_bound {
@@ -88,7 +95,7 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
         } else {
             since += 1;
         }
-        if let Some(cand) = recovery.primal(problem, &mult, &relaxed) {
+        if let Some(cand) = recovery.primal(current, &mult, &relaxed) {
             if cand.1 < best.1 {
                 best = cand;
             }
@@ -101,16 +108,29 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
             termination = Termination::GapReached;
             break;
         }
+        // Every few iterations, the tuples the relaxation's prices prove out of any solution
+        // better than the incumbent leave the problem (`prove_out`).
+        if iterations % PROVE_EVERY == 0 && relax.proven_out(&mult, best.1, &mut out) {
+            if let Some(next) = prove_out(current, &mut out, &best.0) {
+                #[cfg(test)]
+                tests::REDUCTIONS.with(|n| n.set(n.get() + 1));
+                relax = Relaxation::new(&next, options.warm_start());
+                recovery = Recovery::new(&next);
+                reduced = Some(next);
+            }
+        }
+        let current = reduced.as_ref().unwrap_or(problem);
         if since >= options.stall_iters() {
             (alpha, since) = (alpha / 2.0, 0);
         }
         let numerator = alpha * (best.1 - dual);
-        if alpha < MIN_STEP_SCALE || !step(problem, &mut mult, &relaxed, numerator, &mut direction)
+        if alpha < MIN_STEP_SCALE || !step(current, &mut mult, &relaxed, numerator, &mut direction)
         {
             termination = Termination::Stalled;
             break;
         }
     }
+    let problem = reduced.as_ref().unwrap_or(problem);
     // Not after `GapReached`: the caller's precision is met, and the polish is not free.
     let unfinished = matches!(
         termination,
@@ -132,6 +152,32 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
         iterations,
         termination,
     )
+}
+
+/// Iterations between two looks for tuples proven out of every solution better than the
+/// incumbent ([`Relaxation::proven_out`]).
+const PROVE_EVERY: usize = 10;
+
+/// `current` without the tuples of `out` (proven out; sorted here), or `None` when they are
+/// fewer than a tenth of its active ones: rebuilding the per-solve structures costs about what
+/// several iterations do (the set-up is about 5 % of a solve), so a smaller cut does not pay
+/// (a twentieth, or a look every 5 iterations, took more instructions; CHANGELOG.md). The
+/// incumbent's tuples stay whatever `out` says (they cannot be in it but for rounding).
+///
+/// Why the solve stays exact: every solution better than the incumbent avoids the tuples
+/// proven out, so the reduced problem has the same optimum as `current`, and its relaxation's
+/// `L(u)`, a bound on that optimum, bounds the original's too. The iterates do change: the
+/// reduced relaxation is tighter (its `L(u)` at least the original's), and the recovery and
+/// the polish choose among fewer tuples.
+fn prove_out(current: &SdProblem, out: &mut [usize], incumbent: &[usize]) -> Option<SdProblem> {
+    if out.len() * 10 < current.active().len() {
+        return None;
+    }
+    out.sort_unstable();
+    let kept: Vec<usize> = (current.active().iter().copied())
+        .filter(|k| out.binary_search(k).is_err() || incumbent.contains(k))
+        .collect();
+    Some(current.with_active(kept))
 }
 
 fn finish(

@@ -281,6 +281,38 @@ impl SparseSolver {
         &self.result
     }
 
+    /// Dual prices of the input problem after a cold [`SparseSolver::solve`] of `costs`, `a`,
+    /// `b`: `alpha[i] ≤ a[i]` per row, `beta[j] ≤ b[j]` per column, and `alpha[i] + beta[j] ≤
+    /// c_ij` on every stored entry, so that any assignment costs at least their sum plus the
+    /// slack `c − alpha − beta` (`a − alpha`, `b − beta` when unassigned) of what it uses.
+    ///
+    /// The solver works on `c_ij − a_i − b_j` with a zero-cost dummy column per row; its duals
+    /// `u` (rows), `v ≤ 0` (columns) map back as `alpha_i = a_i + u_i + v_dummy(i)` and
+    /// `beta_j = b_j + v_j`, whose sum is then the optimum's cost. The three inequalities are
+    /// enforced once more on the result (each price lowered to what they allow), so the prices
+    /// are feasible whatever rounding did; feasible prices give valid bounds.
+    pub(crate) fn input_duals(
+        &self,
+        costs: &SparseCosts,
+        a: &[f64],
+        b: &[f64],
+        alpha: &mut Vec<f64>,
+        beta: &mut Vec<f64>,
+    ) {
+        let (u, v) = self.work.duals();
+        let (nr, nc) = (costs.n_rows(), costs.n_cols());
+        let dual = |x: &[f64], k: usize| x.get(k).copied().unwrap_or(0.0);
+        alpha.clear();
+        alpha.extend((0..nr).map(|i| (a[i] + dual(u, i) + dual(v, nc + i)).min(a[i])));
+        beta.clear();
+        beta.extend((0..nc).map(|j| (b[j] + dual(v, j)).min(b[j])));
+        for (i, &ai) in alpha.iter().enumerate() {
+            for (j, c) in costs.row(i) {
+                beta[j] = beta[j].min(c - ai);
+            }
+        }
+    }
+
     /// [`SparseSolver::solve`] starting from the previous warm solve's duals and matching when
     /// the shape is the same: the same optimum (possibly another of equal cost), found faster
     /// when the problem changed little. Which callers should use it: see

@@ -123,6 +123,14 @@ pub(super) struct SparseWork {
     mirror_fill: Vec<usize>,
 }
 
+impl SparseWork {
+    /// The duals of the last solve: `u` per row, `v` per column of the reduced form (the
+    /// input's columns, then each row's dummy). Read by [`super::SparseSolver::input_duals`].
+    pub(super) fn duals(&self) -> (&[f64], &[f64]) {
+        (&self.u, &self.v)
+    }
+}
+
 /// Clears `v` and refills it with `n` copies of `x`, keeping its allocation.
 fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
     v.clear();
