@@ -71,7 +71,7 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
     let mut recovery = Recovery::new(problem);
     // The problem without the tuples proven out so far (`None`: none yet); see `prove_out`.
     let mut reduced: Option<SdProblem> = None;
-    let mut out = Vec::new();
+    let (mut out, mut keep) = (Vec::new(), vec![false; problem.n_tuples()]);
     let mut mult: Vec<Vec<f64>> = problem.sizes().iter().map(|&n| vec![0.0; n + 1]).collect();
     let mut best = (Vec::new(), 0.0); // choosing nothing is feasible
     let (mut dual_bound, mut alpha, mut since) = (f64::NEG_INFINITY, options.step_scale(), 0);
@@ -114,8 +114,11 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
             if let Some(next) = prove_out(current, &mut out, &best.0) {
                 #[cfg(test)]
                 tests::REDUCTIONS.with(|n| n.set(n.get() + 1));
-                relax = Relaxation::new(&next, options.warm_start());
-                recovery = Recovery::new(&next);
+                // The structures of `next`, filtered from those of `current` (no new sort).
+                keep.fill(false);
+                next.active().iter().for_each(|&k| keep[k] = true);
+                relax.retain(&keep);
+                recovery.retain(&keep);
                 reduced = Some(next);
             }
         }
@@ -159,9 +162,9 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
 const PROVE_EVERY: usize = 10;
 
 /// `current` without the tuples of `out` (proven out; sorted here), or `None` when they are
-/// fewer than a tenth of its active ones: rebuilding the per-solve structures costs about what
-/// several iterations do (the set-up is about 5 % of a solve), so a smaller cut does not pay
-/// (a twentieth, or a look every 5 iterations, took more instructions; CHANGELOG.md). The
+/// fewer than a tenth of its active ones: filtering the per-solve structures costs about an
+/// iteration, so a smaller cut does not pay (a twentieth, or a look every 5 iterations,
+/// took more instructions; CHANGELOG.md). The
 /// incumbent's tuples stay whatever `out` says (they cannot be in it but for rounding).
 ///
 /// Why the solve stays exact: every solution better than the incumbent avoids the tuples

@@ -85,6 +85,35 @@ impl Recovery {
         }
     }
 
+    /// [`Recovery::new`] of the problem without the tuples `keep` rejects (per tuple index),
+    /// by filtering this recovery's pairs and scan order rather than sorting them again; the
+    /// caches of what was already tried start empty, as in a new one.
+    pub(super) fn retain(&mut self, keep: &[bool]) {
+        let (mut offs, mut members) = (Vec::new(), Vec::new());
+        for p in 0..self.pair_offs.len().saturating_sub(1) {
+            let start = members.len();
+            for &k in &self.pair_members[self.pair_offs[p]..self.pair_offs[p + 1]] {
+                self.pair[k] = ZERO;
+                if keep[k] {
+                    self.pair[k] = offs.len();
+                    members.push(k);
+                }
+            }
+            if members.len() > start {
+                offs.push(start);
+            }
+        }
+        offs.push(members.len());
+        self.row_of_pair = vec![DEAD; offs.len() - 1];
+        (self.pair_offs, self.pair_members) = (offs, members);
+        self.unpaired.retain(|&k| keep[k]);
+        self.live.clear();
+        self.search.retain(keep);
+        self.seen_pairs.clear();
+        self.seen_starts.clear();
+        self.key.clear();
+    }
+
     /// The best feasible solution derivable from the relaxed one, and its cost: the relaxed
     /// solution itself if feasible, and the successive-assignment recovery, both polished.
     /// `None` when every candidate was already produced by an earlier call: the caller has
@@ -357,5 +386,79 @@ impl Stage {
             }
             self.m_offs.push(self.m_cols.len());
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assign::test_support::random_problem;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Filtering ([`Recovery::retain`]) builds what [`Recovery::new`] builds for the smaller
+    /// problem: the same pairs and scan order, and from the same relaxed solutions and
+    /// multipliers the same recovered solutions, and the same polish.
+    #[test]
+    fn retain_builds_what_new_builds_for_the_smaller_problem() {
+        let mut rng = ChaCha8Rng::seed_from_u64(29);
+        let mut recovered = 0;
+        for seed in 0..60u64 {
+            let s = 3 + seed as usize % 3;
+            let p = random_problem(seed, s, 6, 4, 20);
+            let keep: Vec<bool> = (0..p.n_tuples()).map(|_| rng.random_bool(0.6)).collect();
+            let kept: Vec<usize> = p.active().iter().copied().filter(|&k| keep[k]).collect();
+            let q = p.with_active(kept.clone());
+            let mut filtered = Recovery::new(&p);
+            filtered.retain(&keep);
+            let mut fresh = Recovery::new(&q);
+            assert_eq!(filtered.pair_offs, fresh.pair_offs, "seed {seed}");
+            assert_eq!(filtered.pair_members, fresh.pair_members, "seed {seed}");
+            assert_eq!(filtered.unpaired, fresh.unpaired, "seed {seed}");
+            for &k in &kept {
+                assert_eq!(filtered.pair[k], fresh.pair[k], "seed {seed}");
+            }
+            let (a, b) = (filtered.search.ranked(), fresh.search.ranked());
+            assert_eq!(
+                (&a.by_cost, &a.flat, &a.cost),
+                (&b.by_cost, &b.flat, &b.cost)
+            );
+            for &k in &kept {
+                assert_eq!(a.rank_of[k], b.rank_of[k]);
+            }
+            for _ in 0..4 {
+                let mult: Vec<Vec<f64>> = (p.sizes().iter())
+                    .map(|&n| {
+                        (0..=n)
+                            .map(|i| {
+                                if i == 0 {
+                                    0.0
+                                } else {
+                                    -rng.random_range(0.0..4.0)
+                                }
+                            })
+                            .collect()
+                    })
+                    .collect();
+                // A relaxed solution: kept tuples taken greedily with no shared report of
+                // sensors 0 and 1 (sensors 2.. are the relaxed ones).
+                let mut used = [vec![false; p.sizes()[0] + 1], vec![false; p.sizes()[1] + 1]];
+                let mut relaxed = Vec::new();
+                for &k in kept.iter().filter(|_| rng.random_bool(0.5)) {
+                    let t = p.tuple(k);
+                    if (t[0] == 0 || !used[0][t[0]]) && (t[1] == 0 || !used[1][t[1]]) {
+                        (used[0][t[0]], used[1][t[1]]) = (t[0] > 0, t[1] > 0);
+                        relaxed.push(k);
+                    }
+                }
+                let got = filtered.primal(&q, &mult, &relaxed);
+                assert_eq!(got, fresh.primal(&q, &mult, &relaxed), "seed {seed}");
+                if let Some((chosen, _)) = got {
+                    recovered += 1;
+                    assert_eq!(filtered.polish(&q, &chosen), fresh.polish(&q, &chosen));
+                }
+            }
+        }
+        assert!(recovered > 100, "{recovered}");
     }
 }

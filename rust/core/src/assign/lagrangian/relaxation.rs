@@ -123,6 +123,64 @@ impl Relaxation {
         }
     }
 
+    /// [`Relaxation::new`] of the problem without the tuples `keep` rejects (per tuple
+    /// index), by filtering this structure rather than sorting it again: the tuples keep their
+    /// order within each group, and a pair left with none leaves the 2-D problem.
+    pub(super) fn retain(&mut self, keep: &[bool]) {
+        let w = self.mult_offs.len() - 1;
+        let (n0, n1) = (self.pairs.n_rows(), self.pairs.n_cols());
+        let (mut row_offs, mut cols, mut pair_offs) = (vec![0; n0 + 1], Vec::new(), Vec::new());
+        let mut at = 0;
+        // Moves entry `x` to position `at` (never after it); `lone` moves with groups 1 and 2.
+        let take = |this: &mut Self, x: usize, at: &mut usize| {
+            this.tuples[*at] = this.tuples[x];
+            this.cost[*at] = this.cost[x];
+            this.tail.copy_within(x * w..(x + 1) * w, *at * w);
+            *at += 1;
+        };
+        for r in 0..n0 {
+            for p in self.pairs.span(r) {
+                let start = at;
+                for x in self.pair_offs[p]..self.pair_offs[p + 1] {
+                    if keep[self.tuples[x]] {
+                        take(self, x, &mut at);
+                    }
+                }
+                if at > start {
+                    row_offs[r + 1] += 1;
+                    cols.push(self.pairs.col_indices()[p]);
+                    pair_offs.push(start);
+                }
+            }
+        }
+        pair_offs.push(at);
+        let [e0, e1, e2, e3] = self.ends;
+        let mut ends = [at; 4];
+        for (group, range) in [(1, e0..e1), (2, e1..e2), (3, e2..e3)] {
+            for x in range {
+                if keep[self.tuples[x]] {
+                    if x < e2 {
+                        self.lone[at - ends[0]] = self.lone[x - e0];
+                    }
+                    take(self, x, &mut at);
+                }
+            }
+            ends[group] = at;
+        }
+        for r in 0..n0 {
+            row_offs[r + 1] += row_offs[r];
+        }
+        self.tuples.truncate(at);
+        self.cost.truncate(at);
+        self.tail.truncate(at * w);
+        self.lone.truncate(ends[2] - ends[0]);
+        self.modified.truncate(at);
+        self.arg = vec![usize::MAX; cols.len()];
+        let zeros = vec![0.0; cols.len()];
+        self.pairs = SparseCosts::from_csr_unchecked(n0, n1, row_offs, cols, zeros);
+        (self.pair_offs, self.ends) = (pair_offs, ends);
+    }
+
     /// Cost minus multipliers of every entry, summed as [`super::reduced::modified`] does, so the
     /// values are bit-identical to it, and each pair's cheapest tuple. The loop runs over every
     /// tuple each iteration, so common sensor counts get a copy with the width known at
@@ -416,5 +474,57 @@ mod tests {
             proven > 300 && kept > 300,
             "{proven} proven out, {kept} kept"
         );
+    }
+
+    /// Filtering ([`Relaxation::retain`]) builds what [`Relaxation::new`] builds for the
+    /// smaller problem: the same groups, pairs and multiplier positions, and at random
+    /// multipliers the same `L(u)` and relaxed solution, bit for bit.
+    #[test]
+    fn retain_builds_what_new_builds_for_the_smaller_problem() {
+        let mut rng = ChaCha8Rng::seed_from_u64(23);
+        let mut removed = 0;
+        for seed in 0..60u64 {
+            let s = 3 + seed as usize % 3;
+            let p = random_problem(seed, s, 6, 4, 20);
+            let keep: Vec<bool> = (0..p.n_tuples()).map(|_| rng.random_bool(0.6)).collect();
+            let kept: Vec<usize> = p.active().iter().copied().filter(|&k| keep[k]).collect();
+            removed += p.active().len() - kept.len();
+            let q = p.with_active(kept);
+            let mut filtered = Relaxation::new(&p, WarmStart::Never);
+            filtered.retain(&keep);
+            let mut fresh = Relaxation::new(&q, WarmStart::Never);
+            assert_eq!(filtered.tuples, fresh.tuples, "seed {seed}");
+            assert_eq!(
+                (&filtered.pair_offs, filtered.ends),
+                (&fresh.pair_offs, fresh.ends)
+            );
+            assert_eq!((&filtered.tail, &filtered.lone), (&fresh.tail, &fresh.lone));
+            assert_eq!(filtered.pairs.col_indices(), fresh.pairs.col_indices());
+            for r in 0..p.sizes()[0] {
+                assert_eq!(filtered.pairs.span(r), fresh.pairs.span(r), "seed {seed}");
+            }
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            for _ in 0..3 {
+                let mult: Vec<Vec<f64>> = (p.sizes().iter())
+                    .map(|&n| {
+                        (0..=n)
+                            .map(|i| {
+                                if i == 0 {
+                                    0.0
+                                } else {
+                                    -rng.random_range(0.0..4.0)
+                                }
+                            })
+                            .collect()
+                    })
+                    .collect();
+                let (da, db) = (
+                    filtered.evaluate(&mult, &mut a),
+                    fresh.evaluate(&mult, &mut b),
+                );
+                assert_eq!((da.to_bits(), &a), (db.to_bits(), &b), "seed {seed}");
+            }
+        }
+        assert!(removed > 200, "{removed}");
     }
 }

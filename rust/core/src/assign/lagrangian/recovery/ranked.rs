@@ -46,6 +46,40 @@ impl Ranked {
         }
     }
 
+    /// An order of nothing, a placeholder while another is filtered.
+    pub(super) fn empty() -> Self {
+        Self {
+            by_cost: Vec::new(),
+            rank_of: Vec::new(),
+            s: 0,
+            cost: Vec::new(),
+            flat: Vec::new(),
+            missed: 0,
+        }
+    }
+
+    /// [`Ranked::new`] of the problem without the tuples `keep` rejects (per tuple index), by
+    /// filtering this order rather than sorting again: the same order, costs and reports.
+    pub(super) fn retain(&mut self, keep: &[bool]) {
+        let (s, mut at) = (self.s, 0);
+        for r in 0..self.by_cost.len() {
+            let k = self.by_cost[r];
+            if keep[k] {
+                self.by_cost[at] = k;
+                self.cost[at] = self.cost[r];
+                self.flat.copy_within(r * s..(r + 1) * s, at * s);
+                at += 1;
+            }
+            self.rank_of[k] = NONE;
+        }
+        self.by_cost.truncate(at);
+        self.cost.truncate(at);
+        self.flat.truncate(at * s);
+        for (r, &k) in self.by_cost.iter().enumerate() {
+            self.rank_of[k] = r;
+        }
+    }
+
     /// The flat reports of rank `r`, `missed` where it has none.
     pub(super) fn reports(&self, r: usize) -> &[usize] {
         &self.flat[r * self.s..(r + 1) * self.s]

@@ -32,7 +32,18 @@ pub(super) struct Search {
 
 impl Search {
     pub(super) fn new(problem: &SdProblem) -> Self {
-        let ranked = Ranked::new(problem);
+        Self::of(Ranked::new(problem))
+    }
+
+    /// [`Search::new`] of the problem without the tuples `keep` rejects (per tuple index),
+    /// from this search's order ([`Ranked::retain`]).
+    pub(super) fn retain(&mut self, keep: &[bool]) {
+        let mut ranked = std::mem::replace(&mut self.ranked, Ranked::empty());
+        ranked.retain(keep);
+        *self = Self::of(ranked);
+    }
+
+    fn of(ranked: Ranked) -> Self {
         let (s, missed) = (ranked.s, ranked.missed);
         let reports = ranked.flat.iter().enumerate().filter(|e| *e.1 != missed);
         let (inc_offs, inc) = csr(missed, reports.map(|(at, &f)| (f, at / s)));
