@@ -215,6 +215,26 @@ pub(crate) mod test_support {
     }
 
     /// Optimal cost by enumerating every feasible subset of the active tuples.
+    /// Lagrangian multipliers for every report of `p`: 0 for the dummy, `−U(0, scale)` for the
+    /// others.
+    pub fn random_multipliers(rng: &mut ChaCha8Rng, p: &SdProblem, scale: f64) -> Vec<Vec<f64>> {
+        let draw = |rng: &mut ChaCha8Rng, i: usize| match i {
+            0 => 0.0,
+            _ => -rng.random_range(0.0..scale),
+        };
+        (p.sizes().iter())
+            .map(|&n| (0..=n).map(|i| draw(rng, i)).collect())
+            .collect()
+    }
+
+    /// Each tuple of `p` kept with probability `share` (per tuple index), and the active
+    /// tuples kept, ascending: the problem `p.with_active(kept)`.
+    pub fn random_keep(rng: &mut ChaCha8Rng, p: &SdProblem, share: f64) -> (Vec<bool>, Vec<usize>) {
+        let keep: Vec<bool> = (0..p.n_tuples()).map(|_| rng.random_bool(share)).collect();
+        let kept = p.active().iter().copied().filter(|&k| keep[k]).collect();
+        (keep, kept)
+    }
+
     pub fn brute_force(p: &SdProblem) -> f64 {
         fn go(p: &SdProblem, at: usize, used: &mut Vec<Vec<bool>>) -> f64 {
             let Some(&k) = p.active().get(at) else {

@@ -392,7 +392,7 @@ impl Stage {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::assign::test_support::random_problem;
+    use crate::assign::test_support::{random_keep, random_multipliers, random_problem};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -406,8 +406,7 @@ mod tests {
         for seed in 0..60u64 {
             let s = 3 + seed as usize % 3;
             let p = random_problem(seed, s, 6, 4, 20);
-            let keep: Vec<bool> = (0..p.n_tuples()).map(|_| rng.random_bool(0.6)).collect();
-            let kept: Vec<usize> = p.active().iter().copied().filter(|&k| keep[k]).collect();
+            let (keep, kept) = random_keep(&mut rng, &p, 0.6);
             let q = p.with_active(kept.clone());
             let mut filtered = Recovery::new(&p);
             filtered.retain(&keep);
@@ -427,19 +426,7 @@ mod tests {
                 assert_eq!(a.rank_of[k], b.rank_of[k]);
             }
             for _ in 0..4 {
-                let mult: Vec<Vec<f64>> = (p.sizes().iter())
-                    .map(|&n| {
-                        (0..=n)
-                            .map(|i| {
-                                if i == 0 {
-                                    0.0
-                                } else {
-                                    -rng.random_range(0.0..4.0)
-                                }
-                            })
-                            .collect()
-                    })
-                    .collect();
+                let mult = random_multipliers(&mut rng, &p, 4.0);
                 // A relaxed solution: kept tuples taken greedily with no shared report of
                 // sensors 0 and 1 (sensors 2.. are the relaxed ones).
                 let mut used = [vec![false; p.sizes()[0] + 1], vec![false; p.sizes()[1] + 1]];

@@ -372,7 +372,9 @@ impl Relaxation {
 mod tests {
     use super::*;
     use crate::assign::lagrangian::reduced::modified;
-    use crate::assign::test_support::{brute_force, random_problem};
+    use crate::assign::test_support::{
+        brute_force, random_keep, random_multipliers, random_problem,
+    };
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -426,20 +428,8 @@ mod tests {
             let s = 3 + seed as usize % 3;
             let p = random_problem(seed, s, 4, 3, 8);
             let mut relax = Relaxation::new(&p, WarmStart::Never);
-            let mult: Vec<Vec<f64>> = (p.sizes().iter())
-                .map(|&n| {
-                    let scale = rng.random_range(0.0..6.0);
-                    (0..=n)
-                        .map(|i| {
-                            if i == 0 {
-                                0.0
-                            } else {
-                                -rng.random_range(0.0..scale)
-                            }
-                        })
-                        .collect()
-                })
-                .collect();
+            let scale = rng.random_range(0.1..6.0);
+            let mult = random_multipliers(&mut rng, &p, scale);
             let mut chosen = Vec::new();
             let dual = relax.evaluate(&mult, &mut chosen);
             let bound = relax.price_bound(&mult).expect("a cold solve");
@@ -486,8 +476,7 @@ mod tests {
         for seed in 0..60u64 {
             let s = 3 + seed as usize % 3;
             let p = random_problem(seed, s, 6, 4, 20);
-            let keep: Vec<bool> = (0..p.n_tuples()).map(|_| rng.random_bool(0.6)).collect();
-            let kept: Vec<usize> = p.active().iter().copied().filter(|&k| keep[k]).collect();
+            let (keep, kept) = random_keep(&mut rng, &p, 0.6);
             removed += p.active().len() - kept.len();
             let q = p.with_active(kept);
             let mut filtered = Relaxation::new(&p, WarmStart::Never);
@@ -505,19 +494,7 @@ mod tests {
             }
             let (mut a, mut b) = (Vec::new(), Vec::new());
             for _ in 0..3 {
-                let mult: Vec<Vec<f64>> = (p.sizes().iter())
-                    .map(|&n| {
-                        (0..=n)
-                            .map(|i| {
-                                if i == 0 {
-                                    0.0
-                                } else {
-                                    -rng.random_range(0.0..4.0)
-                                }
-                            })
-                            .collect()
-                    })
-                    .collect();
+                let mult = random_multipliers(&mut rng, &p, 4.0);
                 let (da, db) = (
                     filtered.evaluate(&mult, &mut a),
                     fresh.evaluate(&mult, &mut b),
