@@ -16,9 +16,9 @@
 //! [`SensorOrder`]'s choice: by default, at S = 3, the two with the fewest reports.
 //!
 //! Speed: every iteration touches every candidate tuple, so the per-solve structures
-//! (`Relaxation`, `Recovery`) are built once (and again when tuples leave) and their buffers
-//! reused, and work
-//! whose result is already known is skipped (a repeated relaxed solution or search start). With
+//! (`Relaxation`, `Recovery`) are built once (and filtered when tuples leave) and their
+//! buffers reused, and work whose result is already known is skipped (a repeated relaxed
+//! solution or search start). With
 //! cold 2-D solves the result is the same, bit for bit, as a plain implementation of the steps
 //! above; warm ones may pick another 2-D optimum of equal cost (see [`WarmStart`]).
 
@@ -163,9 +163,9 @@ const PROVE_EVERY: usize = 10;
 
 /// `current` without the tuples of `out` (proven out; sorted here), or `None` when they are
 /// fewer than a tenth of its active ones: filtering the per-solve structures costs about an
-/// iteration, so a smaller cut does not pay (a twentieth, or a look every 5 iterations,
-/// took more instructions; CHANGELOG.md). The
-/// incumbent's tuples stay whatever `out` says (they cannot be in it but for rounding).
+/// iteration, so a smaller cut does not pay (a twentieth, or a look every 5 iterations, took
+/// more instructions; CHANGELOG.md). The incumbent's tuples stay whatever `out` says (they
+/// cannot be in it but for rounding).
 ///
 /// Why the solve stays exact: every solution better than the incumbent avoids the tuples
 /// proven out, so the reduced problem has the same optimum as `current`, and its relaxation's
