@@ -110,7 +110,7 @@ fn solve_in_order(problem: &SdProblem, options: &LagrangianOptions) -> SdSolutio
         }
         // Every few iterations, the tuples the relaxation's prices prove out of any solution
         // better than the incumbent leave the problem (`prove_out`).
-        if iterations % PROVE_EVERY == 0 && relax.proven_out(&mult, best.1, &mut out) {
+        if iterations % PROVE_EVERY == 0 && relax.proven_out(best.1, &mut out) {
             if let Some(next) = prove_out(current, &mut out, &best.0) {
                 #[cfg(test)]
                 tests::REDUCTIONS.with(|n| n.set(n.get() + 1));

@@ -43,6 +43,9 @@ pub(super) struct Relaxation {
     /// The 2-D solve's row and column prices, for [`Relaxation::proven_out`].
     alpha: Vec<f64>,
     beta: Vec<f64>,
+    /// The last evaluation's `L(u)` beyond its 2-D solve: the free `(0, 0, …)` tuples'
+    /// negative modified costs and the multipliers' sum.
+    constant: [f64; 2],
 }
 
 /// Relative margin by which a tuple's forced bound must exceed the incumbent before
@@ -120,6 +123,7 @@ impl Relaxation {
             },
             alpha: Vec::with_capacity(n0),
             beta: Vec::with_capacity(n1),
+            constant: [0.0; 2],
         }
     }
 
@@ -287,17 +291,19 @@ impl Relaxation {
                 .filter(|&c| sol.col_to_row[c].is_none() && self.b[c] < 0.0)
                 .map(|c| self.cols[c].1),
         );
-        let mut dual = sol.cost;
+        let (mut dual, mut free) = (sol.cost, 0.0);
         for x in (e2..e3).filter(|&x| m[x] < 0.0) {
             dual += m[x];
+            free += m[x];
             chosen.push(tuples[x]);
         }
-        dual += mult.iter().skip(2).flatten().sum::<f64>();
-        dual
+        let mult_sum = mult.iter().skip(2).flatten().sum::<f64>();
+        self.constant = [free, mult_sum];
+        dual + mult_sum
     }
 
-    /// After an [`Relaxation::evaluate`] at `mult`, the tuples that no solution costing less
-    /// than `incumbent` can hold, into `out` (unsorted); `false`, with `out` empty, after a
+    /// After an [`Relaxation::evaluate`], the tuples that no solution costing less than
+    /// `incumbent` can hold, into `out` (unsorted); `false`, with `out` empty, after a
     /// warm 2-D solve, whose prices are not mapped back.
     ///
     /// With the 2-D solve's prices `α` (rows), `β` (columns), feasible for its problem
@@ -307,14 +313,9 @@ impl Relaxation {
     /// and so on the optimum, and `r_k ≥ 0` is what `k` costs beyond its prices (its modified
     /// cost less `α` of its sensor-0 report and `β` of its sensor-1 report; a free tuple's
     /// positive part). A tuple with `B + r_k` above the incumbent is in no better solution.
-    pub(super) fn proven_out(
-        &mut self,
-        mult: &[Vec<f64>],
-        incumbent: f64,
-        out: &mut Vec<usize>,
-    ) -> bool {
+    pub(super) fn proven_out(&mut self, incumbent: f64, out: &mut Vec<usize>) -> bool {
         out.clear();
-        let Some(base) = self.price_bound(mult) else {
+        let Some(base) = self.price_bound() else {
             return false;
         };
         let (alpha, beta) = (&self.alpha, &self.beta);
@@ -348,9 +349,9 @@ impl Relaxation {
         true
     }
 
-    /// The bound `B` of [`Relaxation::proven_out`] at the last evaluation's `mult`, with the
-    /// 2-D solve's prices left in `alpha` and `beta`; `None` after a warm 2-D solve.
-    fn price_bound(&mut self, mult: &[Vec<f64>]) -> Option<f64> {
+    /// The bound `B` of [`Relaxation::proven_out`] at the last evaluation, with the 2-D
+    /// solve's prices left in `alpha` and `beta`; `None` after a warm 2-D solve.
+    fn price_bound(&mut self) -> Option<f64> {
         if self.warm {
             return None;
         }
@@ -361,10 +362,9 @@ impl Relaxation {
             &mut self.alpha,
             &mut self.beta,
         );
-        let (m, [_, _, e2, e3]) = (&self.modified, self.ends);
-        let mut base = self.alpha.iter().sum::<f64>() + self.beta.iter().sum::<f64>();
-        base += m[e2..e3].iter().map(|&x| x.min(0.0)).sum::<f64>();
-        Some(base + mult.iter().skip(2).flatten().sum::<f64>())
+        let [free, mult_sum] = self.constant;
+        let base = self.alpha.iter().sum::<f64>() + self.beta.iter().sum::<f64>();
+        Some(base + free + mult_sum)
     }
 }
 
@@ -432,7 +432,7 @@ mod tests {
             let mult = random_multipliers(&mut rng, &p, scale);
             let mut chosen = Vec::new();
             let dual = relax.evaluate(&mult, &mut chosen);
-            let bound = relax.price_bound(&mult).expect("a cold solve");
+            let bound = relax.price_bound().expect("a cold solve");
             assert!(
                 (bound - dual).abs() <= 1e-9 * dual.abs().max(1.0),
                 "seed {seed}: {bound} against {dual}"
@@ -440,7 +440,7 @@ mod tests {
             let optimum = brute_force(&p);
             let mut out = Vec::new();
             for incumbent in [optimum, optimum + 1.0, optimum + 4.0] {
-                assert!(relax.proven_out(&mult, incumbent, &mut out));
+                assert!(relax.proven_out(incumbent, &mut out));
                 for &k in &out {
                     let clash = |j: usize| {
                         (p.tuple(j).iter().zip(p.tuple(k))).any(|(&a, &b)| a > 0 && a == b)
@@ -458,7 +458,7 @@ mod tests {
             }
             let mut warm = Relaxation::new(&p, WarmStart::Always);
             warm.evaluate(&mult, &mut chosen);
-            assert!(!warm.proven_out(&mult, optimum, &mut out) && out.is_empty());
+            assert!(!warm.proven_out(optimum, &mut out) && out.is_empty());
         }
         assert!(
             proven > 300 && kept > 300,
