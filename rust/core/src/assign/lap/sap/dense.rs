@@ -46,7 +46,14 @@ struct DenseWork {
     key: Vec<f64>,
     /// `v` with `-inf` on the scanned columns, so that a relaxation never reaches them.
     vs: Vec<f64>,
+    /// The row through which each column on the augmenting path was reached ([`Self::trace`];
+    /// the other columns' entries are stale).
     path: Vec<usize>,
+    /// The search's rows in the order scanned, and each one's `reached − u[i]`.
+    scan_rows: Vec<usize>,
+    scan_base: Vec<f64>,
+    /// For each scanned column, how many rows had been scanned when it was.
+    seen: Vec<usize>,
     col4row: Vec<usize>,
     row4col: Vec<usize>,
     in_sr: Vec<bool>,
@@ -67,6 +74,7 @@ impl DenseWork {
         refill(&mut self.u, nr, 0.0);
         refill(&mut self.dist, nc, f64::INFINITY);
         refill(&mut self.path, nc, NONE);
+        refill(&mut self.seen, nc, 0);
         refill(&mut self.in_sr, nr, false);
         refill(&mut self.in_sc, nc, false);
         // Square and finite: Jonker & Volgenant's start assigns most rows cheaply, and the
@@ -93,6 +101,7 @@ impl DenseWork {
                     ),
                 ));
             };
+            self.trace(sink, cur, cost);
             self.update_duals(cur, min_val);
             augment(sink, cur, &self.path, &mut self.row4col, &mut self.col4row);
         }
@@ -126,12 +135,18 @@ impl DenseWork {
         refill(&mut self.key, nc, f64::INFINITY);
         self.vs.clear();
         self.vs.extend_from_slice(&self.v[..nc]);
+        self.scan_rows.clear();
+        self.scan_base.clear();
         let (mut i, mut min_val) = (cur, 0.0);
         loop {
             self.in_sr[i] = true;
+            let base = min_val - self.u[i];
+            self.scan_rows.push(i);
+            self.scan_base.push(base);
             let j;
-            (j, min_val) = self.relax_row(i, &cost[i * nc..(i + 1) * nc], min_val)?;
+            (j, min_val) = self.relax_row(base, &cost[i * nc..(i + 1) * nc])?;
             self.in_sc[j] = true;
+            self.seen[j] = self.scan_rows.len();
             self.dist[j] = min_val;
             self.key[j] = f64::INFINITY;
             self.vs[j] = f64::NEG_INFINITY;
@@ -142,49 +157,45 @@ impl DenseWork {
         }
     }
 
-    /// Relaxes every unscanned column through row `i`, reached at distance `reached`; returns
-    /// the nearest unscanned column and its distance. On a tie, the lowest free column (the
-    /// search can stop there), else the highest column: what one scan from the last column
-    /// picks when it keeps the first minimum or a later free one, which scipy's first search
-    /// resembles (`==`, not a total order: −0.0 ties with 0.0).
+    /// Relaxes every unscanned column through the row `row`, whose `reached − u[i]` is `base`;
+    /// returns the nearest unscanned column and its distance. On a tie, the lowest free column
+    /// (the search can stop there), else the highest column: what one scan from the last
+    /// column picks when it keeps the first minimum or a later free one, which scipy's first
+    /// search resembles (`==`, not a total order: −0.0 ties with 0.0).
     ///
-    /// This loop is the whole cost of a dense solve. It walks the row and the per-column
+    /// These loops are the whole cost of a dense solve. They walk the row and the per-column
     /// arrays in order (no gather through a list of remaining columns: sequential reads let
-    /// the prefetcher keep up), in two passes. The first relaxes and keeps four running minima
-    /// (columns `j ≡ l mod 4`), so the comparisons of one lane do not wait on another's; a
-    /// scanned column needs no test there, as `vs` makes its reduced cost `+inf`. The second
-    /// finds the column of the least key, on keys still in the first level of cache. Choosing
-    /// the column inside the first pass, with the tie rule in every lane and the lanes merged
-    /// by it, took 25–30 % longer at 100² and 1000² (CHANGELOG.md).
-    fn relax_row(&mut self, i: usize, row: &[f64], reached: f64) -> Option<(usize, f64)> {
-        let base = reached - self.u[i];
+    /// the prefetcher keep up), in three passes:
+    /// - the relaxation, `key ← min(key, base + c − vs)`, which the compiler vectorises: a
+    ///   scanned column needs no test, as `vs` makes its reduced cost `+inf`, and no row is
+    ///   recorded (the path's rows are found afterwards, [`Self::trace`]);
+    /// - the least key, in four running minima (columns `j ≡ l mod 4`), so that no
+    ///   comparison waits on the one before;
+    /// - its column, on keys still in the first level of cache.
+    ///
+    /// Choosing the column inside the relaxation, with the tie rule in each lane, took 25–30 %
+    /// longer at 100² and 1000² (CHANGELOG.md, *2-D (linear assignment)*).
+    fn relax_row(&mut self, base: f64, row: &[f64]) -> Option<(usize, f64)> {
         // Split borrows into plain slices so the optimiser sees they do not alias.
         let nc = self.nc;
-        let (key, path) = (&mut self.key[..nc], &mut self.path[..nc]);
+        let key = &mut self.key[..nc];
         let (vs, row) = (&self.vs[..nc], &row[..nc]);
+        for ((k, c), &w) in key.iter_mut().zip(row).zip(vs) {
+            let r = base + c - w;
+            *k = if r < *k { r } else { *k };
+        }
         let mut lanes = [f64::INFINITY; 4];
-        let (mut k4, mut p4) = (key.chunks_exact_mut(4), path.chunks_exact_mut(4));
-        let (mut r4, mut v4) = (row.chunks_exact(4), vs.chunks_exact(4));
-        for (((k, p), c), w) in (&mut k4).zip(&mut p4).zip(&mut r4).zip(&mut v4) {
+        let k4 = key.chunks_exact(4);
+        let mut low =
+            (k4.remainder().iter()).fold(f64::INFINITY, |a, &b| if b < a { b } else { a });
+        for k in k4 {
             for l in 0..4 {
-                let r = base + c[l] - w[l];
-                let closer = r < k[l];
-                p[l] = if closer { i } else { p[l] };
-                k[l] = if closer { r } else { k[l] };
                 lanes[l] = if k[l] < lanes[l] { k[l] } else { lanes[l] };
             }
         }
-        let mut low = lanes.into_iter().fold(f64::INFINITY, f64::min);
-        let tail = (k4.into_remainder().iter_mut())
-            .zip(p4.into_remainder())
-            .zip(r4.remainder().iter().zip(v4.remainder()));
-        for ((k, p), (c, w)) in tail {
-            let r = base + c - w;
-            if r < *k {
-                (*k, *p) = (r, i);
-            }
-            low = low.min(*k);
-        }
+        low = lanes
+            .into_iter()
+            .fold(low, |a, b| if b < a { b } else { a });
         if low == f64::INFINITY {
             return None;
         }
@@ -194,12 +205,35 @@ impl DenseWork {
         for (j, (&k, &owner)) in key.iter().zip(row4col).enumerate() {
             if k == low {
                 if owner == NONE {
-                    return Some((j, low));
+                    return Some((j, k));
                 }
                 highest = j;
             }
         }
-        Some((highest, low))
+        key.get(highest).map(|&k| (highest, k))
+    }
+
+    /// Sets `path` on the augmenting path that ends at `sink`: for each of its columns, the row
+    /// through which the search reached it, back to `cur`. The scan keeps no such record (one
+    /// store a column and a row, of which only the path's few are ever read); the row is the
+    /// first scanned, before the column was, whose relaxation gives the column's distance,
+    /// as the scan's strict `<` kept the first. The sums are the scan's own, so they equal it.
+    /// Before the duals change.
+    fn trace(&mut self, sink: usize, cur: usize, cost: &[f64]) {
+        let nc = self.nc;
+        let mut j = sink;
+        loop {
+            let rows = self.scan_rows[..self.seen[j]].iter();
+            let found = (rows.zip(&self.scan_base))
+                .find(|&(&s, &base)| base + cost[s * nc + j] - self.v[j] == self.dist[j]);
+            debug_assert!(found.is_some(), "column {j} reached by no scanned row");
+            let i = found.map_or(cur, |(&s, _)| s);
+            self.path[j] = i;
+            if i == cur {
+                return;
+            }
+            j = self.col4row[i];
+        }
     }
 
     /// Crouse's dual update: keeps reduced costs of assigned rows non-negative.
