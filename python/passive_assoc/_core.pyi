@@ -300,7 +300,9 @@ def assign_sd(
     method: Literal["lagrangian", "exact"],
     settings: _SdSettings,
 ) -> SdResult: ...
-def assign_2d(costs: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
+def assign_2d(
+    costs: NDArray[np.float64] | NDArray[np.float32],
+) -> tuple[NDArray[np.int64], NDArray[np.int64], float]: ...
 def associate_scans(
     measurements: MeasurementTable,
     sensors: SensorNetwork,

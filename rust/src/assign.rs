@@ -10,7 +10,7 @@ use numpy::{
 use pyo3::prelude::*;
 
 use super::convert::{count, owned, parse, row_major, slice1, to_usize, I64Array};
-use super::errors::{value_error, BindError, BindResult};
+use super::errors::{type_error, value_error, BindError, BindResult};
 use super::interrupt;
 use passive_assoc_core::assign::lagrangian::LagrangianOptions;
 use passive_assoc_core::assign::{branch_bound, lagrangian, lap, SdMethod, SdProblem};
@@ -82,11 +82,31 @@ pub fn assign_sd(
 }
 
 /// Dense rectangular min-cost 2-D assignment; returns (row_ind, col_ind, cost) like
-/// `scipy.optimize.linear_sum_assignment` plus the total.
+/// `scipy.optimize.linear_sum_assignment` plus the total. `costs` is a 2-D float64 array, or
+/// a float32 one, solved without a float64 copy (exactly, in double precision:
+/// [`lap::Entry`]). The dtype is tested by a cast, which unlike a failed extraction builds
+/// no error, so a small float32 call costs what a float64 one does.
 #[pyfunction]
 pub fn assign_2d<'py>(
     py: Python<'py>,
-    costs: &Bound<'py, PyArray2<f64>>,
+    costs: &Bound<'py, PyAny>,
+) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
+    if let Ok(costs) = costs.cast::<PyArray2<f64>>() {
+        return assign_dense(py, costs);
+    }
+    if let Ok(costs) = costs.cast::<PyArray2<f32>>() {
+        return assign_dense(py, costs);
+    }
+    Err(type_error(
+        "costs",
+        "expected a 2-D float64 or float32 NumPy array",
+    ))
+}
+
+/// [`assign_2d`] on one entry type.
+fn assign_dense<'py, C: lap::Entry + numpy::Element>(
+    py: Python<'py>,
+    costs: &Bound<'py, PyArray2<C>>,
 ) -> BindResult<(I64Array<'py>, I64Array<'py>, f64)> {
     let (n_rows, n_cols) = (costs.shape()[0], costs.shape()[1]);
     if costs.len() > 1 && !costs.is_c_contiguous() {

@@ -57,6 +57,33 @@ def test_every_dense_input_path_gives_the_same_answer(n: int) -> None:
         pa.linear_assignment(bad)
 
 
+@pytest.mark.parametrize("shape", [(3, 3), (16, 16), (40, 40), (30, 50), (50, 30), (100, 100)])
+def test_a_float32_matrix_is_solved_exactly_without_a_float64_copy(shape: tuple[int, int]) -> None:
+    # Entries near 1000 on float32's grid there: their sums are exact in float64, not in
+    # float32. The answer is the float64 answer of the same values, from the array as given
+    # (C order, Fortran order and a strided view alike), and SciPy's optimum.
+    rng = np.random.default_rng(shape[0] * 7 + shape[1])
+    c32 = (1000 + 2.0**-14 * rng.integers(0, 64, shape)).astype(np.float32)
+    if shape == (100, 100):
+        c32[rng.random(shape) < 0.6] = np.inf  # mostly forbidden: the sparse path
+    c64 = c32.astype(np.float64)
+    kept = c32.copy()
+    want = pa.linear_assignment(c64)
+    wide = np.zeros((shape[0], 2 * shape[1]), dtype=np.float32)
+    wide[:, ::2] = c32
+    for given in (c32, np.asfortranarray(c32), wide[:, ::2]):
+        got = pa.linear_assignment(given)
+        assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1]) and got[2] == want[2]
+    assert np.array_equal(c32, kept)
+    if shape != (100, 100):
+        r, c = linear_sum_assignment(c64)
+        assert want[2] == c64[r, c].sum()
+    bad = c32.copy()
+    bad[0, 0] = np.nan
+    with pytest.raises(ValueError, match="costs"):
+        pa.linear_assignment(bad)
+
+
 @pytest.mark.parametrize("shape", [(1, 1), (6, 6), (8, 3), (3, 8), (40, 40), (90, 70), (70, 90)])
 def test_sparse_and_gated_dense_match_scipy(shape: tuple[int, int]) -> None:
     """A SciPy sparse matrix (absent = forbidden) and the same matrix dense with +inf (which

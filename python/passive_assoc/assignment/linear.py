@@ -13,6 +13,9 @@ from .._validation import as_float_array
 
 __all__ = ["linear_assignment"]
 
+# The dense entry types the core reads as they are.
+_NATIVE = (np.dtype(np.float64), np.dtype(np.float32))
+
 
 def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArray[np.int64], float]:
     """Min-cost rectangular 2-D assignment (Jonker-Volgenant shortest augmenting paths).
@@ -28,7 +31,9 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
         zeros are allowed pairs of cost 0; of duplicate entries of a pair the cheapest
         counts, in every format — they are not summed as SciPy's conversions sum them). The
         sparse solve touches only the stored entries, and its memory grows with them, not
-        with the shape.
+        with the shape. A float32 matrix is solved as it is, with no float64 copy, and
+        exactly: its entries are read as the float64 values they equal, and the sums are
+        formed in double precision.
 
     Returns
     -------
@@ -50,15 +55,18 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
     (array([0, 1]), array([1, 0]), 9.0)
     """
     if type(costs) is np.ndarray:
-        # The common call, a C-ordered float64 matrix, goes straight to the core: a small
-        # solve is then not mostly Python. The core refuses any other array (TypeError: dtype
-        # or dimensions; ValueError: order), which the general conversion below then takes.
+        # The common call, a C-ordered float64 or float32 matrix, goes straight to the core:
+        # a small solve is then not mostly Python. The core refuses any other array
+        # (TypeError: dtype or dimensions; ValueError: order), which the conversions below
+        # then take.
         try:
             return _core.assign_2d(costs)
         except (TypeError, ValueError):
             flags = costs.flags
-            if costs.dtype == np.float64 and costs.ndim == 2 and flags.c_contiguous and flags.aligned:
+            if costs.dtype in _NATIVE and costs.ndim == 2 and flags.c_contiguous and flags.aligned:
                 raise  # the core's verdict on this very matrix (NaN, no complete assignment)
+        if costs.dtype == np.float32 and costs.ndim == 2:
+            return _core.assign_2d(np.ascontiguousarray(costs))  # kept in single precision
     if sp.issparse(costs):
         return _sparse(costs)
     matrix = as_float_array("costs", costs, ndim=2)

@@ -5,6 +5,7 @@
 mod sap;
 mod sparse_costs;
 
+pub use sap::Entry;
 pub use sparse_costs::SparseCosts;
 
 use crate::error::{CoreError, CoreResult};
@@ -20,6 +21,8 @@ pub struct DenseAssignment {
 /// Solves `min Σ c[i, σ(i)]` over injective maps between rows and columns of the dense
 /// `n_rows × n_cols` row-major matrix `costs`; every row is assigned when `n_rows <= n_cols`,
 /// every column otherwise (the matrix is transposed internally). `+inf` marks a forbidden pair.
+/// The entries are `f64` or `f32` ([`Entry`]); an `f32` matrix is solved exactly, in double
+/// precision, and read at half the bytes.
 ///
 /// Errors: `Shape` if `costs.len() != n_rows * n_cols`, `NonFinite` for NaN or `-inf`,
 /// `IllPosed` if the forbidden pairs leave no complete assignment.
@@ -30,7 +33,11 @@ pub struct DenseAssignment {
 /// assert_eq!(a.row_to_col, vec![Some(1), Some(0)]);
 /// assert_eq!(a.cost, 3.0);
 /// ```
-pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<DenseAssignment> {
+pub fn solve_dense<C: Entry>(
+    n_rows: usize,
+    n_cols: usize,
+    costs: &[C],
+) -> CoreResult<DenseAssignment> {
     let expected = n_rows
         .checked_mul(n_cols)
         .ok_or_else(|| CoreError::shape("costs", format!("{n_rows} × {n_cols} overflows usize")))?;
@@ -53,16 +60,16 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
     let scan = EntryScan::of(costs);
     if scan.bad {
         // Only on bad input: find and name the first offending entry.
-        if let Some(index) = costs
-            .iter()
-            .position(|c| c.is_nan() || *c == f64::NEG_INFINITY)
+        if let Some(index) =
+            (costs.iter().map(|c| c.get())).position(|c| c.is_nan() || c == f64::NEG_INFINITY)
         {
             return Err(CoreError::NonFinite {
                 arg: "costs",
                 index,
             });
         }
-        super::check_cost_range("costs", costs)?;
+        let values: Vec<f64> = costs.iter().map(|c| c.get()).collect();
+        super::check_cost_range("costs", &values)?;
     }
     if let Some(sparse) = as_sparse(n_rows, n_cols, costs, scan.finite) {
         return solve_sparse_complete(&sparse);
@@ -75,7 +82,7 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
             row_to_col[i] = Some(j);
         }
     } else {
-        let mut t = vec![0.0; expected];
+        let mut t = vec![costs[0]; expected];
         for i in 0..n_rows {
             for j in 0..n_cols {
                 t[j * n_rows + i] = costs[i * n_cols + j];
@@ -89,7 +96,7 @@ pub fn solve_dense(n_rows: usize, n_cols: usize, costs: &[f64]) -> CoreResult<De
         }
     }
     let cost = (row_to_col.iter().enumerate())
-        .filter_map(|(i, j)| j.map(|j| costs[i * n_cols + j]))
+        .filter_map(|(i, j)| j.map(|j| costs[i * n_cols + j].get()))
         .sum();
     Ok(DenseAssignment { row_to_col, cost })
 }
@@ -112,11 +119,12 @@ struct EntryScan {
 }
 
 impl EntryScan {
-    fn of(costs: &[f64]) -> Self {
+    fn of<C: Entry>(costs: &[C]) -> Self {
         let (mut finite, mut bad) = (0usize, false);
         // Branch-free so that it vectorises: NaN fails both comparisons, `-inf` and huge
         // finite values fail the first, and only `+inf` passes the second alone.
-        for &c in costs {
+        for c in costs {
+            let c = c.get();
             finite += usize::from(c.abs() < f64::INFINITY);
             let within = c.abs() <= super::MAX_ABS_COST;
             bad |= !within & (c != f64::INFINITY);
@@ -127,7 +135,12 @@ impl EntryScan {
 
 /// The finite entries of a large, mostly forbidden dense matrix (`allowed` of them) as a
 /// sparse one (else None).
-fn as_sparse(n_rows: usize, n_cols: usize, costs: &[f64], allowed: usize) -> Option<SparseCosts> {
+fn as_sparse<C: Entry>(
+    n_rows: usize,
+    n_cols: usize,
+    costs: &[C],
+    allowed: usize,
+) -> Option<SparseCosts> {
     if costs.len() < SPARSE_MIN_ENTRIES {
         return None;
     }
@@ -138,7 +151,10 @@ fn as_sparse(n_rows: usize, n_cols: usize, costs: &[f64], allowed: usize) -> Opt
     let (mut col_indices, mut values) = (Vec::with_capacity(allowed), Vec::with_capacity(allowed));
     row_offsets.push(0);
     for row in costs.chunks_exact(n_cols.max(1)).take(n_rows) {
-        for (j, &c) in row.iter().enumerate().filter(|(_, c)| c.is_finite()) {
+        for (j, c) in row.iter().map(|c| c.get()).enumerate() {
+            if !c.is_finite() {
+                continue;
+            }
             col_indices.push(j);
             values.push(c);
         }

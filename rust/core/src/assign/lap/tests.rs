@@ -350,3 +350,58 @@ fn the_flat_list_and_the_heap_give_the_same_matchings() {
         }
     }
 }
+
+/// An `f32` matrix is solved as the `f64` matrix of its values: the same columns and cost,
+/// on every path (square with the start, rectangular, transposed, `+inf`, the sparse path of
+/// a mostly forbidden matrix). Entries near 1000 spaced by f32's step there: sums of them are
+/// exact in f64 but not in f32, so arithmetic in single precision would show.
+#[test]
+fn f32_matrices_are_solved_exactly_as_their_f64_values() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let step = 2f32.powi(-14); // f32's spacing in [512, 1024)
+    let shapes = [
+        (1, 1),
+        (5, 5),
+        (4, 7),
+        (7, 4),
+        (30, 30),
+        (80, 80),
+        (70, 90),
+        (90, 70),
+    ];
+    for (case, &(nr, nc)) in shapes.iter().cycle().take(64).enumerate() {
+        let forbid = if case % 3 == 0 { 0.6 } else { 0.0 };
+        let c32: Vec<f32> = (0..nr * nc)
+            .map(|_| {
+                if rng.random_bool(forbid) {
+                    f32::INFINITY
+                } else {
+                    1000.0 + step * rng.random_range(0..64u16) as f32
+                }
+            })
+            .collect();
+        let c64: Vec<f64> = c32.iter().map(|&x| f64::from(x)).collect();
+        match (solve_dense(nr, nc, &c32), solve_dense(nr, nc, &c64)) {
+            (Ok(a), Ok(b)) => {
+                assert_eq!(a.row_to_col, b.row_to_col, "case {case}: {nr}x{nc}");
+                assert_eq!(a.cost, b.cost, "case {case}");
+                if nr * nc <= 36 {
+                    assert_eq!(Some(a.cost), brute_dense(nr, nc, &c64), "case {case}");
+                }
+            }
+            (Err(CoreError::IllPosed { .. }), Err(CoreError::IllPosed { .. })) => {}
+            (a, b) => panic!("case {case}: f32 {a:?}, f64 {b:?}"),
+        }
+    }
+    let e = solve_dense(1, 2, &[0.0f32, f32::NAN]).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CoreError::NonFinite {
+                arg: "costs",
+                index: 1
+            }
+        ),
+        "{e:?}"
+    );
+}

@@ -3,7 +3,7 @@
 
 use std::cell::RefCell;
 
-use super::{augment, init, refill, NONE};
+use super::{augment, init, refill, Entry, NONE};
 use crate::error::{CoreError, CoreResult};
 
 /// Sides up to which a thread keeps its workspace between solves: a small solve's dozen
@@ -18,10 +18,10 @@ thread_local! {
 /// Crouse's algorithm for `nr <= nc`; returns the column of each row. `cost` has no NaN or
 /// `-inf` (checked by the caller); `+inf` entries are forbidden pairs; `all_finite` says
 /// there are none (the caller has counted).
-pub(in crate::assign::lap) fn dense(
+pub(in crate::assign::lap) fn dense<C: Entry>(
     nr: usize,
     nc: usize,
-    cost: &[f64],
+    cost: &[C],
     all_finite: bool,
 ) -> CoreResult<Vec<usize>> {
     if nr > KEEP_SIDE || nc > KEEP_SIDE {
@@ -63,11 +63,11 @@ struct DenseWork {
 }
 
 impl DenseWork {
-    fn solve(
+    fn solve<C: Entry>(
         &mut self,
         nr: usize,
         nc: usize,
-        cost: &[f64],
+        cost: &[C],
         all_finite: bool,
     ) -> CoreResult<Vec<usize>> {
         self.nc = nc;
@@ -114,21 +114,21 @@ impl DenseWork {
     /// Starts from the start's prices and partial matching, with each assigned row's dual at
     /// its reduced cost (feasible: the start keeps every assigned row at its cheapest column).
     /// The vectors are swapped, not moved, so both keep their allocations.
-    fn seed(&mut self, cost: &[f64]) {
+    fn seed<C: Entry>(&mut self, cost: &[C]) {
         let nc = self.nc;
         std::mem::swap(&mut self.v, &mut self.init.v);
         std::mem::swap(&mut self.col4row, &mut self.init.col4row);
         std::mem::swap(&mut self.row4col, &mut self.init.row4col);
         for (i, &j) in self.col4row.iter().enumerate() {
             if j != NONE {
-                self.u[i] = cost[i * nc + j] - self.v[j];
+                self.u[i] = cost[i * nc + j].get() - self.v[j];
             }
         }
     }
 
     /// Dijkstra from row `cur` to the nearest free column over reduced costs; `None` if every
     /// reachable column is forbidden. The O(nc) scan per step beats a heap on dense rows.
-    fn shortest_path(&mut self, cur: usize, cost: &[f64]) -> Option<(usize, f64)> {
+    fn shortest_path<C: Entry>(&mut self, cur: usize, cost: &[C]) -> Option<(usize, f64)> {
         let nc = self.nc;
         self.in_sr.fill(false);
         self.in_sc.fill(false);
@@ -175,13 +175,13 @@ impl DenseWork {
     ///
     /// Choosing the column inside the relaxation, with the tie rule in each lane, took 25–30 %
     /// longer at 100² and 1000² (CHANGELOG.md, *2-D (linear assignment)*).
-    fn relax_row(&mut self, base: f64, row: &[f64]) -> Option<(usize, f64)> {
+    fn relax_row<C: Entry>(&mut self, base: f64, row: &[C]) -> Option<(usize, f64)> {
         // Split borrows into plain slices so the optimiser sees they do not alias.
         let nc = self.nc;
         let key = &mut self.key[..nc];
         let (vs, row) = (&self.vs[..nc], &row[..nc]);
         for ((k, c), &w) in key.iter_mut().zip(row).zip(vs) {
-            let r = base + c - w;
+            let r = base + c.get() - w;
             *k = if r < *k { r } else { *k };
         }
         let mut lanes = [f64::INFINITY; 4];
@@ -219,13 +219,13 @@ impl DenseWork {
     /// first scanned, before the column was, whose relaxation gives the column's distance,
     /// as the scan's strict `<` kept the first. The sums are the scan's own, so they equal it.
     /// Before the duals change.
-    fn trace(&mut self, sink: usize, cur: usize, cost: &[f64]) {
+    fn trace<C: Entry>(&mut self, sink: usize, cur: usize, cost: &[C]) {
         let nc = self.nc;
         let mut j = sink;
         loop {
             let rows = self.scan_rows[..self.seen[j]].iter();
             let found = (rows.zip(&self.scan_base))
-                .find(|&(&s, &base)| base + cost[s * nc + j] - self.v[j] == self.dist[j]);
+                .find(|&(&s, &base)| base + cost[s * nc + j].get() - self.v[j] == self.dist[j]);
             debug_assert!(found.is_some(), "column {j} reached by no scanned row");
             let i = found.map_or(cur, |(&s, _)| s);
             self.path[j] = i;

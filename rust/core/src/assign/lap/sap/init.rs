@@ -10,7 +10,7 @@
 //! row's column is repriced. Square only: for a rectangular problem the free columns' duals
 //! must stay 0, which the column reduction would break.
 
-use super::{refill, NONE};
+use super::{refill, Entry, NONE};
 
 /// Duals and a partial matching from [`jv_init`]; `free` lists the unassigned rows.
 /// `cheapest` and `unique` are the column reduction's scratch. Every vector is refilled by
@@ -34,7 +34,7 @@ pub(super) struct Init {
 const ARR_STEPS_PER_ROW: usize = 8;
 
 /// The initialisation of an `n × n` row-major matrix with every entry finite, into `init`.
-pub(super) fn jv_init(n: usize, cost: &[f64], init: &mut Init) {
+pub(super) fn jv_init<C: Entry>(n: usize, cost: &[C], init: &mut Init) {
     column_reduction(n, cost, init);
     for _ in 0..2 {
         if init.free.is_empty() {
@@ -47,7 +47,7 @@ pub(super) fn jv_init(n: usize, cost: &[f64], init: &mut Init) {
 /// Each column priced at its cheapest row and given to it if that row has no column yet
 /// (columns in reverse order, as LAPJV); then each row that won exactly one column transfers
 /// its slack to that column's price.
-fn column_reduction(n: usize, cost: &[f64], init: &mut Init) {
+fn column_reduction<C: Entry>(n: usize, cost: &[C], init: &mut Init) {
     refill(&mut init.v, n, f64::INFINITY);
     refill(&mut init.cheapest, n, NONE);
     let (v, cheapest) = (&mut init.v, &mut init.cheapest);
@@ -55,6 +55,7 @@ fn column_reduction(n: usize, cost: &[f64], init: &mut Init) {
         // Selects, not branches, so that the loop vectorises; strict `<` keeps the first row
         // of a tie, as the branching form did.
         for ((vj, cj), &c) in v.iter_mut().zip(cheapest.iter_mut()).zip(row) {
+            let c = c.get();
             let less = c < *vj;
             *vj = if less { c } else { *vj };
             *cj = if less { i } else { *cj };
@@ -92,24 +93,24 @@ fn column_reduction(n: usize, cost: &[f64], init: &mut Init) {
 
 /// `min_k (row_k − v_k)` (∞ when empty). Four running minima so that the comparisons do not
 /// wait on each other; min is exact, so the order does not change the result.
-fn min_reduced(row: &[f64], v: &[f64]) -> f64 {
+fn min_reduced<C: Entry>(row: &[C], v: &[f64]) -> f64 {
     let mut lanes = [f64::INFINITY; 4];
     let (rows, vs) = (row.chunks_exact(4), v.chunks_exact(4));
     let tail = rows.remainder().iter().zip(vs.remainder());
     for (r, w) in rows.zip(vs) {
         for k in 0..4 {
-            let h = r[k] - w[k];
+            let h = r[k].get() - w[k];
             lanes[k] = if h < lanes[k] { h } else { lanes[k] };
         }
     }
-    let tail_min = tail.map(|(r, w)| r - w).fold(f64::INFINITY, f64::min);
+    let tail_min = tail.map(|(r, w)| r.get() - w).fold(f64::INFINITY, f64::min);
     lanes.into_iter().fold(tail_min, f64::min)
 }
 
 /// One pass over the free rows: each takes its cheapest column, repriced down to its second
 /// cheapest so that the two tie, and the row it displaces is processed next (while that keeps
 /// lowering a price) or left for the next pass. Leaves `init.free` the rows still free.
-fn augmenting_row_reduction(n: usize, cost: &[f64], init: &mut Init) {
+fn augmenting_row_reduction<C: Entry>(n: usize, cost: &[C], init: &mut Init) {
     let mut free = std::mem::take(&mut init.free);
     let n_free = free.len();
     let (mut current, mut next_free, mut steps) = (0, 0, 0usize);
@@ -165,14 +166,14 @@ fn augmenting_row_reduction(n: usize, cost: &[f64], init: &mut Init) {
 /// `u2 = ∞`). This scan is most of the augmenting row reduction, which is most of a 100²
 /// solve (perf), so it keeps four lanes (columns `j ≡ k mod 4`) with branch-free updates
 /// that compile to packed min/max, and merges them at the end.
-fn two_cheapest(row: &[f64], v: &[f64]) -> (usize, f64, f64) {
+fn two_cheapest<C: Entry>(row: &[C], v: &[f64]) -> (usize, f64, f64) {
     let (mut u1, mut u2, mut j1) = ([f64::INFINITY; 4], [f64::INFINITY; 4], [NONE; 4]);
     let (rows, vs) = (row.chunks_exact(4), v.chunks_exact(4));
     let tail = rows.remainder().iter().zip(vs.remainder()).enumerate();
     let tail_start = row.len() - row.len() % 4;
     for (chunk, (r, w)) in rows.zip(vs).enumerate() {
         for k in 0..4 {
-            let h = r[k] - w[k];
+            let h = r[k].get() - w[k];
             // `if a < b { a } else { b }` is one minsd/maxsd (no NaN here: costs are checked).
             let high = if u1[k] < h { h } else { u1[k] };
             u2[k] = if high < u2[k] { high } else { u2[k] };
@@ -182,7 +183,7 @@ fn two_cheapest(row: &[f64], v: &[f64]) -> (usize, f64, f64) {
     }
     let (mut best, mut second, mut col) = (f64::INFINITY, f64::INFINITY, NONE);
     let lanes = (0..4).map(|k| (u1[k], u2[k], j1[k]));
-    let tail = tail.map(|(t, (r, w))| (r - w, f64::INFINITY, tail_start + t));
+    let tail = tail.map(|(t, (r, w))| (r.get() - w, f64::INFINITY, tail_start + t));
     for (h1, h2, j) in lanes.chain(tail) {
         // Merging (h1 ≤ h2) into (best ≤ second); ties on the minimum go to the lower column.
         if h1 < best || (h1 == best && j < col) {
@@ -197,13 +198,13 @@ fn two_cheapest(row: &[f64], v: &[f64]) -> (usize, f64, f64) {
 
 /// A column other than `j1` whose reduced cost is `u2` (the one [`two_cheapest`] saw last on
 /// a tie is not tracked; this scan runs only when the row moves instead of repricing).
-fn second_column(row: &[f64], v: &[f64], j1: usize, u2: f64) -> usize {
+fn second_column<C: Entry>(row: &[C], v: &[f64], j1: usize, u2: f64) -> usize {
     (0..row.len())
         .filter(|&j| j != j1)
         .min_by(|&a, &b| {
-            (row[a] - v[a] - u2)
+            (row[a].get() - v[a] - u2)
                 .abs()
-                .total_cmp(&(row[b] - v[b] - u2).abs())
+                .total_cmp(&(row[b].get() - v[b] - u2).abs())
         })
         .unwrap_or(NONE)
 }
