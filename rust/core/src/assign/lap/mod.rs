@@ -104,9 +104,12 @@ pub fn solve_dense<C: Entry>(
 /// Matrices at least this large (entries) are checked for the sparse path.
 const SPARSE_MIN_ENTRIES: usize = 64 * 64;
 /// At most this share of allowed (finite) entries, a dense matrix is solved sparse: the sparse
-/// search touches only allowed entries, the dense one every entry of every row it scans. At
-/// 1000² the sparse solve is still faster at half the entries allowed (14.6 ms against 21.5 ms,
-/// `benches/bench_lap.py --densities`, docs/performance.md).
+/// search touches only allowed entries, the dense one every entry of every row it scans. A
+/// dense matrix holding `+inf` gets no Jonker & Volgenant start, and at 1000² its dense solve
+/// took 22.6–26.9 ms whatever the share from 10 % to 50 %, the sparse one 6.5 ms at 10 % and
+/// 25.0 ms at 50 % (a scratch build without this path, best of 3 × 3 matrices; CHANGELOG.md).
+/// `benches/bench_lap.py --densities` prices the forbidden entries instead, so its dense
+/// column has the start and is faster from about 30 % (docs/performance.md).
 const SPARSE_MAX_SHARE: f64 = 0.5;
 
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
