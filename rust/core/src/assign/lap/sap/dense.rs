@@ -165,46 +165,64 @@ impl DenseWork {
     ///
     /// These loops are the whole cost of a dense solve. They walk the row and the per-column
     /// arrays in order (no gather through a list of remaining columns: sequential reads let
-    /// the prefetcher keep up), in three passes:
-    /// - the relaxation, `key ← min(key, base + c − vs)`, which the compiler vectorises: a
-    ///   scanned column needs no test, as `vs` makes its reduced cost `+inf`, and no row is
-    ///   recorded (the path's rows are found afterwards, [`Self::trace`]);
-    /// - the least key, in four running minima (columns `j ≡ l mod 4`), so that no
-    ///   comparison waits on the one before;
-    /// - its column, on keys still in the first level of cache.
+    /// the prefetcher keep up), in two passes:
+    /// - the relaxation, `key ← min(key, base + c − vs)`, with four running minima of the keys
+    ///   (columns `j ≡ l mod 4`), written out lane by lane so that the compiler packs them
+    ///   (`minpd`): a scanned column needs no test, as `vs` makes its reduced cost `+inf`, and
+    ///   no row is recorded (the path's rows are found afterwards, [`Self::trace`]);
+    /// - the column of the least key, reading the owners only on a tie.
     ///
-    /// Choosing the column inside the relaxation, with the tie rule in each lane, took 25–30 %
-    /// longer at 100² and 1000² (CHANGELOG.md, *2-D (linear assignment)*).
+    /// At 3000² the per-column arrays no longer fit the first level of cache, so each pass
+    /// over them costs: the minima in a pass of their own took 13 % longer at 1000² and 11 %
+    /// at 3000². Choosing the column inside the relaxation, with the tie rule in each lane,
+    /// took 25–30 % longer at 100² and 1000² (CHANGELOG.md, *2-D (linear assignment)*).
     fn relax_row<C: Entry>(&mut self, base: f64, row: &[C]) -> Option<(usize, f64)> {
         // Split borrows into plain slices so the optimiser sees they do not alias.
         let nc = self.nc;
         let key = &mut self.key[..nc];
         let (vs, row) = (&self.vs[..nc], &row[..nc]);
-        for ((k, c), &w) in key.iter_mut().zip(row).zip(vs) {
+        let mut lanes = [f64::INFINITY; 4];
+        let mut k4 = key.chunks_exact_mut(4);
+        let (mut r4, mut v4) = (row.chunks_exact(4), vs.chunks_exact(4));
+        for ((k, c), w) in (&mut k4).zip(&mut r4).zip(&mut v4) {
+            let r = [
+                base + c[0].get() - w[0],
+                base + c[1].get() - w[1],
+                base + c[2].get() - w[2],
+                base + c[3].get() - w[3],
+            ];
+            let nk = [
+                if r[0] < k[0] { r[0] } else { k[0] },
+                if r[1] < k[1] { r[1] } else { k[1] },
+                if r[2] < k[2] { r[2] } else { k[2] },
+                if r[3] < k[3] { r[3] } else { k[3] },
+            ];
+            k.copy_from_slice(&nk);
+            lanes = [
+                if nk[0] < lanes[0] { nk[0] } else { lanes[0] },
+                if nk[1] < lanes[1] { nk[1] } else { lanes[1] },
+                if nk[2] < lanes[2] { nk[2] } else { lanes[2] },
+                if nk[3] < lanes[3] { nk[3] } else { lanes[3] },
+            ];
+        }
+        let mut low = lanes
+            .into_iter()
+            .fold(f64::INFINITY, |a, b| if b < a { b } else { a });
+        let tail = (k4.into_remainder().iter_mut()).zip(r4.remainder().iter().zip(v4.remainder()));
+        for (k, (c, w)) in tail {
             let r = base + c.get() - w;
             *k = if r < *k { r } else { *k };
+            low = if *k < low { *k } else { low };
         }
-        let mut lanes = [f64::INFINITY; 4];
-        let k4 = key.chunks_exact(4);
-        let mut low =
-            (k4.remainder().iter()).fold(f64::INFINITY, |a, &b| if b < a { b } else { a });
-        for k in k4 {
-            for l in 0..4 {
-                lanes[l] = if k[l] < lanes[l] { k[l] } else { lanes[l] };
-            }
-        }
-        low = lanes
-            .into_iter()
-            .fold(low, |a, b| if b < a { b } else { a });
         if low == f64::INFINITY {
             return None;
         }
         // Ties: the lowest free column, else the highest.
         let row4col = &self.row4col[..nc];
         let mut highest = NONE;
-        for (j, (&k, &owner)) in key.iter().zip(row4col).enumerate() {
+        for (j, &k) in key.iter().enumerate() {
             if k == low {
-                if owner == NONE {
+                if row4col[j] == NONE {
                     return Some((j, k));
                 }
                 highest = j;
