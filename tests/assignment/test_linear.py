@@ -9,6 +9,7 @@ import numpy as np
 import passive_assoc as pa
 import pytest
 import scipy.sparse as sp
+from passive_assoc import _core
 from scipy.optimize import linear_sum_assignment
 
 
@@ -74,6 +75,9 @@ def test_a_float32_matrix_is_solved_exactly_without_a_float64_copy(shape: tuple[
     for given in (c32, np.asfortranarray(c32), wide[:, ::2]):
         got = pa.linear_assignment(given)
         assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1]) and got[2] == want[2]
+    # The core itself reads the float32 array (no conversion on the way): the same answer.
+    direct = _core.assign_2d(c32)
+    assert np.array_equal(direct[1], want[1]) and direct[2] == want[2]
     assert np.array_equal(c32, kept)
     if shape != (100, 100):
         r, c = linear_sum_assignment(c64)
@@ -247,10 +251,11 @@ def test_an_empty_matrix_assigns_nothing_at_cost_zero(shape: tuple[int, int]) ->
     assert linear_sum_assignment(np.zeros(shape))[0].size == 0  # SciPy agrees there is nothing
 
 
-def test_a_misaligned_matrix_is_converted_not_refused() -> None:
-    c = np.random.default_rng(3).uniform(0, 10, (20, 20))
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_a_misaligned_matrix_is_converted_not_refused(dtype: type) -> None:
+    c = np.random.default_rng(3).uniform(0, 10, (20, 20)).astype(dtype)
     raw = np.zeros(c.nbytes + 1, dtype=np.uint8)
-    misaligned = np.frombuffer(raw.data, dtype=np.float64, count=c.size, offset=1).reshape(c.shape)
+    misaligned = np.frombuffer(raw.data, dtype=dtype, count=c.size, offset=1).reshape(c.shape)
     misaligned.flags.writeable = True
     misaligned[...] = c
     assert not misaligned.flags.aligned and misaligned.flags.c_contiguous

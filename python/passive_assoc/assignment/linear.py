@@ -66,7 +66,9 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
             if costs.dtype in _NATIVE and costs.ndim == 2 and flags.c_contiguous and flags.aligned:
                 raise  # the core's verdict on this very matrix (NaN, no complete assignment)
         if costs.dtype == np.float32 and costs.ndim == 2:
-            return _core.assign_2d(np.ascontiguousarray(costs))  # kept in single precision
+            # Kept in single precision: a C-ordered, aligned copy (a misaligned C-ordered
+            # array is copied too, which `ascontiguousarray` would return as it is).
+            return _core.assign_2d(np.require(costs, requirements="CA"))
     if sp.issparse(costs):
         return _sparse(costs)
     matrix = as_float_array("costs", costs, ndim=2)
