@@ -101,7 +101,12 @@ impl DenseWork {
                     ),
                 ));
             };
-            self.trace(sink, cur, cost);
+            if !self.trace(sink, cur, cost) {
+                return Err(CoreError::ill_posed(
+                    "costs",
+                    format!("internal error: the search from row {cur} could not be traced back; please report it with the matrix"),
+                ));
+            }
             self.update_duals(cur, min_val);
             augment(sink, cur, &self.path, &mut self.row4col, &mut self.col4row);
         }
@@ -173,9 +178,10 @@ impl DenseWork {
     /// - the column of the least key, reading the owners only on a tie.
     ///
     /// At 3000² the per-column arrays no longer fit the first level of cache, so each pass
-    /// over them costs: the minima in a pass of their own took 13 % longer at 1000² and 11 %
+    /// over them costs: the minima in a pass of their own took 15 % longer at 1000² and 12 %
     /// at 3000². Choosing the column inside the relaxation, with the tie rule in each lane,
-    /// took 25–30 % longer at 100² and 1000² (CHANGELOG.md, *2-D (linear assignment)*).
+    /// took 36–42 % longer at 100² and 1000² (the core alone, when the scan still stored each
+    /// closer column's row; CHANGELOG.md, *2-D (linear assignment)*).
     fn relax_row<C: Entry>(&mut self, base: f64, row: &[C]) -> Option<(usize, f64)> {
         // Split borrows into plain slices so the optimiser sees they do not alias.
         let nc = self.nc;
@@ -235,9 +241,11 @@ impl DenseWork {
     /// through which the search reached it, back to `cur`. The scan keeps no such record (one
     /// store a column and a row, of which only the path's few are ever read); the row is the
     /// first scanned, before the column was, whose relaxation gives the column's distance,
-    /// as the scan's strict `<` kept the first. The sums are the scan's own, so they equal it.
-    /// Before the duals change.
-    fn trace<C: Entry>(&mut self, sink: usize, cur: usize, cost: &[C]) {
+    /// as the scan's strict `<` kept the first. The sums are the scan's own, the same
+    /// operations on the same values (no contraction into fused multiply-adds), so they equal
+    /// it bit for bit; `false` would mean they did not, and the solve then fails loudly rather
+    /// than augment along a wrong path. Before the duals change.
+    fn trace<C: Entry>(&mut self, sink: usize, cur: usize, cost: &[C]) -> bool {
         let nc = self.nc;
         let mut j = sink;
         loop {
@@ -245,10 +253,12 @@ impl DenseWork {
             let found = (rows.zip(&self.scan_base))
                 .find(|&(&s, &base)| base + cost[s * nc + j].get() - self.v[j] == self.dist[j]);
             debug_assert!(found.is_some(), "column {j} reached by no scanned row");
-            let i = found.map_or(cur, |(&s, _)| s);
+            let Some((&i, _)) = found else {
+                return false;
+            };
             self.path[j] = i;
             if i == cur {
-                return;
+                return true;
             }
             j = self.col4row[i];
         }
