@@ -109,7 +109,7 @@ const SPARSE_MIN_ENTRIES: usize = 64 * 64;
 /// took 22.6–26.9 ms whatever the share from 10 % to 50 %, the sparse one 6.5 ms at 10 % and
 /// 25.0 ms at 50 % (a scratch build without this path, best of 3 × 3 matrices; CHANGELOG.md).
 /// `benches/bench_lap.py --densities` prices the forbidden entries instead, so its dense
-/// column has the start and is faster from about 30 % (docs/performance.md).
+/// column has the start and is faster from about 20–30 % (docs/performance.md).
 const SPARSE_MAX_SHARE: f64 = 0.5;
 
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
