@@ -68,7 +68,7 @@ def linear_assignment(costs: ArrayLike | Any) -> tuple[NDArray[np.int64], NDArra
         if costs.dtype == np.float32 and costs.ndim == 2:
             # Kept in single precision: a C-ordered, aligned copy (a misaligned C-ordered
             # array is copied too, which `ascontiguousarray` would return as it is).
-            return _core.assign_2d(np.require(costs, requirements="CA"))
+            return _core.assign_2d(np.require(costs, requirements=["C", "A"]))
     if sp.issparse(costs):
         return _sparse(costs)
     matrix = as_float_array("costs", costs, ndim=2)
