@@ -106,10 +106,11 @@ const SPARSE_MIN_ENTRIES: usize = 64 * 64;
 /// At most this share of allowed (finite) entries, a dense matrix is solved sparse: the sparse
 /// search touches only allowed entries, the dense one every entry of every row it scans. A
 /// dense matrix holding `+inf` gets no Jonker & Volgenant start, and at 1000² its dense solve
-/// took 22.6–26.9 ms whatever the share from 10 % to 50 %, the sparse one 6.5 ms at 10 % and
-/// 25.0 ms at 50 % (a scratch build without this path, best of 3 × 3 matrices; CHANGELOG.md).
+/// took 13.8–17.6 ms whatever the share from 10 % to 50 %, the sparse one 6.7 ms at 10 %, 8.9
+/// at 20 % and 15–22 ms from 30 % to 50 % (a scratch build without this path, best of 3 × 3
+/// matrices; CHANGELOG.md): no clear winner from 30 % up, so the rule stays at a half.
 /// `benches/bench_lap.py --densities` prices the forbidden entries instead, so its dense
-/// column has the start and is faster from about 20–30 % (docs/performance.md).
+/// column has the start and is faster from about 20 % (docs/performance.md).
 const SPARSE_MAX_SHARE: f64 = 0.5;
 
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
