@@ -104,14 +104,13 @@ pub fn solve_dense<C: Entry>(
 /// Matrices at least this large (entries) are checked for the sparse path.
 const SPARSE_MIN_ENTRIES: usize = 64 * 64;
 /// At most this share of allowed (finite) entries, a dense matrix is solved sparse: the sparse
-/// search touches only allowed entries, the dense one every entry of every row it scans. A
-/// dense matrix holding `+inf` gets no Jonker & Volgenant start, and at 1000² its dense solve
-/// took 13.8–17.6 ms whatever the share from 10 % to 50 %, the sparse one 6.7 ms at 10 %, 8.9
-/// at 20 % and 15–22 ms from 30 % to 50 % (a scratch build without this path, best of 3 × 3
-/// matrices; CHANGELOG.md): no clear winner from 30 % up, so the rule stays at a half.
-/// `benches/bench_lap.py --densities` prices the forbidden entries instead, so its dense
-/// column has the start and is faster from about 20 % (docs/performance.md).
-const SPARSE_MAX_SHARE: f64 = 0.5;
+/// search touches only allowed entries, the dense one every entry of every row it scans, but
+/// the dense one has Jonker & Volgenant's start (also with `+inf` entries, when every row and
+/// column has a finite one). A scratch build that never takes this path, against this build,
+/// uniform costs with the diagonal allowed, best of 3 × 3 matrices (CHANGELOG.md): the two
+/// break even at about 10–15 % allowed at 300² and 1000² and 25–30 % at 3000²; at 20 % the
+/// sparse solve took 0.73, 7.41 and 106 ms, the dense 0.62, 6.57 and 171 ms.
+const SPARSE_MAX_SHARE: f64 = 0.2;
 
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
 /// whether any is invalid (NaN, `-inf`, or finite beyond ±[`MAX_ABS_COST`](super::MAX_ABS_COST)).

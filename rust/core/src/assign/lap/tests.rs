@@ -405,3 +405,54 @@ fn f32_matrices_are_solved_exactly_as_their_f64_values() {
         "{e:?}"
     );
 }
+
+/// A square matrix with forbidden pairs but a finite entry in every row and column gets
+/// Jonker & Volgenant's start; its optimum equals the sparse solver's on the allowed entries
+/// (an independent path), and one with a forbidden row or column is refused as before.
+#[test]
+fn forbidden_pairs_with_the_start_match_the_sparse_solver() {
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    for case in 0..60 {
+        let n = rng.random_range(2..70usize);
+        let share = [0.1, 0.3, 0.45][case % 3];
+        let mut c: Vec<f64> = (0..n * n)
+            .map(|_| {
+                if rng.random_bool(share) {
+                    f64::INFINITY
+                } else {
+                    f64::from(rng.random_range(0..20u8)) // ties
+                }
+            })
+            .collect();
+        for i in 0..n {
+            c[i * n + (i * 7 + case) % n] = f64::from(rng.random_range(0..20u8));
+            // feasible
+        }
+        let triplets: Vec<(usize, usize, f64)> = (0..n * n)
+            .filter(|&k| c[k].is_finite())
+            .map(|k| (k / n, k % n, c[k]))
+            .collect();
+        let sparse = SparseCosts::from_triplets(n, n, &triplets).unwrap();
+        let (dense, reference) = (
+            solve_dense(n, n, &c).unwrap(),
+            solve_sparse_complete(&sparse),
+        );
+        assert_eq!(dense.cost, reference.unwrap().cost, "case {case}: n = {n}");
+        let cols: Vec<usize> = dense.row_to_col.iter().flatten().copied().collect();
+        assert!(cols
+            .iter()
+            .enumerate()
+            .all(|(i, &j)| c[i * n + j].is_finite()));
+        let mut sorted = cols.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), n, "case {case}: a column reused");
+        // A forbidden column: no complete assignment, refused as ill-posed.
+        let j = case % n;
+        (0..n).for_each(|i| c[i * n + j] = f64::INFINITY);
+        assert!(matches!(
+            solve_dense(n, n, &c),
+            Err(CoreError::IllPosed { .. })
+        ));
+    }
+}

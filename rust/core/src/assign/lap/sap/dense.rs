@@ -77,10 +77,12 @@ impl DenseWork {
         refill(&mut self.seen, nc, 0);
         refill(&mut self.in_sr, nr, false);
         refill(&mut self.in_sc, nc, false);
-        // Square and finite: Jonker & Volgenant's start assigns most rows cheaply, and the
-        // augmenting paths below run only for the rest. `+inf` entries would make its prices
-        // infinite, and a rectangular problem needs its free columns' prices at 0.
-        let free = if nr == nc && nr > 1 && all_finite {
+        // Square: Jonker & Volgenant's start assigns most rows cheaply, and the augmenting
+        // paths below run only for the rest. It needs a finite entry in every row and column
+        // (else a price would be infinite; such a square problem has no complete assignment
+        // anyway, which the paths then report), and a rectangular problem needs its free
+        // columns' prices at 0.
+        let free = if nr == nc && nr > 1 && (all_finite || init::startable(nr, cost)) {
             init::jv_init(nr, cost, &mut self.init);
             self.seed(cost);
             Some(std::mem::take(&mut self.init.free))

@@ -8,7 +8,10 @@
 //! the invariant the shortest-augmenting-path phase keeps (with `u_i = c_ij − v_j`). Duals only
 //! decrease after the column reduction, so no assigned row loses that property when another
 //! row's column is repriced. Square only: for a rectangular problem the free columns' duals
-//! must stay 0, which the column reduction would break.
+//! must stay 0, which the column reduction would break. `+inf` entries (forbidden pairs) are
+//! allowed when every row and every column has a finite one ([`startable`]): the prices are
+//! then finite, a forbidden pair's reduced cost is `+inf` and is never the cheapest, and a
+//! row with one finite entry has no second price to lower to.
 
 use super::{refill, Entry, NONE};
 
@@ -33,7 +36,26 @@ pub(super) struct Init {
 /// times are in docs/performance.md (`benches/bench_lap.py`).
 const ARR_STEPS_PER_ROW: usize = 8;
 
-/// The initialisation of an `n × n` row-major matrix with every entry finite, into `init`.
+/// Whether the `n × n` row-major `cost` has a finite entry in every row and every column, as
+/// [`jv_init`] needs. One read of the matrix, done only when some entry is `+inf`.
+pub(super) fn startable<C: Entry>(n: usize, cost: &[C]) -> bool {
+    let mut column_ok = vec![false; n];
+    for row in cost.chunks_exact(n) {
+        let mut row_ok = false;
+        for (ok, c) in column_ok.iter_mut().zip(row) {
+            let finite = c.get() < f64::INFINITY;
+            *ok |= finite;
+            row_ok |= finite;
+        }
+        if !row_ok {
+            return false;
+        }
+    }
+    column_ok.iter().all(|&ok| ok)
+}
+
+/// The initialisation of an `n × n` row-major matrix with a finite entry in every row and
+/// column ([`startable`]), into `init`.
 pub(super) fn jv_init<C: Entry>(n: usize, cost: &[C], init: &mut Init) {
     column_reduction(n, cost, init);
     for _ in 0..2 {
