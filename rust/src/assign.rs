@@ -122,21 +122,23 @@ fn assign_dense<'py, C: lap::Entry + numpy::Element>(
         return Ok((empty(), empty(), 0.0));
     }
     // SAFETY: the slice is read while this thread holds the GIL, and no Python code runs
-    // between here and its last read (the small solve below, or the copy made before a large
-    // one is solved without the GIL), so neither Python code nor native code that holds the
+    // between here and its last read (the small solve below, or the read that prepares a
+    // large one, made before it is solved without the GIL), so neither Python code nor native code that holds the
     // GIL can write to the array meanwhile. Native code that writes to it after releasing the
     // GIL (another extension, a NumPy operation on a large array) races with any reader, as
     // it would with NumPy's own functions: that is the caller's to avoid.
     let values = unsafe { costs.as_slice() }
         .map_err(|_| value_error("costs", "array must be C-contiguous and aligned"))?;
     // A small matrix is solved in place, holding the GIL (faster than releasing it, and no
-    // Python code can write to the array meanwhile); a larger one is copied first and solved
-    // without the GIL, so another thread writing to the caller's array cannot reach the solve.
+    // Python code can write to the array meanwhile). A larger one is read once holding it,
+    // keeping what the solve needs (its allowed entries if mostly forbidden, else a copy), and
+    // solved without the GIL, so another thread writing to the caller's array cannot reach
+    // the solve.
     let solved = if values.len() <= SMALL_DENSE {
         lap::solve_dense(n_rows, n_cols, values)?
     } else {
-        let owned = values.to_vec();
-        py.detach(move || lap::solve_dense(n_rows, n_cols, &owned))?
+        let prepared = lap::prepare_dense(n_rows, n_cols, values)?;
+        py.detach(move || prepared.solve())?
     };
     pairs_output(py, &solved)
 }

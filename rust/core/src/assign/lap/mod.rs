@@ -2,9 +2,11 @@
 //! validation and result assembly. The algorithms themselves are in `sap.rs` (its child `warm`
 //! is the warm-started sparse solve); the CSR cost type in `sparse_costs.rs`.
 
+mod prepared;
 mod sap;
 mod sparse_costs;
 
+pub use prepared::{prepare_dense, PreparedDense};
 pub use sap::Entry;
 pub use sparse_costs::SparseCosts;
 
@@ -38,6 +40,28 @@ pub fn solve_dense<C: Entry>(
     n_cols: usize,
     costs: &[C],
 ) -> CoreResult<DenseAssignment> {
+    match read_dense(n_rows, n_cols, costs)? {
+        Read::Empty => Ok(DenseAssignment {
+            row_to_col: vec![None; n_rows],
+            cost: 0.0,
+        }),
+        Read::Sparse(sparse) => solve_sparse_complete(&sparse),
+        Read::Dense { all_finite } => solve_dense_read(n_rows, n_cols, costs, all_finite),
+    }
+}
+
+/// What one read of a dense matrix decides: nothing to assign, the allowed entries of a
+/// mostly forbidden matrix gathered for the sparse solver, or a dense solve (and whether every
+/// entry is finite).
+enum Read {
+    Empty,
+    Sparse(SparseCosts),
+    Dense { all_finite: bool },
+}
+
+/// Checks `costs` against its shape and its entries (naming the first bad one) in one read,
+/// and chooses the solve ([`Read`]).
+fn read_dense<C: Entry>(n_rows: usize, n_cols: usize, costs: &[C]) -> CoreResult<Read> {
     let expected = n_rows
         .checked_mul(n_cols)
         .ok_or_else(|| CoreError::shape("costs", format!("{n_rows} × {n_cols} overflows usize")))?;
@@ -52,10 +76,7 @@ pub fn solve_dense<C: Entry>(
     }
     if expected == 0 {
         // Nothing to assign: no solve, whose work vectors the other side would size.
-        return Ok(DenseAssignment {
-            row_to_col: vec![None; n_rows],
-            cost: 0.0,
-        });
+        return Ok(Read::Empty);
     }
     let scan = EntryScan::of(costs);
     if scan.bad {
@@ -71,10 +92,21 @@ pub fn solve_dense<C: Entry>(
         let values: Vec<f64> = costs.iter().map(|c| c.get()).collect();
         super::check_cost_range("costs", &values)?;
     }
-    if let Some(sparse) = as_sparse(n_rows, n_cols, costs, scan.finite) {
-        return solve_sparse_complete(&sparse);
-    }
-    let all_finite = scan.finite == costs.len();
+    Ok(match as_sparse(n_rows, n_cols, costs, scan.finite) {
+        Some(sparse) => Read::Sparse(sparse),
+        None => Read::Dense {
+            all_finite: scan.finite == costs.len(),
+        },
+    })
+}
+
+/// The dense solve of a matrix [`read_dense`] has checked (not empty).
+fn solve_dense_read<C: Entry>(
+    n_rows: usize,
+    n_cols: usize,
+    costs: &[C],
+    all_finite: bool,
+) -> CoreResult<DenseAssignment> {
     let mut row_to_col = vec![None; n_rows];
     if n_rows <= n_cols {
         let col4row = sap::dense(n_rows, n_cols, costs, all_finite)?;
@@ -82,7 +114,7 @@ pub fn solve_dense<C: Entry>(
             row_to_col[i] = Some(j);
         }
     } else {
-        let mut t = vec![costs[0]; expected];
+        let mut t = costs.to_vec();
         for i in 0..n_rows {
             for j in 0..n_cols {
                 t[j * n_rows + i] = costs[i * n_cols + j];

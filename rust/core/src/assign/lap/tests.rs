@@ -456,3 +456,34 @@ fn forbidden_pairs_with_the_start_match_the_sparse_solver() {
         ));
     }
 }
+
+/// `prepare_dense(..)?.solve()` answers as `solve_dense` does, on every path (empty, the
+/// sparse path of a mostly forbidden matrix, dense, transposed) and with the same errors.
+#[test]
+fn a_prepared_matrix_solves_as_solve_dense() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let shapes = [(0, 4), (3, 3), (5, 9), (9, 5), (70, 70), (80, 66)];
+    for (case, &(nr, nc)) in shapes.iter().cycle().take(48).enumerate() {
+        let forbid = [0.0, 0.3, 0.9][case % 3];
+        let mut c: Vec<f64> = (0..nr * nc)
+            .map(|_| {
+                if rng.random_bool(forbid) {
+                    f64::INFINITY
+                } else {
+                    rng.random_range(0.0..10.0)
+                }
+            })
+            .collect();
+        (0..nr.min(nc)).for_each(|i| c[i * nc + i] = 1.0); // feasible
+        if case % 7 == 6 && !c.is_empty() {
+            c[nr * nc / 2] = f64::NAN;
+        }
+        let prepared = prepare_dense(nr, nc, &c).and_then(|p| p.solve());
+        match (prepared, solve_dense(nr, nc, &c)) {
+            (Ok(a), Ok(b)) => assert_eq!(a, b, "case {case}"),
+            (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "case {case}"),
+            (a, b) => panic!("case {case}: prepared {a:?}, direct {b:?}"),
+        }
+    }
+    assert!(prepare_dense(2, 2, &[0.0; 3]).is_err());
+}
