@@ -408,7 +408,8 @@ fn f32_matrices_are_solved_exactly_as_their_f64_values() {
 
 /// A square matrix with forbidden pairs but a finite entry in every row and column gets
 /// Jonker & Volgenant's start; its optimum equals the sparse solver's on the allowed entries
-/// (an independent path), and one with a forbidden row or column is refused as before.
+/// (an independent path); one with a forbidden column, or with two rows that may take only
+/// the same column, is refused as before.
 #[test]
 fn forbidden_pairs_with_the_start_match_the_sparse_solver() {
     let mut rng = ChaCha8Rng::seed_from_u64(21);
@@ -455,6 +456,19 @@ fn forbidden_pairs_with_the_start_match_the_sparse_solver() {
             Err(CoreError::IllPosed { .. })
         ));
     }
+    // Every row and column has a finite entry (so the start runs), but rows 0 and 1 may take
+    // only column 0: no complete assignment, refused as ill-posed.
+    let n = 6;
+    let mut c = vec![f64::INFINITY; n * n];
+    c[0] = 1.0;
+    c[n] = 2.0;
+    for i in 2..n {
+        (1..n).for_each(|j| c[i * n + j] = (i * j % 5) as f64);
+    }
+    assert!(matches!(
+        solve_dense(n, n, &c),
+        Err(CoreError::IllPosed { .. })
+    ));
 }
 
 /// `prepare_dense(..)?.solve()` answers as `solve_dense` does, on every path (empty, the
