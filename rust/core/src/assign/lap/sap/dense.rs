@@ -56,8 +56,6 @@ struct DenseWork {
     seen: Vec<usize>,
     col4row: Vec<usize>,
     row4col: Vec<usize>,
-    in_sr: Vec<bool>,
-    in_sc: Vec<bool>,
     /// Jonker & Volgenant's start, and its buffers.
     init: init::Init,
 }
@@ -75,8 +73,6 @@ impl DenseWork {
         refill(&mut self.dist, nc, f64::INFINITY);
         refill(&mut self.path, nc, NONE);
         refill(&mut self.seen, nc, 0);
-        refill(&mut self.in_sr, nr, false);
-        refill(&mut self.in_sc, nc, false);
         // Square: Jonker & Volgenant's start assigns most rows cheaply, and the augmenting
         // paths below run only for the rest. It needs a finite entry in every row and column
         // (else a price would be infinite; such a square problem has no complete assignment
@@ -109,7 +105,7 @@ impl DenseWork {
                     format!("internal error: the search from row {cur} could not be traced back; please report it with the matrix"),
                 ));
             }
-            self.update_duals(cur, min_val);
+            self.update_duals(sink, min_val);
             augment(sink, cur, &self.path, &mut self.row4col, &mut self.col4row);
         }
         if let Some(free) = free {
@@ -137,8 +133,6 @@ impl DenseWork {
     /// reachable column is forbidden. The O(nc) scan per step beats a heap on dense rows.
     fn shortest_path<C: Entry>(&mut self, cur: usize, cost: &[C]) -> Option<(usize, f64)> {
         let nc = self.nc;
-        self.in_sr.fill(false);
-        self.in_sc.fill(false);
         refill(&mut self.key, nc, f64::INFINITY);
         self.vs.clear();
         self.vs.extend_from_slice(&self.v[..nc]);
@@ -146,13 +140,11 @@ impl DenseWork {
         self.scan_base.clear();
         let (mut i, mut min_val) = (cur, 0.0);
         loop {
-            self.in_sr[i] = true;
             let base = min_val - self.u[i];
             self.scan_rows.push(i);
             self.scan_base.push(base);
             let j;
             (j, min_val) = self.relax_row(base, &cost[i * nc..(i + 1) * nc])?;
-            self.in_sc[j] = true;
             self.seen[j] = self.scan_rows.len();
             self.dist[j] = min_val;
             self.key[j] = f64::INFINITY;
@@ -275,14 +267,19 @@ impl DenseWork {
         }
     }
 
-    /// Crouse's dual update: keeps reduced costs of assigned rows non-negative.
-    fn update_duals(&mut self, cur: usize, min_val: f64) {
+    /// Crouse's dual update: keeps reduced costs of assigned rows non-negative. The search's
+    /// rows are `scan_rows` (its start first), and its columns are the other rows' columns
+    /// (through which they were reached) and the `sink`.
+    fn update_duals(&mut self, sink: usize, min_val: f64) {
+        let Some((&cur, reached)) = self.scan_rows.split_first() else {
+            return; // no search ran
+        };
         self.u[cur] += min_val;
-        for r in (0..self.u.len()).filter(|&r| self.in_sr[r] && r != cur) {
-            self.u[r] += min_val - self.dist[self.col4row[r]];
-        }
-        for j in (0..self.nc).filter(|&j| self.in_sc[j]) {
+        for &r in reached {
+            let j = self.col4row[r];
+            self.u[r] += min_val - self.dist[j];
             self.v[j] -= min_val - self.dist[j];
         }
+        self.v[sink] -= min_val - self.dist[sink];
     }
 }
