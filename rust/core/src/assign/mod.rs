@@ -33,14 +33,15 @@ use crate::error::{parse_option, CoreError, CoreResult, UnknownOption};
 /// orders of magnitude lose their small terms (scale them first).
 pub const MAX_ABS_COST: f64 = 1e150;
 
-/// A `CoreError` naming `arg` for the first finite value beyond ±[`MAX_ABS_COST`].
-pub fn check_cost_range(arg: &'static str, values: &[f64]) -> CoreResult<()> {
-    match values.iter().position(|c| c.is_finite() && c.abs() > MAX_ABS_COST) {
-        Some(index) => Err(CoreError::out_of_range(
+/// A `CoreError` naming `arg` for the first finite value beyond ±[`MAX_ABS_COST`] (`f64`
+/// values, or `f32` ones read as the `f64` they equal).
+pub fn check_cost_range<T: Copy + Into<f64>>(arg: &'static str, values: &[T]) -> CoreResult<()> {
+    let beyond = |c: f64| c.is_finite() && c.abs() > MAX_ABS_COST;
+    match values.iter().map(|&c| c.into()).enumerate().find(|&(_, c)| beyond(c)) {
+        Some((index, c)) => Err(CoreError::out_of_range(
             arg,
             format!(
-                "entry {index} is {:e}; finite costs must lie within ±{MAX_ABS_COST:e} so that sums of them stay finite",
-                values[index]
+                "entry {index} is {c:e}; finite costs must lie within ±{MAX_ABS_COST:e} so that sums of them stay finite"
             ),
         )),
         None => Ok(()),

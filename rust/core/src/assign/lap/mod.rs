@@ -40,14 +40,7 @@ pub fn solve_dense<C: Entry>(
     n_cols: usize,
     costs: &[C],
 ) -> CoreResult<DenseAssignment> {
-    match read_dense(n_rows, n_cols, costs)? {
-        Read::Empty => Ok(DenseAssignment {
-            row_to_col: vec![None; n_rows],
-            cost: 0.0,
-        }),
-        Read::Sparse(sparse) => solve_sparse_complete(&sparse),
-        Read::Dense { all_finite } => solve_dense_read(n_rows, n_cols, costs, all_finite),
-    }
+    read_dense(n_rows, n_cols, costs)?.solve(n_rows, n_cols, costs)
 }
 
 /// What one read of a dense matrix decides: nothing to assign, the allowed entries of a
@@ -57,6 +50,25 @@ enum Read {
     Empty,
     Sparse(SparseCosts),
     Dense { all_finite: bool },
+}
+
+impl Read {
+    /// The assignment of the matrix read: `costs` is that matrix, needed only by a dense solve.
+    fn solve<C: Entry>(
+        &self,
+        n_rows: usize,
+        n_cols: usize,
+        costs: &[C],
+    ) -> CoreResult<DenseAssignment> {
+        match self {
+            Read::Empty => Ok(DenseAssignment {
+                row_to_col: vec![None; n_rows],
+                cost: 0.0,
+            }),
+            Read::Sparse(sparse) => solve_sparse_complete(sparse),
+            Read::Dense { all_finite } => solve_dense_read(n_rows, n_cols, costs, *all_finite),
+        }
+    }
 }
 
 /// Checks `costs` against its shape and its entries (naming the first bad one) in one read,
@@ -89,8 +101,7 @@ fn read_dense<C: Entry>(n_rows: usize, n_cols: usize, costs: &[C]) -> CoreResult
                 index,
             });
         }
-        let values: Vec<f64> = costs.iter().map(|c| c.get()).collect();
-        super::check_cost_range("costs", &values)?;
+        super::check_cost_range("costs", costs)?;
     }
     Ok(match as_sparse(n_rows, n_cols, costs, scan.finite) {
         Some(sparse) => Read::Sparse(sparse),

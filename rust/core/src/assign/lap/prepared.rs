@@ -3,21 +3,16 @@
 //! hands to another thread. A mostly forbidden matrix keeps only its allowed entries, gathered
 //! for the sparse solver, so its full copy is never made; any other is copied as it is.
 
-use super::{read_dense, solve_dense_read, solve_sparse_complete, DenseAssignment, Entry, Read};
-use crate::assign::lap::SparseCosts;
+use super::{read_dense, DenseAssignment, Entry, Read};
 use crate::error::CoreResult;
 
 /// A checked dense assignment problem that owns what its solve needs ([`prepare_dense`]).
 pub struct PreparedDense<C> {
     n_rows: usize,
     n_cols: usize,
-    body: Body<C>,
-}
-
-enum Body<C> {
-    Empty,
-    Sparse(SparseCosts),
-    Dense { costs: Vec<C>, all_finite: bool },
+    read: Read,
+    /// The matrix, when the solve is dense; empty otherwise.
+    costs: Vec<C>,
 }
 
 /// Checks `costs` as [`solve_dense`](super::solve_dense) does, with the same errors, and keeps
@@ -35,33 +30,22 @@ pub fn prepare_dense<C: Entry>(
     n_cols: usize,
     costs: &[C],
 ) -> CoreResult<PreparedDense<C>> {
-    let body = match read_dense(n_rows, n_cols, costs)? {
-        Read::Empty => Body::Empty,
-        Read::Sparse(sparse) => Body::Sparse(sparse),
-        Read::Dense { all_finite } => Body::Dense {
-            costs: costs.to_vec(),
-            all_finite,
-        },
+    let read = read_dense(n_rows, n_cols, costs)?;
+    let costs = match read {
+        Read::Dense { .. } => costs.to_vec(),
+        Read::Empty | Read::Sparse(_) => Vec::new(),
     };
     Ok(PreparedDense {
         n_rows,
         n_cols,
-        body,
+        read,
+        costs,
     })
 }
 
 impl<C: Entry> PreparedDense<C> {
     /// The assignment, as [`solve_dense`](super::solve_dense) gives it.
     pub fn solve(&self) -> CoreResult<DenseAssignment> {
-        match &self.body {
-            Body::Empty => Ok(DenseAssignment {
-                row_to_col: vec![None; self.n_rows],
-                cost: 0.0,
-            }),
-            Body::Sparse(sparse) => solve_sparse_complete(sparse),
-            Body::Dense { costs, all_finite } => {
-                solve_dense_read(self.n_rows, self.n_cols, costs, *all_finite)
-            }
-        }
+        self.read.solve(self.n_rows, self.n_cols, &self.costs)
     }
 }

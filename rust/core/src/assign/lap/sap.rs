@@ -29,7 +29,7 @@ const NONE: usize = usize::MAX;
 /// so that a single-precision matrix is solved in double precision (the answer is the
 /// optimum of the matrix given, not of its rounding) at half the bytes read. Sealed: only
 /// these two.
-pub trait Entry: Copy + Send + Sync + 'static + sealed::Sealed {
+pub trait Entry: Copy + Into<f64> + Send + Sync + 'static + sealed::Sealed {
     /// The entry as the `f64` it equals.
     fn get(self) -> f64;
 }
