@@ -22,12 +22,13 @@ on the same matrix cast to float32 first (the cast untimed): the input ``lapjv``
 at half the bytes, but solved exactly (its total is summed on the float64 matrix).
 
     python3 benches/bench_lap.py [--repeats 5] [--sizes 10 100 1000 3000]
-    python3 benches/bench_lap.py --densities     # where the sparse path starts to pay
+    python3 benches/bench_lap.py --densities [--sizes 300 1000 3000]   # where the sparse path stops paying
 
-``--densities`` times, at 1000², our sparse solve on the allowed entries against our dense
-solve of the same matrix with the forbidden entries priced at 10⁶ instead of +inf (what the
-dense path costs), for a range of allowed shares: the crossover sets the share below which a
-dense matrix with +inf is solved sparse.
+``--densities`` times, at 1000² (or each of ``--sizes``), our sparse solve on the allowed
+entries against our dense solve of the same matrix with the forbidden entries priced at 10⁶
+instead of +inf (the dense path's cost: both get Jonker & Volgenant's start), for a range of
+allowed shares, three matrices each: the crossover sets the share below which a dense matrix
+with +inf is solved sparse (``SPARSE_MAX_SHARE`` in ``rust/core/src/assign/lap/mod.rs``).
 """
 
 from __future__ import annotations
@@ -153,19 +154,21 @@ def matrices_for(n: int) -> int:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--sizes", type=int, nargs="+", default=[10, 100, 1000, 3000])
+    parser.add_argument("--sizes", type=int, nargs="+", help="default 10 100 1000 3000; with --densities 1000")
     parser.add_argument("--densities", action="store_true", help="the sparse path's crossover instead")
     args = parser.parse_args()
     rng = np.random.default_rng(0)
     if args.densities:
-        crossover(rng, args.repeats)
+        for n in args.sizes or [1000]:
+            crossover(rng, args.repeats, n)
         return
     exact = exact_in_float64()
-    for n in args.sizes:
+    sizes = args.sizes or [10, 100, 1000, 3000]
+    for n in sizes:
         cases = [dense_solvers(rng.random((n, n))) for _ in range(matrices_for(n))]
         repeats = args.repeats * (20 if n <= 10 else 2 if n <= 100 else 1)
         report(f"dense {n}²", cases, repeats, exact)
-    for n in (s for s in args.sizes if s >= 1000):
+    for n in (s for s in sizes if s >= 1000):
         cases = []
         for _ in range(matrices_for(n)):
             allowed = rng.random((n, n)) < 0.02
@@ -174,16 +177,22 @@ def main() -> None:
         report(f"gated {n}²", cases, args.repeats)
 
 
-def crossover(rng: np.random.Generator, repeats: int, n: int = 1000) -> None:
-    c = rng.random((n, n))
-    print(f"{'allowed':>8} {'sparse':>10} {'dense':>10}")
+def crossover(rng: np.random.Generator, repeats: int, n: int) -> None:
+    """At `n`², per share of allowed entries, the mean over three matrices of each solve's
+    best time: ours on the CSR matrix of the allowed entries (the sparse solver) and on the
+    dense matrix with the others priced at 10⁶ (the dense solver, with Jonker & Volgenant's
+    start, as a matrix holding +inf has it above SPARSE_MAX_SHARE)."""
+    print(f"{n}²\n{'allowed':>8} {'sparse':>10} {'dense':>10}")
     for share in (0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.5):
-        allowed = rng.random((n, n)) < share
-        np.fill_diagonal(allowed, True)
-        csr = sp.csr_array(np.where(allowed, c, 0.0))
-        priced = np.where(allowed, c, 1e6)
-        sparse, _ = best(functools.partial(pa.linear_assignment, csr), repeats)
-        dense, _ = best(functools.partial(pa.linear_assignment, priced), repeats)
+        sparse = dense = 0.0
+        for _ in range(3):
+            c = rng.random((n, n))
+            allowed = rng.random((n, n)) < share
+            np.fill_diagonal(allowed, True)
+            csr = sp.csr_array(np.where(allowed, c, 0.0))
+            priced = np.where(allowed, c, 1e6)
+            sparse += best(functools.partial(pa.linear_assignment, csr), repeats)[0] / 3
+            dense += best(functools.partial(pa.linear_assignment, priced), repeats)[0] / 3
         print(f"{share:>8.2f} {sparse * 1e3:>8.2f} ms {dense * 1e3:>8.2f} ms")
 
 

@@ -149,10 +149,10 @@ const SPARSE_MIN_ENTRIES: usize = 64 * 64;
 /// At most this share of allowed (finite) entries, a dense matrix is solved sparse: the sparse
 /// search touches only allowed entries, the dense one every entry of every row it scans, but
 /// the dense one has Jonker & Volgenant's start (also with `+inf` entries, when every row and
-/// column has a finite one). A scratch build that never takes this path, against this build,
-/// uniform costs with the diagonal allowed, best of 3 × 3 matrices (CHANGELOG.md): the two
-/// break even at about 10–15 % allowed at 300² and 1000² and 25–30 % at 3000²; at 20 % the
-/// sparse solve took 0.73, 7.41 and 106 ms, the dense 0.62, 6.57 and 171 ms.
+/// column has a finite one). The dense solve overtakes the sparse one at about 5–10 % allowed
+/// at 300², 20 % at 1000² and 30 % at 3000² (`python3 benches/bench_lap.py --densities --sizes
+/// 300 1000 3000`, docs/performance.md); a fifth is between them, and where it is wrong it
+/// costs at most about 2× (300² at 20 %: 0.71 ms sparse against 0.38 ms dense).
 const SPARSE_MAX_SHARE: f64 = 0.2;
 
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
