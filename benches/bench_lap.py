@@ -28,7 +28,9 @@ at half the bytes, but solved exactly (its total is summed on the float64 matrix
 entries against our dense solve of the same matrix with the forbidden entries priced at 10⁶
 instead of +inf (the dense path's cost: both get Jonker & Volgenant's start), for a range of
 allowed shares, three matrices each: the crossover sets the share below which a dense matrix
-with +inf is solved sparse (``SPARSE_MAX_SHARE`` in ``rust/core/src/assign/lap/mod.rs``).
+with +inf is solved sparse (``sparse_max_share`` in ``rust/core/src/assign/lap/mod.rs``). The
+``+inf`` column is the matrix with the forbidden entries at +inf, solved by the path that rule
+picks (the sparse one after a pass to gather the allowed entries, or the dense one).
 """
 
 from __future__ import annotations
@@ -181,19 +183,22 @@ def crossover(rng: np.random.Generator, repeats: int, n: int) -> None:
     """At `n`², per share of allowed entries, the mean over three matrices of each solve's
     best time: ours on the CSR matrix of the allowed entries (the sparse solver) and on the
     dense matrix with the others priced at 10⁶ (the dense solver, with Jonker & Volgenant's
-    start, as a matrix holding +inf has it above SPARSE_MAX_SHARE)."""
-    print(f"{n}²\n{'allowed':>8} {'sparse':>10} {'dense':>10}")
-    for share in (0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.5):
-        sparse = dense = 0.0
+    start, as a matrix holding +inf has it above the sparse share); and the dense matrix with
+    the others at +inf, by the path the library picks for it."""
+    print(f"{n}²\n{'allowed':>8} {'sparse':>10} {'dense':>10} {'+inf':>10}")
+    for share in (0.02, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.5):
+        sparse = dense = forbidden = 0.0
         for _ in range(3):
             c = rng.random((n, n))
             allowed = rng.random((n, n)) < share
             np.fill_diagonal(allowed, True)
             csr = sp.csr_array(np.where(allowed, c, 0.0))
             priced = np.where(allowed, c, 1e6)
+            inf = np.where(allowed, c, np.inf)
             sparse += best(functools.partial(pa.linear_assignment, csr), repeats)[0] / 3
             dense += best(functools.partial(pa.linear_assignment, priced), repeats)[0] / 3
-        print(f"{share:>8.2f} {sparse * 1e3:>8.2f} ms {dense * 1e3:>8.2f} ms")
+            forbidden += best(functools.partial(pa.linear_assignment, inf), repeats)[0] / 3
+        print(f"{share:>8.2f} {sparse * 1e3:>8.2f} ms {dense * 1e3:>8.2f} ms {forbidden * 1e3:>8.2f} ms")
 
 
 if __name__ == "__main__":

@@ -146,14 +146,18 @@ fn solve_dense_read<C: Entry>(
 
 /// Matrices at least this large (entries) are checked for the sparse path.
 const SPARSE_MIN_ENTRIES: usize = 64 * 64;
-/// At most this share of allowed (finite) entries, a dense matrix is solved sparse: the sparse
-/// search touches only allowed entries, the dense one every entry of every row it scans, but
-/// the dense one has Jonker & Volgenant's start (also with `+inf` entries, when every row and
-/// column has a finite one). The dense solve overtakes the sparse one at about 5–10 % allowed
-/// at 300², 20 % at 1000² and 30 % at 3000² (`python3 benches/bench_lap.py --densities --sizes
-/// 300 1000 3000`, docs/performance.md); a fifth is between them, and where it is wrong it
-/// costs at most about 2× (300² at 20 %: 0.71 ms sparse against 0.38 ms dense).
-const SPARSE_MAX_SHARE: f64 = 0.2;
+/// Up to this share of allowed (finite) entries a dense matrix of `entries` entries is solved
+/// sparse: the sparse search touches only allowed entries, the dense one every entry of every
+/// row it scans, but the dense one has Jonker & Volgenant's start (also with `+inf` entries,
+/// when every row and column has a finite one), whose worth grows more slowly with the size.
+/// The dense solve overtakes the sparse one at about 5–10 % allowed at 300², 20 % at 1000²
+/// and 30 % at 3000² (`python3 benches/bench_lap.py --densities --sizes 300 1000 3000`,
+/// docs/performance.md): with the side `s = √entries`, `0.07 + 0.23·log₁₀(s / 300)`, which
+/// passes through those three, kept within [0.05, 0.3] outside the sizes measured.
+fn sparse_max_share(entries: usize) -> f64 {
+    let side = (entries as f64).sqrt();
+    (0.07 + 0.23 * (side / 300.0).log10()).clamp(0.05, 0.3)
+}
 
 /// What one read of a dense matrix tells every later step: how many entries are finite, and
 /// whether any is invalid (NaN, `-inf`, or finite beyond ±[`MAX_ABS_COST`](super::MAX_ABS_COST)).
@@ -190,7 +194,7 @@ fn as_sparse<C: Entry>(
     if costs.len() < SPARSE_MIN_ENTRIES {
         return None;
     }
-    if allowed as f64 > SPARSE_MAX_SHARE * costs.len() as f64 {
+    if allowed as f64 > sparse_max_share(costs.len()) * costs.len() as f64 {
         return None;
     }
     let mut row_offsets = Vec::with_capacity(n_rows + 1);

@@ -501,3 +501,20 @@ fn a_prepared_matrix_solves_as_solve_dense() {
     }
     assert!(prepare_dense(2, 2, &[0.0; 3]).is_err());
 }
+
+/// The sparse share follows the measured crossovers (about 7 % at 300², 20 % at 1000², 30 % at
+/// 3000²), grows with the size, and stays within [0.05, 0.3] beyond them.
+#[test]
+fn the_sparse_share_grows_with_the_size() {
+    for (side, expected) in [(300usize, 0.07), (1000, 0.19), (3000, 0.30)] {
+        let share = sparse_max_share(side * side);
+        assert!((share - expected).abs() < 0.01, "{side}²: {share}");
+    }
+    let shares: Vec<f64> = (64..6000)
+        .step_by(97)
+        .map(|s| sparse_max_share(s * s))
+        .collect();
+    assert!(shares.windows(2).all(|w| w[0] <= w[1]));
+    assert_eq!(sparse_max_share(64 * 64), 0.05);
+    assert_eq!(sparse_max_share(10_000 * 10_000), 0.3);
+}
