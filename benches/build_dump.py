@@ -5,12 +5,21 @@ the step the identity benches (``initiation_identity.py``, ``enumeration_identit
 from __future__ import annotations
 
 import pickle
+from collections.abc import Callable
 from typing import Any
 
 
-def dump_and_compare(mine: list[Any], out: str | None, against: str | None, what: str, compared: str) -> None:
+def dump_and_compare(
+    mine: list[Any],
+    out: str | None,
+    against: str | None,
+    what: str,
+    compared: str,
+    key: Callable[[Any], Any] = lambda entry: entry,
+) -> None:
     """Writes ``mine`` to ``out`` and compares it with the dump at ``against`` (each when
-    given), printing how many of the ``what`` differ in ``compared`` and the first of them."""
+    given), printing how many of the ``what`` differ in ``compared`` and the first of them.
+    The entries are compared through ``key`` (by default as they are)."""
     if out:
         with open(out, "wb") as f:
             pickle.dump(mine, f)
@@ -18,5 +27,5 @@ def dump_and_compare(mine: list[Any], out: str | None, against: str | None, what
     if against:
         with open(against, "rb") as f:
             theirs = pickle.load(f)
-        differ = [k for k, (a, b) in enumerate(zip(theirs, mine, strict=True)) if a != b]
+        differ = [k for k, (a, b) in enumerate(zip(theirs, mine, strict=True)) if key(a) != key(b)]
         print(f"{len(mine)} {what}: {len(differ)} differ ({compared}) {differ[:10]}")
