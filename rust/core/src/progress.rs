@@ -28,6 +28,19 @@ impl Progress for Silent {
     fn report(&self, _stage: &'static str, _fraction: f64) {}
 }
 
+/// Ignores the reports but passes on a watcher's wish to stop: for work done alongside other
+/// work of the same stage, whose own fractions would make the stage's progress jump about.
+#[derive(Debug, Clone, Copy)]
+pub struct Muted<'a>(pub &'a dyn Progress);
+
+impl Progress for Muted<'_> {
+    fn report(&self, _stage: &'static str, _fraction: f64) {}
+
+    fn cancelled(&self) -> bool {
+        self.0.cancelled()
+    }
+}
+
 /// Counts the units of one stage as threads finish them, and reports the fraction done.
 ///
 /// One thread reports at a time, under a lock it only tries: a thread that finds another

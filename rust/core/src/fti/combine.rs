@@ -41,22 +41,10 @@ const BLOCK: usize = 512;
 /// batch's worth of fits, tens of milliseconds).
 const POLL_EVERY: usize = 16_384;
 
-/// Combines a scan pair's first × last ray pairs (module doc) and adds the survivors to
-/// `batch`, which fits them into `set` as it fills (the caller flushes the rest).
-pub(super) fn combine(
-    problem: &Problem<'_>,
-    rays: &ScanPairRays,
-    rounds: Option<&RoundGate>,
-    options: &InitiationOptions,
-    batch: &mut Batch<'_>,
-    set: &mut CandidateSet,
-) -> CoreResult<()> {
-    let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
-    let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
-    combine_with(problem, rays, grid.as_ref(), rounds, options, batch, set)
-}
-
-/// [`combine`] with the grid given (`None`: test every last pair).
+/// Combines a scan pair's first × last ray pairs (module doc) with the grid given (`None`:
+/// test every last pair), and adds the survivors to `batch`, which fits them into `set` as it
+/// fills (the caller flushes the rest): [`test_with`], then [`queue`].
+#[cfg(test)]
 pub(super) fn combine_with(
     problem: &Problem<'_>,
     rays: &ScanPairRays,
@@ -66,6 +54,38 @@ pub(super) fn combine_with(
     batch: &mut Batch<'_>,
     set: &mut CandidateSet,
 ) -> CoreResult<()> {
+    let tested = test_with(problem, rays, grid, rounds, options)?;
+    queue(problem, rays, tested, options, batch, set)
+}
+
+/// A slot's first × last tests, done and not yet queued for their fits: per first pair, the
+/// last pairs that passed, in the plain double loop's order.
+pub(super) struct Tested {
+    passing: Vec<Vec<usize>>,
+}
+
+/// The first × last tests of `rays` (module doc), with the grid over the last meetings where
+/// it applies. They read nothing a fit writes, so several slots can be tested at once and
+/// queued one after another ([`queue`]) with the same candidates as one slot at a time.
+pub(super) fn test(
+    problem: &Problem<'_>,
+    rays: &ScanPairRays,
+    rounds: Option<&RoundGate>,
+    options: &InitiationOptions,
+) -> CoreResult<Tested> {
+    let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
+    let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
+    test_with(problem, rays, grid.as_ref(), rounds, options)
+}
+
+/// [`test`] with the grid given (`None`: test every last pair).
+pub(super) fn test_with(
+    problem: &Problem<'_>,
+    rays: &ScanPairRays,
+    grid: Option<&Grid>,
+    rounds: Option<&RoundGate>,
+    options: &InitiationOptions,
+) -> CoreResult<Tested> {
     let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
     let cap = WORK_PER_CANDIDATE.saturating_mul(options.max_candidates());
     // Every first × last pair bounds the grid's tests: counting them (a second query of the
@@ -84,7 +104,6 @@ pub(super) fn combine_with(
                    max_candidates (the cap is 200 tests per allowed candidate)",
         });
     }
-    let pair = batch.begin(rays.clone(), set)?;
     // What the speed rule and the motion gate read of each pair, in small records (module
     // `motion_gate`): a test reads two of them, not two ray pairs. The grid holds the last
     // pairs' own; without it they are read in order.
@@ -98,12 +117,16 @@ pub(super) fn combine_with(
     };
     let (space, v_max) = (problem.layout.space, options.v_max());
     let blocks = firsts.len().div_ceil(BLOCK).max(1) as f64;
+    let mut passing: Vec<Vec<usize>> = Vec::with_capacity(firsts.len());
+    // Past `max_candidates` survivors of this slot alone the queue refuses them anyway: the
+    // tests stop there, so that the survivors held stay bounded without any gate.
+    let mut survivors_held = 0usize;
     for (done, block) in firsts.chunks(BLOCK).enumerate() {
         (problem.progress).report("candidates", done as f64 / blocks);
-        if problem.stopped() {
-            return Ok(()); // the pipeline ends as interrupted; nothing partial escapes
+        if problem.stopped() || survivors_held > options.max_candidates() {
+            break; // stopped: the pipeline ends as interrupted; nothing partial escapes
         }
-        let passing: Vec<Vec<usize>> = block
+        let tested: Vec<Vec<usize>> = block
             .par_iter()
             .enumerate()
             .map(|(i, f)| {
@@ -132,24 +155,39 @@ pub(super) fn combine_with(
                 }
             })
             .collect();
-        for (i, survivors) in passing.into_iter().enumerate() {
-            let f = done * BLOCK + i;
-            for l in survivors {
-                set.counts.v_max += 1;
-                if set.counts.v_max > options.max_candidates() {
-                    return Err(CoreError::CapExceeded {
-                        what: "candidates reaching the fitting stage",
-                        count: set.counts.v_max,
-                        cap: options.max_candidates(),
-                        hint: "tighten ray_gate_sigmas or v_max, enable reject_behind, use fewer \
-                               sensor pairs, or raise max_candidates",
-                    });
-                }
-                batch.push([pair, f, l], set)?;
-                // A block's survivors can be millions without gates: poll between fits.
-                if set.counts.v_max % POLL_EVERY == 0 && problem.stopped() {
-                    return Ok(());
-                }
+        survivors_held += tested.iter().map(Vec::len).sum::<usize>();
+        passing.extend(tested);
+    }
+    Ok(Tested { passing })
+}
+
+/// Queues a slot's survivors of [`test`] for their fits in `batch`, in the plain double loop's
+/// order, counting them against `max_candidates`.
+pub(super) fn queue(
+    problem: &Problem<'_>,
+    rays: &ScanPairRays,
+    tested: Tested,
+    options: &InitiationOptions,
+    batch: &mut Batch<'_>,
+    set: &mut CandidateSet,
+) -> CoreResult<()> {
+    let pair = batch.begin(rays.clone(), set)?;
+    for (f, survivors) in tested.passing.into_iter().enumerate() {
+        for l in survivors {
+            set.counts.v_max += 1;
+            if set.counts.v_max > options.max_candidates() {
+                return Err(CoreError::CapExceeded {
+                    what: "candidates reaching the fitting stage",
+                    count: set.counts.v_max,
+                    cap: options.max_candidates(),
+                    hint: "tighten ray_gate_sigmas or v_max, enable reject_behind, use fewer \
+                           sensor pairs, or raise max_candidates",
+                });
+            }
+            batch.push([pair, f, l], set)?;
+            // A slot's survivors can be millions without gates: poll between fits.
+            if set.counts.v_max % POLL_EVERY == 0 && problem.stopped() {
+                return Ok(());
             }
         }
     }

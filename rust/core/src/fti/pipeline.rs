@@ -162,12 +162,22 @@ fn paper_passes(
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
     let outer = paper_slots(scans, pairs, 1, false, witnessed);
-    let mut states = run.pass(problem, pre, scans, &outer, None, options, available)?;
+    let mut states = run.pass(problem, pre, scans, &outer, None, options, available, 1)?;
     let inner = paper_slots(scans, pairs, options.candidate_scans(), true, witnessed);
     if !inner.is_empty() && run.limit.is_none() {
         free_dissolved(problem, pre, scans, &states, options, true, available)?;
         let mask = available.to_vec();
-        states.extend(run.pass(problem, pre, scans, &inner, Some(&mask), options, available)?);
+        let inner_pass = run.pass(
+            problem,
+            pre,
+            scans,
+            &inner,
+            Some(&mask),
+            options,
+            available,
+            1,
+        );
+        states.extend(inner_pass?);
     }
     Ok(states)
 }
@@ -280,6 +290,7 @@ fn round_passes(
             mask.as_deref(),
             options,
             available,
+            candidates::SLOTS_AT_ONCE,
         )?);
         start += size;
         size *= 2;
@@ -344,7 +355,16 @@ fn sweep(
         .with_max_candidates(budget)?
         .with_stop_at_limit(true);
     let mask = available.to_vec();
-    let found = run.pass(problem, pre, scans, &slots, Some(&mask), &swept, available)?;
+    let found = run.pass(
+        problem,
+        pre,
+        scans,
+        &slots,
+        Some(&mask),
+        &swept,
+        available,
+        1,
+    )?;
     run.limit = None;
     if found.is_empty() {
         run.end = Some((tracks, labels)); // the pipeline's end of `states`, already run
@@ -370,9 +390,10 @@ struct Run {
 }
 
 impl Run {
-    /// One pass: candidates from the scan quadruples `slots` (rows in `mask`, or all), their
-    /// descents and merge, and eq. 23 detection on the rows still `available`; returns the
-    /// accepted optima's states in acceptance order.
+    /// One pass: candidates from the scan quadruples `slots` (rows in `mask`, or all; formed
+    /// `at_once` at a time, [`candidates::SLOTS_AT_ONCE`]), their descents and merge, and eq.
+    /// 23 detection on the rows still `available`; returns the accepted optima's states in
+    /// acceptance order.
     #[allow(clippy::too_many_arguments)] // one pass's inputs, each used once; a struct would only rename them
     fn pass(
         &mut self,
@@ -383,6 +404,7 @@ impl Run {
         mask: Option<&[bool]>,
         options: &InitiationOptions,
         available: &mut [bool],
+        at_once: usize,
     ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
         let clock = Instant::now();
         // Pass 2's detection counts only the rows still free, so its gates do too.
@@ -397,7 +419,9 @@ impl Run {
         });
         self.seconds.support += clock.elapsed().as_secs_f64();
 
-        let set = candidates::generate(problem, scans, slots, mask, options, gate.as_ref())?;
+        let gated = gate.as_ref();
+        let set =
+            candidates::generate_together(problem, scans, slots, mask, options, gated, at_once)?;
         stop_if_stopped(problem)?;
         self.limit = self.limit.take().or(set.limit);
         let mut counts = set.counts;

@@ -2,7 +2,7 @@
 
 use super::sim;
 use crate::fti::batch::Batch;
-use crate::fti::candidates::generate_in;
+use crate::fti::candidates::{generate_at_once, generate_in};
 use crate::fti::options::InitiationOptions;
 use crate::fti::scans::{resolve_pairs, Scans, Slot};
 
@@ -34,5 +34,60 @@ fn small_batches_find_the_same_candidates() {
         );
         assert_eq!(whole.counts, small.counts);
         assert_eq!(whole.candidates, small.candidates);
+    }
+}
+
+/// Slots formed and tested several at a time, then queued in order, give the candidates, the
+/// counts and the limit of forming them one at a time: in 2-D and 3-D, with every slot formed
+/// and with `max_candidates` reached partway (`stop_at_limit`), where the slots tested after
+/// the one that reached it are left out.
+#[test]
+fn slots_tested_together_find_the_same_candidates() {
+    for sc in [sim::planar(3, true, 10, 8), sim::paper(4, true, 12, 8)] {
+        let sensors = sc.sensors();
+        let table = sc.measurements(&sensors);
+        let problem = sim::problem(sensors, table);
+        let scans = Scans::new(&table, sensors.len());
+        let every = InitiationOptions::default();
+        let pairs = resolve_pairs(every.pairs(), &scans).expect("pairs");
+        let slots: Vec<Slot> = (pairs.iter())
+            .flat_map(|&p| scans.scan_slots(p, 3, false))
+            .map(Slot::untested)
+            .collect();
+        let whole = generate_in(
+            &problem,
+            &scans,
+            &slots,
+            None,
+            &every,
+            Batch::new(&problem, &every, None),
+        )
+        .expect("runs");
+        let capped = every
+            .clone()
+            .with_max_candidates(whole.counts.v_max / 2)
+            .expect("valid")
+            .with_stop_at_limit(true);
+        for (options, reaches) in [(&every, false), (&capped, true)] {
+            let run = |at_once: usize| {
+                let batch = Batch::new(&problem, options, None);
+                generate_at_once(&problem, &scans, &slots, None, options, batch, at_once)
+                    .expect("runs")
+            };
+            let one = run(1);
+            assert!(
+                one.counts.fitted > 100 && slots.len() >= 9,
+                "{:?}",
+                one.counts
+            );
+            assert_eq!(one.limit.is_some(), reaches, "{:?}", one.limit);
+            for at_once in [2, 3, 4, 64] {
+                let together = run(at_once);
+                assert_eq!(one.counts, together.counts, "{at_once} at once");
+                assert_eq!(one.candidates, together.candidates, "{at_once} at once");
+                assert_eq!(one.limit, together.limit, "{at_once} at once");
+            }
+        }
+        assert!(whole.limit.is_none());
     }
 }
