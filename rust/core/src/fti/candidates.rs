@@ -36,7 +36,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::batch::{Batch, ScanPairRays};
-use super::combine;
+use super::combine::Combination;
 use super::options::InitiationOptions;
 use super::pool::{CandidateSet, Pool};
 use super::problem::Problem;
@@ -122,13 +122,19 @@ pub(super) fn generate_at_once(
         let muted = Muted(problem.progress);
         let alone = tally.unit((window * at_once) as u64);
         let progress: &dyn Progress = if group.len() == 1 { &alone } else { &muted };
-        let formed: Vec<Formed> = group
+        let formed: Vec<Formed<'_>> = group
             .par_iter()
             .map(|slot| form_slot(problem, slot, &rows_of, progress, options, gate))
             .collect();
         for (k, formed) in formed.into_iter().enumerate() {
             let index = window * at_once + k;
-            match queue_slot(problem, formed, options, &mut batch, &mut set) {
+            // The rest of a slot, tested as it is queued, reports its own progress.
+            let unit = tally.unit(index as u64);
+            let slot_problem = Problem {
+                progress: &unit,
+                ..*problem
+            };
+            match queue_slot(&slot_problem, formed, options, &mut batch, &mut set) {
                 Err(reached @ CoreError::CapExceeded { .. }) if options.stop_at_limit() => {
                     limit = Some(reached.to_string());
                     break 'slots;
@@ -149,37 +155,36 @@ pub(super) fn generate_at_once(
 /// Slots of the rounds formation formed and tested at once before they are queued in order:
 /// one slot's serial steps (gathering its ray pairs, locating their meetings, queueing) leave
 /// the second thread idle, which another slot's tests fill (ring 5 × 100: the candidate stage
-/// 5–8 % shorter on two threads). The rounds' slots are many and each is small (two rounds,
-/// tested by witnesses). The paper's first × last slots are formed one at a time: each may
-/// hold up to `max_candidates` survivors, so slots tested together would hold several slots'
-/// survivors, and where the limit is reached test slots in vain (2-D 3 × 20 at 4× clutter:
-/// 35 MB more and 3–20 % slower with four at once).
+/// 5–10 % shorter on two threads). The rounds' slots are many and each is small (two rounds,
+/// tested by witnesses; without the tests, `prefit_gates=False`, one at a time). The paper's
+/// first × last slots are formed one at a time: each may hold up to `max_candidates`
+/// survivors, and where the limit is reached slots tested together are tested in vain (2-D
+/// 3 × 20 at 4× clutter: up to a third slower and 35 MB more with four at once).
 pub(super) const SLOTS_AT_ONCE: usize = 4;
 
 /// One slot's ray pairs and tests, counted and not yet queued ([`queue_slot`]).
-struct Formed {
+struct Formed<'t> {
     raw: usize,
-    rays: CoreResult<Rays>,
+    rays: CoreResult<Rays<'t>>,
 }
 
-/// A slot's ray pairs, what they counted, and their tests.
-struct Rays {
+/// A slot's ray pairs, what they counted, and their tests (some done ahead).
+struct Rays<'t> {
     ray_gate: usize,
     behind: usize,
-    rays: ScanPairRays,
-    tested: CoreResult<combine::Tested>,
+    tests: CoreResult<Combination<'t>>,
 }
 
 /// Forms and tests the candidates of one slot (the combination reports how far through the
 /// slot it is to `within`, a fraction of the whole stage).
-fn form_slot(
+fn form_slot<'t>(
     problem: &Problem<'_>,
     slot: &Slot,
     rows_of: &(dyn Fn(usize) -> Vec<usize> + Sync),
     within: &dyn Progress,
     options: &InitiationOptions,
-    gate: Option<&Gate<'_>>,
-) -> Formed {
+    gate: Option<&'t Gate<'t>>,
+) -> Formed<'t> {
     let [sa1, sb1, sa2, sb2] = slot.scans.map(rows_of);
     let raw = [sa1.len(), sb1.len(), sa2.len(), sb2.len()]
         .iter()
@@ -216,12 +221,14 @@ fn form_slot(
                 Some(RoundGate::new(space, rounds, need, witnesses, located))
             }
         };
-        let tested = combine::test(&slot_problem, &rays, round_gate.as_ref(), options);
+        let tests = Combination::new(&slot_problem, rays, round_gate, options).map(|mut c| {
+            c.test_ahead(&slot_problem, options);
+            c
+        });
         Ok(Rays {
             ray_gate,
             behind,
-            rays,
-            tested,
+            tests,
         })
     })();
     Formed { raw, rays }
@@ -231,7 +238,7 @@ fn form_slot(
 /// double loop: the same candidates, counts and errors as forming the slots one at a time.
 fn queue_slot(
     problem: &Problem<'_>,
-    formed: Formed,
+    formed: Formed<'_>,
     options: &InitiationOptions,
     batch: &mut Batch<'_>,
     set: &mut CandidateSet,
@@ -240,6 +247,5 @@ fn queue_slot(
     let rays = formed.rays?;
     set.counts.ray_gate = set.counts.ray_gate.saturating_add(rays.ray_gate);
     set.counts.behind = set.counts.behind.saturating_add(rays.behind);
-    let tested = rays.tested?;
-    combine::queue(problem, &rays.rays, tested, options, batch, set)
+    rays.tests?.queue(problem, options, batch, set)
 }

@@ -41,102 +41,136 @@ const BLOCK: usize = 512;
 /// batch's worth of fits, tens of milliseconds).
 const POLL_EVERY: usize = 16_384;
 
+/// Survivors one slot may test ahead of its queueing ([`Combination::test_ahead`]): about a
+/// megabyte. Past them the rest of the slot is tested and queued a block at a time, so a slot
+/// with millions of survivors (weak gates) never holds them all. The unit tests hold 64, so
+/// that their slots take both paths.
+const HELD: usize = if cfg!(test) { 64 } else { 1 << 16 };
+
 /// Combines a scan pair's first × last ray pairs (module doc) with the grid given (`None`:
 /// test every last pair), and adds the survivors to `batch`, which fits them into `set` as it
-/// fills (the caller flushes the rest): [`test_with`], then [`queue`].
+/// fills (the caller flushes the rest).
 #[cfg(test)]
 pub(super) fn combine_with(
     problem: &Problem<'_>,
     rays: &ScanPairRays,
-    grid: Option<&Grid>,
-    rounds: Option<&RoundGate>,
+    grid: Option<Grid>,
+    rounds: Option<RoundGate<'_>>,
     options: &InitiationOptions,
     batch: &mut Batch<'_>,
     set: &mut CandidateSet,
 ) -> CoreResult<()> {
-    let tested = test_with(problem, rays, grid, rounds, options)?;
-    queue(problem, rays, tested, options, batch, set)
+    Combination::with_grid(rays.clone(), grid, rounds, options)?.queue(problem, options, batch, set)
 }
 
-/// A slot's first × last tests, done and not yet queued for their fits: per first pair, the
-/// last pairs that passed, in the plain double loop's order.
-pub(super) struct Tested {
-    passing: Vec<Vec<usize>>,
+/// One slot's first × last tests (module doc), in blocks of [`BLOCK`] first pairs: what the
+/// tests read, and the survivors of the blocks tested ahead of their queueing. The tests read
+/// nothing a fit writes, so several slots can test ahead at once and be queued one after
+/// another with the candidates of one slot at a time.
+pub(super) struct Combination<'r> {
+    rays: ScanPairRays,
+    grid: Option<Grid>,
+    rounds: Option<RoundGate<'r>>,
+    /// What the speed rule and the motion gate read of each pair, in small records (module
+    /// `motion_gate`): a test reads two of them, not two ray pairs. The grid holds the last
+    /// pairs' own; without it they are read in order.
+    first_motion: Vec<Option<Motion>>,
+    last_motion: Vec<Option<Motion>>,
+    /// The survivors tested ahead, per first pair from the first on (each list ascending, as
+    /// the plain double loop finds them), how many, and the first block not tested.
+    held: Vec<Vec<usize>>,
+    held_count: usize,
+    next_block: usize,
 }
 
-/// The first × last tests of `rays` (module doc), with the grid over the last meetings where
-/// it applies. They read nothing a fit writes, so several slots can be tested at once and
-/// queued one after another ([`queue`]) with the same candidates as one slot at a time.
-pub(super) fn test(
-    problem: &Problem<'_>,
-    rays: &ScanPairRays,
-    rounds: Option<&RoundGate>,
-    options: &InitiationOptions,
-) -> CoreResult<Tested> {
-    let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
-    let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
-    test_with(problem, rays, grid.as_ref(), rounds, options)
-}
-
-/// [`test`] with the grid given (`None`: test every last pair).
-pub(super) fn test_with(
-    problem: &Problem<'_>,
-    rays: &ScanPairRays,
-    grid: Option<&Grid>,
-    rounds: Option<&RoundGate>,
-    options: &InitiationOptions,
-) -> CoreResult<Tested> {
-    let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
-    let cap = WORK_PER_CANDIDATE.saturating_mul(options.max_candidates());
-    // Every first × last pair bounds the grid's tests: counting them (a second query of the
-    // grid per first pair) is needed only when that bound exceeds the cap.
-    let every = firsts.len().saturating_mul(lasts.len());
-    let work: usize = match grid {
-        Some(g) if every > cap => firsts.par_iter().map(|f| g.count_near(f)).sum(),
-        _ => every,
-    };
-    if work > cap {
-        return Err(CoreError::CapExceeded {
-            what: "first × last ray-pair tests of one scan pair",
-            count: work,
-            cap,
-            hint: "set or lower v_max, tighten ray_gate_sigmas, enable reject_behind, or raise \
-                   max_candidates (the cap is 200 tests per allowed candidate)",
-        });
+impl<'r> Combination<'r> {
+    /// The tests of `rays`, with the grid over the last meetings where it applies; refused
+    /// (`CapExceeded`) before any test when they would be too many.
+    pub(super) fn new(
+        problem: &Problem<'_>,
+        rays: ScanPairRays,
+        rounds: Option<RoundGate<'r>>,
+        options: &InitiationOptions,
+    ) -> CoreResult<Self> {
+        let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
+        let grid = Grid::new(problem.layout.space, firsts, lasts, options.v_max());
+        Self::with_grid(rays, grid, rounds, options)
     }
-    // What the speed rule and the motion gate read of each pair, in small records (module
-    // `motion_gate`): a test reads two of them, not two ray pairs. The grid holds the last
-    // pairs' own; without it they are read in order.
-    let motion =
-        |pairs: &[RayPair]| -> Vec<Option<Motion>> { pairs.par_iter().map(Motion::of).collect() };
-    let first_motion = motion(firsts);
-    let last_motion = if grid.is_none() {
-        motion(lasts)
-    } else {
-        Vec::new()
-    };
-    let (space, v_max) = (problem.layout.space, options.v_max());
-    let blocks = firsts.len().div_ceil(BLOCK).max(1) as f64;
-    let mut passing: Vec<Vec<usize>> = Vec::with_capacity(firsts.len());
-    // Past `max_candidates` survivors of this slot alone the queue refuses them anyway: the
-    // tests stop there, so that the survivors held stay bounded without any gate.
-    let mut survivors_held = 0usize;
-    for (done, block) in firsts.chunks(BLOCK).enumerate() {
-        (problem.progress).report("candidates", done as f64 / blocks);
-        if problem.stopped() || survivors_held > options.max_candidates() {
-            break; // stopped: the pipeline ends as interrupted; nothing partial escapes
+
+    /// [`new`](Self::new) with the grid given (`None`: test every last pair).
+    fn with_grid(
+        rays: ScanPairRays,
+        grid: Option<Grid>,
+        rounds: Option<RoundGate<'r>>,
+        options: &InitiationOptions,
+    ) -> CoreResult<Self> {
+        let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
+        let cap = WORK_PER_CANDIDATE.saturating_mul(options.max_candidates());
+        // Every first × last pair bounds the grid's tests: counting them (a second query of
+        // the grid per first pair) is needed only when that bound exceeds the cap.
+        let every = firsts.len().saturating_mul(lasts.len());
+        let work: usize = match &grid {
+            Some(g) if every > cap => firsts.par_iter().map(|f| g.count_near(f)).sum(),
+            _ => every,
+        };
+        if work > cap {
+            return Err(CoreError::CapExceeded {
+                what: "first × last ray-pair tests of one scan pair",
+                count: work,
+                cap,
+                hint: "set or lower v_max, tighten ray_gate_sigmas, enable reject_behind, or \
+                       raise max_candidates (the cap is 200 tests per allowed candidate)",
+            });
         }
-        let tested: Vec<Vec<usize>> = block
+        let motion = |pairs: &[RayPair]| -> Vec<Option<Motion>> {
+            pairs.par_iter().map(Motion::of).collect()
+        };
+        let first_motion = motion(firsts);
+        let last_motion = if grid.is_none() {
+            motion(lasts)
+        } else {
+            Vec::new()
+        };
+        Ok(Self {
+            rays,
+            grid,
+            rounds,
+            first_motion,
+            last_motion,
+            held: Vec::new(),
+            held_count: 0,
+            next_block: 0,
+        })
+    }
+
+    fn blocks(&self) -> usize {
+        self.rays.firsts.len().div_ceil(BLOCK)
+    }
+
+    /// The survivors of block `b`: for each of its first pairs, in order, the last pairs that
+    /// pass, ascending (the block's first pairs tested in parallel).
+    fn test_block(
+        &self,
+        problem: &Problem<'_>,
+        options: &InitiationOptions,
+        b: usize,
+    ) -> Vec<Vec<usize>> {
+        let (firsts, lasts) = (&self.rays.firsts[..], &self.rays.lasts[..]);
+        let (space, v_max) = (problem.layout.space, options.v_max());
+        let start = b * BLOCK;
+        let block = (firsts.get(start..(start + BLOCK).min(firsts.len()))).unwrap_or_default();
+        block
             .par_iter()
             .enumerate()
             .map(|(i, f)| {
-                let fm = first_motion[done * BLOCK + i].as_ref();
+                let fm = self.first_motion[start + i].as_ref();
                 let passes = |l: usize, lm: Option<&Motion>| {
                     speed_passes(fm, lm, v_max)
                         && motion_gate::passes(space, fm, lm, options)
-                        && rounds.is_none_or(|r| r.passes(done * BLOCK + i, l, f, &lasts[l]))
+                        && (self.rounds.as_ref())
+                            .is_none_or(|r| r.passes(start + i, l, f, &lasts[l]))
                 };
-                match (grid, fm) {
+                match (&self.grid, fm) {
                     (Some(g), Some(fm)) => {
                         let mut survivors = Vec::new();
                         g.for_each_near(&fm.point, |l, lm| {
@@ -150,48 +184,72 @@ pub(super) fn test_with(
                     // Without a meeting a first pair fails `v_max` with every last one.
                     (Some(_), None) => Vec::new(),
                     (None, _) => (0..lasts.len())
-                        .filter(|&l| passes(l, last_motion[l].as_ref()))
+                        .filter(|&l| passes(l, self.last_motion[l].as_ref()))
                         .collect(),
                 }
             })
-            .collect();
-        survivors_held += tested.iter().map(Vec::len).sum::<usize>();
-        passing.extend(tested);
+            .collect()
     }
-    Ok(Tested { passing })
-}
 
-/// Queues a slot's survivors of [`test`] for their fits in `batch`, in the plain double loop's
-/// order, counting them against `max_candidates`.
-pub(super) fn queue(
-    problem: &Problem<'_>,
-    rays: &ScanPairRays,
-    tested: Tested,
-    options: &InitiationOptions,
-    batch: &mut Batch<'_>,
-    set: &mut CandidateSet,
-) -> CoreResult<()> {
-    let pair = batch.begin(rays.clone(), set)?;
-    for (f, survivors) in tested.passing.into_iter().enumerate() {
-        for l in survivors {
-            set.counts.v_max += 1;
-            if set.counts.v_max > options.max_candidates() {
-                return Err(CoreError::CapExceeded {
-                    what: "candidates reaching the fitting stage",
-                    count: set.counts.v_max,
-                    cap: options.max_candidates(),
-                    hint: "tighten ray_gate_sigmas or v_max, enable reject_behind, use fewer \
-                           sensor pairs, or raise max_candidates",
-                });
-            }
-            batch.push([pair, f, l], set)?;
-            // A slot's survivors can be millions without gates: poll between fits.
-            if set.counts.v_max % POLL_EVERY == 0 && problem.stopped() {
-                return Ok(());
-            }
+    /// Tests blocks ahead of the queueing while their survivors stay within [`HELD`] (and
+    /// the call is not stopped).
+    pub(super) fn test_ahead(&mut self, problem: &Problem<'_>, options: &InitiationOptions) {
+        let blocks = self.blocks().max(1) as f64;
+        while self.next_block < self.blocks() && self.held_count <= HELD && !problem.stopped() {
+            (problem.progress).report("candidates", self.next_block as f64 / blocks);
+            let survivors = self.test_block(problem, options, self.next_block);
+            self.held_count += survivors.iter().map(Vec::len).sum::<usize>();
+            self.held.extend(survivors);
+            self.next_block += 1;
         }
     }
-    Ok(())
+
+    /// Queues the survivors for their fits in `batch`, in the plain double loop's order,
+    /// counting them against `max_candidates`: those tested ahead, then the rest of the slot
+    /// tested a block at a time (one block's survivors held at once).
+    pub(super) fn queue(
+        mut self,
+        problem: &Problem<'_>,
+        options: &InitiationOptions,
+        batch: &mut Batch<'_>,
+        set: &mut CandidateSet,
+    ) -> CoreResult<()> {
+        let pair = batch.begin(self.rays.clone(), set)?;
+        let blocks = self.blocks().max(1) as f64;
+        // The survivors of the first pairs from `first` on.
+        let (mut first, mut survivors) = (0, std::mem::take(&mut self.held));
+        loop {
+            for (f, lasts) in (first..).zip(survivors) {
+                for l in lasts {
+                    set.counts.v_max += 1;
+                    if set.counts.v_max > options.max_candidates() {
+                        return Err(CoreError::CapExceeded {
+                            what: "candidates reaching the fitting stage",
+                            count: set.counts.v_max,
+                            cap: options.max_candidates(),
+                            hint: "tighten ray_gate_sigmas or v_max, enable reject_behind, use \
+                                   fewer sensor pairs, or raise max_candidates",
+                        });
+                    }
+                    batch.push([pair, f, l], set)?;
+                    // A block's survivors can be millions without gates: poll between fits.
+                    if set.counts.v_max % POLL_EVERY == 0 && problem.stopped() {
+                        return Ok(());
+                    }
+                }
+            }
+            if self.next_block >= self.blocks() {
+                return Ok(());
+            }
+            (problem.progress).report("candidates", self.next_block as f64 / blocks);
+            if problem.stopped() {
+                return Ok(()); // the pipeline ends as interrupted; nothing partial escapes
+            }
+            first = self.next_block * BLOCK;
+            survivors = self.test_block(problem, options, self.next_block);
+            self.next_block += 1;
+        }
+    }
 }
 
 /// The `v_max` rule on two pairs' records: their meetings no farther apart than `v_max` allows
@@ -260,13 +318,14 @@ mod tests {
                 lasts: pairs(a2, b2).into(),
             };
             let (firsts, lasts) = (&rays.firsts[..], &rays.lasts[..]);
-            let grid = Grid::new(sc.space, firsts, lasts, options.v_max()).expect("applies");
+            let grid_of = || Grid::new(sc.space, firsts, lasts, options.v_max()).expect("applies");
+            let grid = grid_of();
             let tests: usize = firsts.iter().map(|f| grid.count_near(f)).sum();
             assert!(
                 tests < firsts.len() * lasts.len() / 2,
                 "seed {seed}: {tests}"
             );
-            let combined = |grid: Option<&Grid>| {
+            let combined = |grid: Option<Grid>| {
                 let mut batch = Batch::new(&problem, &options, None);
                 let mut set = CandidateSet::default();
                 combine_with(&problem, &rays, grid, None, &options, &mut batch, &mut set)
@@ -274,20 +333,23 @@ mod tests {
                 batch.flush(&mut set).expect("fits");
                 set
             };
-            let (with, without) = (combined(Some(&grid)), combined(None));
+            let (with, without) = (combined(Some(grid_of())), combined(None));
             assert!(with.counts.v_max > 0, "seed {seed}: nothing to compare");
             assert_eq!(with.counts.v_max, without.counts.v_max, "seed {seed}");
             assert_eq!(with.candidates, without.candidates, "seed {seed}");
             // The work is capped before any test: 200 tests per allowed candidate.
             if tests >= 400 {
                 capped += 1;
-                let few = options.with_max_candidates(tests / 400).expect("valid");
+                let few = options
+                    .clone()
+                    .with_max_candidates(tests / 400)
+                    .expect("valid");
                 let mut batch = Batch::new(&problem, &few, None);
                 let mut none = CandidateSet::default();
                 match combine_with(
                     &problem,
                     &rays,
-                    Some(&grid),
+                    Some(grid_of()),
                     None,
                     &few,
                     &mut batch,

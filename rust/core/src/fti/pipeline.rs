@@ -270,6 +270,11 @@ fn round_passes(
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
     let slots = ranked_rounds(problem, scans, pairs, options);
+    // Several slots at once only while the tests before the fits keep their survivors few.
+    let at_once = match options.prefit_gates() {
+        true => candidates::SLOTS_AT_ONCE,
+        false => 1,
+    };
     // Once every pair has had two slots, a pass that finds nothing ends the formation.
     let patience = 2 * pairs.len();
     let mut states = Vec::new();
@@ -290,7 +295,7 @@ fn round_passes(
             mask.as_deref(),
             options,
             available,
-            candidates::SLOTS_AT_ONCE,
+            at_once,
         )?);
         start += size;
         size *= 2;
