@@ -61,38 +61,13 @@ pub fn generate(
     options: &InitiationOptions,
     gate: Option<&Gate<'_>>,
 ) -> CoreResult<CandidateSet> {
-    generate_together(problem, scans, slots, available, options, gate, 1)
-}
-
-/// [`generate`], forming and testing `at_once` slots together ([`SLOTS_AT_ONCE`]).
-pub(super) fn generate_together(
-    problem: &Problem<'_>,
-    scans: &Scans,
-    slots: &[Slot],
-    available: Option<&[bool]>,
-    options: &InitiationOptions,
-    gate: Option<&Gate<'_>>,
-    at_once: usize,
-) -> CoreResult<CandidateSet> {
     // One batch across the slots (module `batch`).
     let batch = Batch::new(problem, options, gate);
-    generate_at_once(problem, scans, slots, available, options, batch, at_once)
-}
-
-/// [`generate`], fitting in `batch` (whose limits the tests shrink).
-#[cfg(test)]
-pub(super) fn generate_in(
-    problem: &Problem<'_>,
-    scans: &Scans,
-    slots: &[Slot],
-    available: Option<&[bool]>,
-    options: &InitiationOptions,
-    batch: Batch<'_>,
-) -> CoreResult<CandidateSet> {
     generate_at_once(problem, scans, slots, available, options, batch, 1)
 }
 
-/// [`generate`] in `batch`, forming and testing `at_once` slots together (at least one).
+/// [`generate`] in `batch`, one batch across the slots (module `batch`; the tests shrink its
+/// limits), forming and testing `at_once` slots together (at least one, [`SLOTS_AT_ONCE`]).
 pub(super) fn generate_at_once(
     problem: &Problem<'_>,
     scans: &Scans,

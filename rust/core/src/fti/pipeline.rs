@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::batch::Batch;
 use super::candidates;
 use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
@@ -424,9 +425,9 @@ impl Run {
         });
         self.seconds.support += clock.elapsed().as_secs_f64();
 
-        let gated = gate.as_ref();
+        let batch = Batch::new(problem, options, gate.as_ref());
         let set =
-            candidates::generate_together(problem, scans, slots, mask, options, gated, at_once)?;
+            candidates::generate_at_once(problem, scans, slots, mask, options, batch, at_once)?;
         stop_if_stopped(problem)?;
         self.limit = self.limit.take().or(set.limit);
         let mut counts = set.counts;

@@ -2,7 +2,7 @@
 
 use super::sim;
 use crate::fti::batch::Batch;
-use crate::fti::candidates::{generate_at_once, generate_in};
+use crate::fti::candidates::generate_at_once;
 use crate::fti::options::InitiationOptions;
 use crate::fti::scans::{resolve_pairs, Scans, Slot};
 
@@ -23,7 +23,7 @@ fn small_batches_find_the_same_candidates() {
             .map(Slot::untested)
             .collect();
         let run = |batch: Batch<'_>| {
-            generate_in(&problem, &scans, &slots, None, &options, batch).expect("runs")
+            generate_at_once(&problem, &scans, &slots, None, &options, batch, 1).expect("runs")
         };
         let whole = run(Batch::new(&problem, &options, None));
         let small = run(Batch::new(&problem, &options, None).with_limits(7, 0));
@@ -54,15 +54,9 @@ fn slots_tested_together_find_the_same_candidates() {
             .flat_map(|&p| scans.scan_slots(p, 3, false))
             .map(Slot::untested)
             .collect();
-        let whole = generate_in(
-            &problem,
-            &scans,
-            &slots,
-            None,
-            &every,
-            Batch::new(&problem, &every, None),
-        )
-        .expect("runs");
+        let batch = Batch::new(&problem, &every, None);
+        let whole =
+            generate_at_once(&problem, &scans, &slots, None, &every, batch, 1).expect("runs");
         let capped = every
             .clone()
             .with_max_candidates(whole.counts.v_max / 2)
