@@ -132,9 +132,9 @@ pub(super) fn generate_at_once(
 /// the second thread idle, which another slot's tests fill (ring 5 × 100: the candidate stage
 /// 5–10 % shorter on two threads). The rounds' slots are many and each is small (two rounds,
 /// tested by witnesses; without the tests, `prefit_gates=False`, one at a time). The paper's
-/// first × last slots are formed one at a time: each may hold up to `max_candidates`
-/// survivors, and where the limit is reached slots tested together are tested in vain (2-D
-/// 3 × 20 at 4× clutter: up to a third slower and 35 MB more with four at once).
+/// first × last slots are formed one at a time: they are few and large, and where the limit
+/// is reached slots tested together are tested in vain (2-D 3 × 20 at 4× clutter, four at
+/// once, each then testing its whole slot ahead: up to a third slower and 35 MB more).
 pub(super) const SLOTS_AT_ONCE: usize = 4;
 
 /// One slot's ray pairs and tests, counted and not yet queued ([`queue_slot`]).
