@@ -369,9 +369,10 @@ fn f32_matrices_are_solved_exactly_as_their_f64_values() {
         (70, 90),
         (90, 70),
     ];
+    let mut sparse_cases = 0;
     for (case, &(nr, nc)) in shapes.iter().cycle().take(64).enumerate() {
-        let forbid = if case % 3 == 0 { 0.6 } else { 0.0 };
-        let c32: Vec<f32> = (0..nr * nc)
+        let forbid = [0.97, 0.0, 0.6][case % 3];
+        let mut c32: Vec<f32> = (0..nr * nc)
             .map(|_| {
                 if rng.random_bool(forbid) {
                     f32::INFINITY
@@ -380,7 +381,10 @@ fn f32_matrices_are_solved_exactly_as_their_f64_values() {
                 }
             })
             .collect();
+        (0..nr.min(nc)).for_each(|i| c32[i * nc + i] = 1000.0); // feasible
         let c64: Vec<f64> = c32.iter().map(|&x| f64::from(x)).collect();
+        let allowed = c64.iter().filter(|c| c.is_finite()).count();
+        sparse_cases += usize::from(as_sparse(nr, nc, &c32, allowed).is_some());
         match (solve_dense(nr, nc, &c32), solve_dense(nr, nc, &c64)) {
             (Ok(a), Ok(b)) => {
                 assert_eq!(a.row_to_col, b.row_to_col, "case {case}: {nr}x{nc}");
@@ -393,6 +397,10 @@ fn f32_matrices_are_solved_exactly_as_their_f64_values() {
             (a, b) => panic!("case {case}: f32 {a:?}, f64 {b:?}"),
         }
     }
+    assert!(
+        sparse_cases >= 6,
+        "the sparse path ran {sparse_cases} times"
+    );
     let e = solve_dense(1, 2, &[0.0f32, f32::NAN]).unwrap_err();
     assert!(
         matches!(
@@ -477,8 +485,9 @@ fn forbidden_pairs_with_the_start_match_the_sparse_solver() {
 fn a_prepared_matrix_solves_as_solve_dense() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let shapes = [(0, 4), (3, 3), (5, 9), (9, 5), (70, 70), (80, 66)];
+    let mut sparse_cases = 0;
     for (case, &(nr, nc)) in shapes.iter().cycle().take(48).enumerate() {
-        let forbid = [0.0, 0.3, 0.9][case % 3];
+        let forbid = [0.0, 0.3, 0.97][case % 3];
         let mut c: Vec<f64> = (0..nr * nc)
             .map(|_| {
                 if rng.random_bool(forbid) {
@@ -492,6 +501,8 @@ fn a_prepared_matrix_solves_as_solve_dense() {
         if case % 7 == 6 && !c.is_empty() {
             c[nr * nc / 2] = f64::NAN;
         }
+        let allowed = c.iter().filter(|c| c.is_finite()).count();
+        sparse_cases += usize::from(as_sparse(nr, nc, &c, allowed).is_some());
         let prepared = prepare_dense(nr, nc, &c).and_then(|p| p.solve());
         match (prepared, solve_dense(nr, nc, &c)) {
             (Ok(a), Ok(b)) => assert_eq!(a, b, "case {case}"),
@@ -499,6 +510,10 @@ fn a_prepared_matrix_solves_as_solve_dense() {
             (a, b) => panic!("case {case}: prepared {a:?}, direct {b:?}"),
         }
     }
+    assert!(
+        sparse_cases >= 4,
+        "the sparse path ran {sparse_cases} times"
+    );
     assert!(prepare_dense(2, 2, &[0.0; 3]).is_err());
 }
 
