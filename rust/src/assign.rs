@@ -123,10 +123,11 @@ fn assign_dense<'py, C: lap::Entry + numpy::Element>(
     }
     // SAFETY: the slice is read while this thread holds the GIL, and no Python code runs
     // between here and its last read (the small solve below, or the read that prepares a
-    // large one, made before it is solved without the GIL), so neither Python code nor native code that holds the
-    // GIL can write to the array meanwhile. Native code that writes to it after releasing the
-    // GIL (another extension, a NumPy operation on a large array) races with any reader, as
-    // it would with NumPy's own functions: that is the caller's to avoid.
+    // large one, made before it is solved without the GIL), so neither Python code nor
+    // native code that holds the GIL can write to the array meanwhile. Native code that
+    // writes to it after releasing the GIL (another extension, a NumPy operation on a large
+    // array) races with any reader, as it would with NumPy's own functions: that is the
+    // caller's to avoid.
     let values = unsafe { costs.as_slice() }
         .map_err(|_| value_error("costs", "array must be C-contiguous and aligned"))?;
     // A small matrix is solved in place, holding the GIL (faster than releasing it, and no

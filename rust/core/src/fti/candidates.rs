@@ -133,8 +133,9 @@ pub(super) fn generate_at_once(
 /// 5–10 % shorter on two threads). The rounds' slots are many and each is small (two rounds,
 /// tested by witnesses; without the tests, `prefit_gates=False`, one at a time). The paper's
 /// first × last slots are formed one at a time: they are few and large, and where the limit
-/// is reached slots tested together are tested in vain (2-D 3 × 20 at 4× clutter, four at
-/// once, each then testing its whole slot ahead: up to a third slower and 35 MB more).
+/// is reached slots tested together are tested in vain (2-D 3 × 20 at 4× clutter, in a build
+/// not kept that formed them four at once, each testing its whole slot ahead: up to a third
+/// slower and 35 MB more; CHANGELOG.md).
 pub(super) const SLOTS_AT_ONCE: usize = 4;
 
 /// One slot's ray pairs and tests, counted and not yet queued ([`queue_slot`]).

@@ -191,16 +191,32 @@ impl<'r> Combination<'r> {
             .collect()
     }
 
+    /// The survivors of the next block (its progress reported first), or `None` past the
+    /// last.
+    fn test_next(
+        &mut self,
+        problem: &Problem<'_>,
+        options: &InitiationOptions,
+    ) -> Option<Vec<Vec<usize>>> {
+        let blocks = self.blocks();
+        if self.next_block >= blocks {
+            return None;
+        }
+        (problem.progress).report("candidates", self.next_block as f64 / blocks as f64);
+        let survivors = self.test_block(problem, options, self.next_block);
+        self.next_block += 1;
+        Some(survivors)
+    }
+
     /// Tests blocks ahead of the queueing while their survivors stay within [`HELD`] (and
     /// the call is not stopped).
     pub(super) fn test_ahead(&mut self, problem: &Problem<'_>, options: &InitiationOptions) {
-        let blocks = self.blocks().max(1) as f64;
-        while self.next_block < self.blocks() && self.held_count <= HELD && !problem.stopped() {
-            (problem.progress).report("candidates", self.next_block as f64 / blocks);
-            let survivors = self.test_block(problem, options, self.next_block);
+        while self.held_count <= HELD && !problem.stopped() {
+            let Some(survivors) = self.test_next(problem, options) else {
+                return;
+            };
             self.held_count += survivors.iter().map(Vec::len).sum::<usize>();
             self.held.extend(survivors);
-            self.next_block += 1;
         }
     }
 
@@ -215,7 +231,6 @@ impl<'r> Combination<'r> {
         set: &mut CandidateSet,
     ) -> CoreResult<()> {
         let pair = batch.begin(self.rays.clone(), set)?;
-        let blocks = self.blocks().max(1) as f64;
         // The survivors of the first pairs from `first` on.
         let (mut first, mut survivors) = (0, std::mem::take(&mut self.held));
         loop {
@@ -238,16 +253,14 @@ impl<'r> Combination<'r> {
                     }
                 }
             }
-            if self.next_block >= self.blocks() {
-                return Ok(());
-            }
-            (problem.progress).report("candidates", self.next_block as f64 / blocks);
             if problem.stopped() {
                 return Ok(()); // the pipeline ends as interrupted; nothing partial escapes
             }
             first = self.next_block * BLOCK;
-            survivors = self.test_block(problem, options, self.next_block);
-            self.next_block += 1;
+            match self.test_next(problem, options) {
+                Some(next) => survivors = next,
+                None => return Ok(()),
+            }
         }
     }
 }
