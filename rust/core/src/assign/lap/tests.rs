@@ -351,6 +351,26 @@ fn the_flat_list_and_the_heap_give_the_same_matchings() {
     }
 }
 
+/// An `nr × nc` matrix of `value`s with each entry `forbidden` with probability `forbid`, and
+/// its diagonal at `diagonal`, so that a complete assignment exists.
+fn gated<T: Copy>(
+    rng: &mut ChaCha8Rng,
+    (nr, nc): (usize, usize),
+    forbid: f64,
+    forbidden: T,
+    diagonal: T,
+    mut value: impl FnMut(&mut ChaCha8Rng) -> T,
+) -> Vec<T> {
+    let mut c: Vec<T> = (0..nr * nc)
+        .map(|_| match rng.random_bool(forbid) {
+            true => forbidden,
+            false => value(rng),
+        })
+        .collect();
+    (0..nr.min(nc)).for_each(|i| c[i * nc + i] = diagonal);
+    c
+}
+
 /// An `f32` matrix is solved as the `f64` matrix of its values: the same columns and cost,
 /// on every path (square with the start, rectangular, transposed, `+inf`, the sparse path of
 /// a mostly forbidden matrix). Entries near 1000 spaced by f32's step there: sums of them are
@@ -372,16 +392,9 @@ fn f32_matrices_are_solved_exactly_as_their_f64_values() {
     let mut sparse_cases = 0;
     for (case, &(nr, nc)) in shapes.iter().cycle().take(64).enumerate() {
         let forbid = [0.97, 0.0, 0.6][case % 3];
-        let mut c32: Vec<f32> = (0..nr * nc)
-            .map(|_| {
-                if rng.random_bool(forbid) {
-                    f32::INFINITY
-                } else {
-                    1000.0 + step * rng.random_range(0..64u16) as f32
-                }
-            })
-            .collect();
-        (0..nr.min(nc)).for_each(|i| c32[i * nc + i] = 1000.0); // feasible
+        let c32 = gated(&mut rng, (nr, nc), forbid, f32::INFINITY, 1000.0, |rng| {
+            1000.0 + step * rng.random_range(0..64u16) as f32
+        });
         let c64: Vec<f64> = c32.iter().map(|&x| f64::from(x)).collect();
         let allowed = c64.iter().filter(|c| c.is_finite()).count();
         sparse_cases += usize::from(as_sparse(nr, nc, &c32, allowed).is_some());
@@ -488,16 +501,9 @@ fn a_prepared_matrix_solves_as_solve_dense() {
     let mut sparse_cases = 0;
     for (case, &(nr, nc)) in shapes.iter().cycle().take(48).enumerate() {
         let forbid = [0.0, 0.3, 0.97][case % 3];
-        let mut c: Vec<f64> = (0..nr * nc)
-            .map(|_| {
-                if rng.random_bool(forbid) {
-                    f64::INFINITY
-                } else {
-                    rng.random_range(0.0..10.0)
-                }
-            })
-            .collect();
-        (0..nr.min(nc)).for_each(|i| c[i * nc + i] = 1.0); // feasible
+        let mut c = gated(&mut rng, (nr, nc), forbid, f64::INFINITY, 1.0, |rng| {
+            rng.random_range(0.0..10.0)
+        });
         if case % 7 == 6 && !c.is_empty() {
             c[nr * nc / 2] = f64::NAN;
         }
