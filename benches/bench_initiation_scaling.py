@@ -12,6 +12,7 @@ stopped at `max_candidates`.
     python3 benches/bench_initiation_scaling.py --fixed-box
     python3 benches/bench_initiation_scaling.py --fixed-box --seeds 1 --targets 200 \
         --options '{"max_candidates": 2000000}'                        # FuzzyTrackInitiator keywords
+    python3 benches/bench_initiation_scaling.py --targets 50 100 --options '{"regroup": true}'   # + a column
 """
 
 from __future__ import annotations
@@ -92,18 +93,24 @@ def main() -> None:
     parser.add_argument("--options", default="{}", help="FuzzyTrackInitiator keywords as JSON")
     args = parser.parse_args()
     options = json.loads(args.options)
+    # With regrouping on, its seconds get a column of their own (before *other*).
+    stages = (*STAGES[:-1], "regroup", "other") if options.get("regroup") else STAGES
     print(
         "| sensors | targets | box km | found | false / scene | median s | candidates s | fit s | support s "
-        "| descent s | final fit s | other s | fitted | limit reached | peak RSS MB |"
+        "| descent s | final fit s | "
+        + ("regroup s | " if "regroup" in stages else "")
+        + "other s | fitted | limit reached | peak RSS MB |"
     )
-    print("|---" * 15 + "|")
+    print("|---" * (9 + len(stages)) + "|")
     for s in args.sensors:
         ns, medians = [], []
         for n in args.targets:
             half = 20e3 if args.fixed_box else 20e3 * math.sqrt(n / 20)
             r = run(s, n, args.seeds, half, args.cap, options)
             if r is None:
-                print(f"| {s} | {n} | {2 * half / 1e3:.0f} | over {args.cap:g} s |" + " |" * 11, flush=True)
+                print(
+                    f"| {s} | {n} | {2 * half / 1e3:.0f} | over {args.cap:g} s |" + " |" * (5 + len(stages)), flush=True
+                )
                 break
             rows = r["rows"]
             med = statistics.median(x["seconds"] for x in rows)
@@ -116,7 +123,7 @@ def main() -> None:
             print(
                 f"| {s} | {n} | {2 * half / 1e3:.0f} | {sum(x['found'] for x in rows)}/{n * len(rows)} | "
                 f"{sum(x['false'] for x in rows) / len(rows):.2f} | {med:.3f} | "
-                + " | ".join(f"{stage.get(k, 0.0):.3f}" for k in STAGES)
+                + " | ".join(f"{stage.get(k, 0.0):.3f}" for k in stages)
                 + f" | {statistics.median(x['fitted'] for x in rows):.0f}"
                 + f" | {sum(x['limit'] for x in rows)}/{len(rows)} | {r['peak_rss_mb']:.0f} |",
                 flush=True,

@@ -89,7 +89,8 @@ def test_paper_run_with_clutter_finds_the_four_targets(assert_partition: Partiti
     assert counts["raw"] == 12**4 + 15 * 8**4 and counts["detected"] == 4
     assert all(a >= b for a, b in pairwise(list(counts.values())[:6]))  # the pruning stages only remove
     seconds = result.diagnostics.stage_seconds
-    assert list(seconds) == ["candidates", "fit", "support", "descent", "detection", "final"]
+    assert list(seconds) == ["candidates", "fit", "support", "descent", "detection", "final", "regroup"]
+    assert seconds["regroup"] == 0.0 and result.diagnostics.regrouped == 0  # off by default
     assert all(s >= 0.0 for s in seconds.values())
 
 

@@ -10,8 +10,10 @@ ambiguity resolution, final ML fit) runs in the Rust core with the GIL released.
 
 from __future__ import annotations
 
+import dataclasses
+import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
 from typing import Annotated, Any, Literal
@@ -27,7 +29,8 @@ from .._validation import as_int_array
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
 from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, empty_stage, warn_if_no_candidate
-from .score import MIN_SCORE, track_scores
+from .regroup import Found, Neighbourhood, regroup
+from .score import MIN_SCORE, ScoreTerms, track_scores
 
 #: χ² with 2 degrees of freedom (8 equations, 6 unknowns) at 99.9 %: the default gate on a
 #: 3-D candidate's fit.
@@ -88,7 +91,9 @@ class InitiationDiagnostics:
         Iterations of each descent, in candidate order.
     stage_seconds : dict of str to float
         Wall-clock seconds of ``candidates``, ``fit``, ``support`` (the re-gating between
-        stages included), ``descent``, ``detection`` and ``final`` (the final fits and tests).
+        stages included), ``descent``, ``detection``, ``final`` (the final fits and tests)
+        and ``regroup`` (``regroup``'s initiations, which the other stages leave out; 0
+        without it).
     candidates : {"paper", "rounds", "witnessed"}
         The candidate formation that ran (``candidates="auto"`` resolved).
     limit : str or None
@@ -98,6 +103,8 @@ class InitiationDiagnostics:
     below_min_score : int
         Tracks the pipeline found whose score was below ``min_score``: their measurements are
         clutter in the result.
+    regrouped : int
+        Tracks that regrouping (``regroup``) replaced; 0 without it.
     """
 
     stage_counts: dict[str, int]
@@ -106,6 +113,7 @@ class InitiationDiagnostics:
     candidates: Literal["paper", "rounds", "witnessed"]
     limit: str | None
     below_min_score: int
+    regrouped: int = 0
 
 
 @dataclass(frozen=True)
@@ -288,6 +296,14 @@ class FuzzyTrackInitiator(Configurable):
         tracks they found, with termination ``"candidate_limit"``, the limit named in its
         message and in a warning. ``"raise"``: a ValueError naming the limit, nothing returned.
         The sweep after the rounds (``sweep``) stops at its own budget either way, silently.
+    regroup : bool
+        3-D only. After the pipeline, each track's measurements are initiated again with the
+        free measurements whose lines of sight meet theirs, and the track is replaced by the
+        tracks found there when their summed score is higher by more than 5 (a project
+        extension, opt-in). Where many targets share three or four sensors' sky, a ghost made
+        of several targets' rows can be accepted first and leave those targets unfound; this
+        finds them (docs/methods.md §1, *Regrouping*, has the measurements), at the cost of an
+        initiation per track: several times the time of the call. Default False.
     score_pd : float
         Detection probability the track score assumes (each of a sensor's scans without the
         track's measurement costs ``log(1 - score_pd)``). Default 0.9.
@@ -327,6 +343,7 @@ class FuzzyTrackInitiator(Configurable):
     track_test: Annotated[float | None, Interval(float, 0.0, 0.5, closed="neither"), None] = 1e-6
     max_candidates: Annotated[int, COUNT] = 500_000
     on_limit: Annotated[Literal["warn", "raise"], Options("warn", "raise")] = "warn"
+    regroup: Annotated[bool, Boolean()] = False
     score_pd: Annotated[float, Interval(float, 0.0, 1.0, closed="neither")] = 0.9
     min_score: Annotated[float | None, Interval(float, None, None), None] = MIN_SCORE
     n_threads: Annotated[int | None, COUNT, None] = None
@@ -384,18 +401,26 @@ class FuzzyTrackInitiator(Configurable):
         epoch = float(measurements.time.min()) if t0 is None else t0
         spread_az, spread_el = self._spreads(sensors)
         pairs, spreads = self._pairs(network.n_sensors), (spread_az, spread_el)
+        if self.regroup and network.ndim != 3:
+            raise ValueError(
+                "regroup: only for 3-D networks (in the plane every two lines of sight meet, so a "
+                "track's neighbourhood would be most of the table)"
+            )
         with reporting(progress, "candidates") as report:
             out = _core.initiate(table, network, pairs, spreads, epoch, self, report)
-        scores = track_scores(out.labels, out.chi2, measurements, sensors, self.score_pd)
+            found, regrouped, started = Found.of(out), 0, time.perf_counter()
+            if self.regroup:
+                found, regrouped = self._regroup(found, table, network, pairs, spreads, epoch, report)
+        scores = track_scores(found.labels, np.asarray(found.chi2), measurements, sensors, self.score_pd)
         kept = np.ones(len(scores), dtype=bool) if self.min_score is None else scores >= self.min_score
-        labels = _renumbered(out.labels, kept)
+        labels = _renumbered(found.labels, kept)
         tracks = [
             InitiatedTrack(
-                out.estimates[k],
-                out.covariances[k],
-                float(out.closeness[k]),
-                float(out.chi2[k]),
-                np.flatnonzero(out.labels == k),
+                found.states[k],
+                found.covariances[k],
+                found.closeness[k],
+                found.chi2[k],
+                np.flatnonzero(found.labels == k),
                 float(scores[k]),
             )
             for k in np.flatnonzero(kept)
@@ -403,8 +428,11 @@ class FuzzyTrackInitiator(Configurable):
         counts = {name: int(getattr(out.stage_counts, name)) for name in STAGE_COUNT_NAMES}
         seconds = {name: float(getattr(out.stage_seconds, name)) for name in STAGE_SECOND_NAMES}
         seconds["final"] = seconds.pop("final_fit")
+        seconds["regroup"] = time.perf_counter() - started if self.regroup else 0.0
         below = int(len(kept) - kept.sum())
-        diagnostics = InitiationDiagnostics(counts, out.descent_iterations, seconds, out.formation, out.limit, below)
+        diagnostics = InitiationDiagnostics(
+            counts, out.descent_iterations, seconds, out.formation, out.limit, below, regrouped
+        )
         emptied = empty_stage(counts)
         success = True
         if out.limit is not None:
@@ -422,6 +450,27 @@ class FuzzyTrackInitiator(Configurable):
         return InitiationResult(
             tracks, labels, epoch, diagnostics, termination=termination, success=success, message=message
         )
+
+    def _regroup(
+        self,
+        found: Found,
+        table: MeasurementTable,
+        network: SensorNetwork,
+        pairs: NDArray[np.int64],
+        spreads: tuple[NDArray[np.float64], NDArray[np.float64]],
+        epoch: float,
+        report: Callable[[str, float], object] | None,
+    ) -> tuple[Found, int]:
+        """Regrouping (``regroup``; module :mod:`.regroup`) of the pipeline's ``found``."""
+        terms = ScoreTerms.of(found.labels, table, network, self.score_pd)
+        near = Neighbourhood(table, network, self.ray_gate_sigmas, self.v_max)
+        # Without the sweep: the track's own rows are there to start the rounds (module doc).
+        local = dataclasses.replace(self, sweep=False)
+
+        def initiate(rows: NDArray[np.int64]) -> Found:
+            return Found.of(_core.initiate(table.select(rows), network, pairs, spreads, epoch, local, None))
+
+        return regroup(found, terms, near, initiate, report)
 
 
 class LimitWarning(UserWarning):

@@ -22,6 +22,7 @@ holds them all, times their elevation range in 3-D). With no such row it is take
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,7 +33,7 @@ from ..data import MeasurementTable, SensorNetwork
 #: the calibration scenes (docs/methods.md §1, *Track score*).
 MIN_SCORE = 20.0
 
-__all__ = ["track_scores"]
+__all__ = ["ScoreTerms", "track_scores"]
 
 
 def track_scores(
@@ -44,43 +45,76 @@ def track_scores(
 ) -> NDArray[np.float64]:
     """The score (module doc) of each track, for ``labels`` (track index per row, -1 clutter)
     and the tracks' fit ``chi2``; ``pd`` in (0, 1)."""
-    n_tracks = len(chi2)
-    sensor = np.asarray(measurements.sensor, dtype=np.int64)
-    n_sensors = sensors.n_sensors
-    planar = sensors.ndim == 2
-    score = -0.5 * np.asarray(chi2, dtype=float)
-    hit, miss = math.log(pd), math.log1p(-pd)
-    for j in range(n_sensors):
-        mine = sensor == j
-        if not mine.any():
-            continue
-        times = measurements.time[mine]
-        n_scans = len(np.unique(times))
-        free = labels[mine] < 0
-        area = _azimuth_arc(measurements.azimuth[mine])
-        sigma_az = float(sensors.sigma_azimuth[j])
-        if planar:
-            norm = math.sqrt(2.0 * math.pi) * sigma_az
-        else:
-            elevation = measurements.elevation[mine]
-            area *= max(float(elevation.max() - elevation.min()), 0.0)
-            norm = 2.0 * math.pi * sigma_az * float(sensors.sigma_elevation[j])
-        # Fewer than one free row, or angles with no extent (one row), still give a density.
-        area = max(area, norm)
-        density = max(int(free.sum()), 1) / (n_scans * area)
-        per_row = hit - math.log(density) - math.log(norm)
-        held = labels[mine]
-        detected = np.bincount(held[held >= 0], minlength=n_tracks)[:n_tracks]
-        missed = np.clip(n_scans - detected, 0, None)
-        score += detected * per_row + missed * miss
-        # A report with its own noise: its own normalisation in place of the sensor's.
+    return ScoreTerms.of(labels, measurements, sensors, pd).scores(labels, chi2)
+
+
+@dataclass(frozen=True)
+class ScoreTerms:
+    """The score's terms at one estimate of the clutter densities: what a row adds when a
+    track holds it (``per_row``, per row of the table) and what each of a sensor's scans the
+    track misses costs (``miss``, with ``n_scans`` scans per sensor). The densities follow the
+    rows no track holds, so scores from one ``ScoreTerms`` compare tracks of different
+    partitions of the same table (:mod:`passive_assoc.fti.regroup`)."""
+
+    sensor: NDArray[np.int64]
+    per_row: NDArray[np.float64]
+    n_scans: NDArray[np.int64]
+    miss: float
+
+    @classmethod
+    def of(
+        cls, labels: NDArray[np.int64], measurements: MeasurementTable, sensors: SensorNetwork, pd: float
+    ) -> ScoreTerms:
+        """The terms with each sensor's density from the rows ``labels`` leaves free (-1)."""
+        sensor = np.asarray(measurements.sensor, dtype=np.int64)
+        planar = sensors.ndim == 2
+        per_row = np.zeros(len(sensor))
+        n_scans = np.zeros(sensors.n_sensors, dtype=np.int64)
+        hit = math.log(pd)
         own_az, own_el = measurements.report_sigmas(sensors)
-        ratio = own_az[mine] / sigma_az
-        if not planar:
-            ratio = ratio * own_el[mine] / float(sensors.sigma_elevation[j])
-        taken = held >= 0
-        score -= np.bincount(held[taken], weights=np.log(ratio[taken]), minlength=n_tracks)[:n_tracks]
-    return score
+        for j in range(sensors.n_sensors):
+            mine = sensor == j
+            if not mine.any():
+                continue
+            n_scans[j] = len(np.unique(measurements.time[mine]))
+            free = labels[mine] < 0
+            area = _azimuth_arc(measurements.azimuth[mine])
+            sigma_az = float(sensors.sigma_azimuth[j])
+            if planar:
+                norm = math.sqrt(2.0 * math.pi) * sigma_az
+            else:
+                elevation = measurements.elevation[mine]
+                area *= max(float(elevation.max() - elevation.min()), 0.0)
+                norm = 2.0 * math.pi * sigma_az * float(sensors.sigma_elevation[j])
+            # Fewer than one free row, or angles with no extent (one row), still give a density.
+            area = max(area, norm)
+            density = max(int(free.sum()), 1) / (n_scans[j] * area)
+            # A report with its own noise: its own normalisation in place of the sensor's.
+            ratio = own_az[mine] / sigma_az
+            if not planar:
+                ratio = ratio * own_el[mine] / float(sensors.sigma_elevation[j])
+            per_row[mine] = hit - math.log(density) - math.log(norm) - np.log(ratio)
+        return cls(sensor, per_row, n_scans, math.log1p(-pd))
+
+    def scores(self, labels: NDArray[np.int64], chi2: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The score of each track of ``labels`` (track index per row, -1 free) with fit ``chi2``."""
+        n_tracks = len(chi2)
+        taken = labels >= 0
+        score = -0.5 * np.asarray(chi2, dtype=float)
+        score += np.bincount(labels[taken], weights=self.per_row[taken], minlength=n_tracks)[:n_tracks]
+        n_sensors = len(self.n_scans)
+        detected = np.zeros((n_tracks, n_sensors), dtype=np.int64)
+        np.add.at(detected, (labels[taken], self.sensor[taken]), 1)
+        missed = np.clip(self.n_scans - detected, 0, None)
+        # A sensor with no row in the table has no scan: nothing to miss.
+        out: NDArray[np.float64] = score + self.miss * missed.sum(axis=1)
+        return out
+
+    def score(self, rows: NDArray[np.int64], chi2: float) -> float:
+        """The score of one track holding ``rows`` with fit ``chi2``."""
+        detected = np.bincount(self.sensor[rows], minlength=len(self.n_scans))
+        missed = np.clip(self.n_scans - detected, 0, None)
+        return float(self.per_row[rows].sum() + self.miss * missed.sum() - 0.5 * chi2)
 
 
 def _azimuth_arc(azimuth: NDArray[np.float64]) -> float:

@@ -1,0 +1,217 @@
+"""Regrouping (a project extension, 3-D; docs/methods.md §1, *Regrouping*): each track's
+measurements initiated again together with the free measurements whose lines of sight meet
+theirs, and the track replaced by the tracks found there when their summed score beats its
+own.
+
+Where many targets share the sky of three sensors, a third sensor's rays confirm ghosts as
+well as targets: a ghost track can hold one sensor's rows of a target and other sensors'
+rows of other targets, with a score like a target's. Accepted first, it leaves those
+targets' remaining rows free, and no later pass can rebuild them. Started from the ghost's
+own rows and the free rows that meet them, the initiation finds the targets again: the rows
+of a target the ghost holds at one sensor meet that target's free rows at the others.
+
+For each track in turn (in the pipeline's order), the neighbourhood is every free row of
+another sensor, from the two of its scans around the track row's time, whose line of sight
+meets the track row's within the ray gate (``ray_gate_sigmas`` standard deviations of the
+crossing plus ``v_max`` times the time between them, as in the candidate formation) in front
+of both sensors. The initiation on the track's rows and that neighbourhood (the same
+settings, without the sweep: the track's rows start the rounds) gives tracks. Those holding
+any of the track's rows replace it when their summed score, at the clutter densities of the
+first result (:class:`~.score.ScoreTerms`), exceeds the track's by more than :data:`MARGIN`
+plus what the free rows they take are worth on their own: the summed score of the tracks
+that take those rows in the initiation on the neighbourhood alone. Without that second term
+two tracks each mixing two targets could replace one target's track, the other target's
+rows having been free. The track's rows the new tracks leave become free.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..data import MeasurementTable, SensorNetwork
+from .score import ScoreTerms
+
+#: How much more (natural log) the replacing tracks' summed score must be than the track's:
+#: a margin over a refit's noise. Measured with 5 (docs/methods.md §1, *Regrouping*).
+MARGIN = 5.0
+
+
+@dataclass
+class Found:
+    """Tracks as the core returns them: ``labels`` (track per row, -1 free) and per track its
+    state, covariance, closeness and fit χ². A replaced track keeps its index with no rows
+    (``alive`` False) until :meth:`compact`."""
+
+    labels: NDArray[np.int64]
+    states: list[NDArray[np.float64]]
+    covariances: list[NDArray[np.float64]]
+    closeness: list[float]
+    chi2: list[float]
+    alive: list[bool]
+
+    @classmethod
+    def of(cls, out: object) -> Found:
+        """From the core's initiation result."""
+        n = len(out.chi2)  # type: ignore[attr-defined]
+        return cls(
+            np.array(out.labels, dtype=np.int64),  # type: ignore[attr-defined]
+            [np.asarray(out.estimates[k]) for k in range(n)],  # type: ignore[attr-defined]
+            [np.asarray(out.covariances[k]) for k in range(n)],  # type: ignore[attr-defined]
+            [float(x) for x in out.closeness],  # type: ignore[attr-defined]
+            [float(x) for x in out.chi2],  # type: ignore[attr-defined]
+            [True] * n,
+        )
+
+    def compact(self) -> Found:
+        """The live tracks renumbered 0, 1, ... in their order."""
+        keep = [k for k, a in enumerate(self.alive) if a]
+        index = np.full(len(self.alive) + 1, -1, dtype=np.int64)
+        index[keep] = np.arange(len(keep))
+        return Found(
+            index[self.labels],  # label -1 reads the last entry, -1
+            [self.states[k] for k in keep],
+            [self.covariances[k] for k in keep],
+            [self.closeness[k] for k in keep],
+            [self.chi2[k] for k in keep],
+            [True] * len(keep),
+        )
+
+
+class Neighbourhood:
+    """The free rows whose lines of sight meet a set of rows' (module doc)."""
+
+    def __init__(
+        self,
+        measurements: MeasurementTable,
+        sensors: SensorNetwork,
+        gate_sigmas: float | None,
+        v_max: float | None,
+    ) -> None:
+        self.sensor = np.asarray(measurements.sensor, dtype=np.int64)
+        self.time = np.asarray(measurements.time, dtype=float)
+        az, el = np.asarray(measurements.azimuth), np.asarray(measurements.elevation)
+        self.direction = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+        # Each report's own sensor position where the table has one (moving platforms).
+        self.origin = np.asarray(sensors.position_at(self.sensor, self.time), dtype=float)
+        if measurements.sensor_position is not None:
+            own = np.asarray(measurements.sensor_position, dtype=float)
+            self.origin = np.where(np.isnan(own), self.origin, own)
+        sigma_az, sigma_el = measurements.report_sigmas(sensors)
+        self.sigma = np.maximum(sigma_az, sigma_el)
+        self.gate, self.v_max = gate_sigmas, v_max
+        # Per sensor: its scan times, ascending, and the rows of each scan.
+        self.scans: list[NDArray[np.float64]] = []
+        self.rows: list[list[NDArray[np.int64]]] = []
+        for j in range(sensors.n_sensors):
+            mine = np.flatnonzero(self.sensor == j)
+            times, scan = np.unique(self.time[mine], return_inverse=True)
+            self.scans.append(times)
+            self.rows.append([mine[scan == s] for s in range(len(times))])
+
+    def around(self, sensor: int, time: float) -> list[NDArray[np.int64]]:
+        """The rows of every other sensor's two scans around ``time`` (one at the ends)."""
+        out: list[NDArray[np.int64]] = []
+        for j, times in enumerate(self.scans):
+            if j == sensor or not len(times):
+                continue
+            at = int(np.searchsorted(times, time))
+            out.extend(self.rows[j][s] for s in (at - 1, at) if 0 <= s < len(times))
+        return out
+
+    def of(self, rows: NDArray[np.int64], free: NDArray[np.bool_]) -> NDArray[np.int64]:
+        """The free rows meeting any of ``rows``, ascending."""
+        met = np.zeros(len(free), dtype=bool)
+        for a in rows:
+            near = [r[free[r]] for r in self.around(int(self.sensor[a]), float(self.time[a]))]
+            b = np.concatenate(near) if near else np.empty(0, dtype=np.int64)
+            if not len(b):
+                continue
+            met[b[self._meets(a, b)]] = True
+        return np.flatnonzero(met)
+
+    def _meets(self, a: int, b: NDArray[np.int64]) -> NDArray[np.bool_]:
+        """Which rows of ``b`` meet row ``a`` within the gate, in front of both sensors."""
+        ua, ub = self.direction[a], self.direction[b]
+        offset = self.origin[b] - self.origin[a]
+        cos = ub @ ua
+        sin2 = 1.0 - cos * cos
+        crossing = sin2 > 1e-12  # parallel lines of sight meet nowhere in particular
+        along_a, along_b = offset @ ua, np.einsum("ij,ij->i", offset, ub)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            range_a = (along_a - cos * along_b) / sin2
+            range_b = (cos * along_a - along_b) / sin2
+        gap = offset + range_b[:, None] * ub - range_a[:, None] * ua
+        distance = np.linalg.norm(gap, axis=1)
+        ok: NDArray[np.bool_] = crossing & (range_a > 0.0) & (range_b > 0.0)
+        dt = np.abs(self.time[b] - self.time[a])
+        if self.v_max is None:
+            # Unbounded motion: rows at another time always pass, as in the ray gate.
+            if self.gate is not None:
+                noise = np.hypot(self.sigma[a] * range_a, self.sigma[b] * range_b)
+                ok &= (dt > 0.0) | (distance <= self.gate * noise)
+            return ok
+        if self.gate is not None:
+            noise = np.hypot(self.sigma[a] * range_a, self.sigma[b] * range_b)
+            ok &= distance <= self.gate * noise + self.v_max * dt
+        return ok
+
+
+def regroup(
+    found: Found,
+    terms: ScoreTerms,
+    neighbourhood: Neighbourhood,
+    initiate: Callable[[NDArray[np.int64]], Found],
+    report: Callable[[str, float], object] | None = None,
+) -> tuple[Found, int]:
+    """``found`` with each track replaced where the module doc's test says so, compacted, and
+    how many were replaced. ``initiate(rows)`` runs the initiation on those rows of the table
+    (ascending) and returns its tracks with labels over them."""
+    n_first = len(found.alive)
+    replaced = 0
+    for k in range(n_first):
+        if report is not None:
+            report("regroup", k / n_first)
+        own = np.flatnonzero(found.labels == k)
+        if not found.alive[k] or not len(own):
+            continue
+        free = found.labels < 0
+        rows = np.union1d(own, neighbourhood.of(own, free))
+        local = initiate(rows)
+        mine = found.labels[rows] == k
+        touching = [j for j in range(len(local.alive)) if np.any(mine & (local.labels == j))]
+        if not touching:
+            continue
+        new = {j: terms.score(rows[local.labels == j], local.chi2[j]) for j in touching}
+        gain = sum(new.values()) - terms.score(own, found.chi2[k])
+        if gain <= MARGIN:
+            continue
+        # The free rows they take may hold tracks of their own: what those score is lost.
+        taken = np.zeros(len(found.labels), dtype=bool)
+        for j in touching:
+            taken[rows[local.labels == j]] = True
+        others = np.setdiff1d(rows, own)
+        alone = initiate(others)
+        lost = sum(
+            terms.score(others[alone.labels == i], alone.chi2[i])
+            for i in range(len(alone.alive))
+            if np.any(taken[others[alone.labels == i]])
+        )
+        if gain - lost <= MARGIN:
+            continue
+        replaced += 1
+        found.labels[own] = -1
+        found.alive[k] = False
+        for j in touching:
+            found.labels[rows[local.labels == j]] = len(found.alive)
+            found.states.append(local.states[j])
+            found.covariances.append(local.covariances[j])
+            found.closeness.append(local.closeness[j])
+            found.chi2.append(local.chi2[j])
+            found.alive.append(True)
+    if report is not None:
+        report("regroup", 1.0)
+    return found.compact(), replaced
