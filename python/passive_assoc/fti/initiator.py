@@ -299,11 +299,12 @@ class FuzzyTrackInitiator(Configurable):
     regroup : bool
         3-D only. After the pipeline, each track's measurements are initiated again with the
         free measurements whose lines of sight meet theirs, and the track is replaced by the
-        tracks found there when their summed score is higher by more than 5 (a project
-        extension, opt-in). Where many targets share three or four sensors' sky, a ghost made
-        of several targets' rows can be accepted first and leave those targets unfound; this
-        finds them (docs/methods.md §1, *Regrouping*, has the measurements), at the cost of an
-        initiation per track: several times the time of the call. Default False.
+        tracks found there when their summed score is higher by more than 5 and by more than
+        the free rows they take score alone (a project extension, opt-in; up to four passes).
+        Where many targets share three or four sensors' sky, a ghost made of several targets'
+        rows can be accepted first and leave those targets unfound; this finds them
+        (docs/methods.md §1, *Regrouping*, has the measurements), at the cost of an
+        initiation per track and pass: two to seven times the time of the call. Default False.
     score_pd : float
         Detection probability the track score assumes (each of a sensor's scans without the
         track's measurement costs ``log(1 - score_pd)``). Default 0.9.

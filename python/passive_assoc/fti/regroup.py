@@ -21,7 +21,8 @@ first result (:class:`~.score.ScoreTerms`), exceeds the track's by more than :da
 plus what the free rows they take are worth on their own: the summed score of the tracks
 that take those rows in the initiation on the neighbourhood alone. Without that second term
 two tracks each mixing two targets could replace one target's track, the other target's
-rows having been free. The track's rows the new tracks leave become free.
+rows having been free. The track's rows the new tracks leave become free. Later passes
+(:func:`regroup`) look again at the tracks whose rows meet rows freed since.
 """
 
 from __future__ import annotations
@@ -38,6 +39,10 @@ from .score import ScoreTerms
 #: How much more (natural log) the replacing tracks' summed score must be than the track's:
 #: a margin over a refit's noise. Measured with 5 (docs/methods.md §1, *Regrouping*).
 MARGIN = 5.0
+
+#: Passes over the tracks at most (:func:`regroup`). On the scaling bench's 3 × 100 scenes
+#: (seeds 0 and 1) no pass after the third replaced a track (CHANGELOG.md).
+MAX_PASSES = 4
 
 
 @dataclass
@@ -169,49 +174,96 @@ def regroup(
 ) -> tuple[Found, int]:
     """``found`` with each track replaced where the module doc's test says so, compacted, and
     how many were replaced. ``initiate(rows)`` runs the initiation on those rows of the table
-    (ascending) and returns its tracks with labels over them."""
-    n_first = len(found.alive)
-    replaced = 0
-    for k in range(n_first):
-        if report is not None:
-            report("regroup", k / n_first)
-        own = np.flatnonzero(found.labels == k)
-        if not found.alive[k] or not len(own):
-            continue
-        free = found.labels < 0
-        rows = np.union1d(own, neighbourhood.of(own, free))
-        local = initiate(rows)
-        mine = found.labels[rows] == k
-        touching = [j for j in range(len(local.alive)) if np.any(mine & (local.labels == j))]
-        if not touching:
-            continue
-        new = {j: terms.score(rows[local.labels == j], local.chi2[j]) for j in touching}
-        gain = sum(new.values()) - terms.score(own, found.chi2[k])
-        if gain <= MARGIN:
-            continue
-        # The free rows they take may hold tracks of their own: what those score is lost.
-        taken = np.zeros(len(found.labels), dtype=bool)
-        for j in touching:
-            taken[rows[local.labels == j]] = True
-        others = np.setdiff1d(rows, own)
-        alone = initiate(others)
-        lost = sum(
-            terms.score(others[alone.labels == i], alone.chi2[i])
-            for i in range(len(alone.alive))
-            if np.any(taken[others[alone.labels == i]])
-        )
-        if gain - lost <= MARGIN:
-            continue
-        replaced += 1
-        found.labels[own] = -1
-        found.alive[k] = False
-        for j in touching:
-            found.labels[rows[local.labels == j]] = len(found.alive)
-            found.states.append(local.states[j])
-            found.covariances.append(local.covariances[j])
-            found.closeness.append(local.closeness[j])
-            found.chi2.append(local.chi2[j])
-            found.alive.append(True)
+    (ascending) and returns its tracks with labels over them.
+
+    Up to :data:`MAX_PASSES` passes: the first looks at every track; each later one at the
+    tracks with a row meeting a row freed since they were looked at or made (a replacement
+    can free what another track's replacement needed). Every
+    replacement raises the summed score of the partition by more than :data:`MARGIN`, so the
+    passes cannot undo one another."""
+    replaced, step = 0, 0
+    # The step at which each row was last freed, and at which each track was looked at.
+    stamp = np.zeros(len(found.labels), dtype=np.int64)
+    seen: list[int | None] = [None] * len(found.alive)
+    for n_pass in range(MAX_PASSES):
+        todo = [k for k in range(len(found.alive)) if found.alive[k] and _stale(k, found, seen, stamp, neighbourhood)]
+        if not todo:
+            break
+        for done, k in enumerate(todo):
+            if report is not None:
+                report("regroup", 1.0 - 0.5**n_pass * (1.0 - 0.5 * done / len(todo)))
+            if not found.alive[k]:
+                continue
+            step += 1
+            seen[k] = step
+            own = np.flatnonzero(found.labels == k)
+            taken = _replacement(k, own, found, terms, neighbourhood, initiate)
+            if taken is None:
+                continue
+            replaced += 1
+            rows, local, touching = taken
+            found.labels[own] = -1
+            found.alive[k] = False
+            for j in touching:
+                mine = rows[local.labels == j]
+                found.labels[mine] = len(found.alive)
+                found.states.append(local.states[j])
+                found.covariances.append(local.covariances[j])
+                found.closeness.append(local.closeness[j])
+                found.chi2.append(local.chi2[j])
+                found.alive.append(True)
+                seen.append(step)  # made from what the initiation saw at this step
+            # The rows of the track that no new track took are free again.
+            stamp[own[found.labels[own] < 0]] = step
     if report is not None:
         report("regroup", 1.0)
     return found.compact(), replaced
+
+
+def _stale(k: int, found: Found, seen: list[int | None], stamp: NDArray[np.int64], near: Neighbourhood) -> bool:
+    """Whether track ``k`` is to be looked at (again): never looked at, or a row meeting one
+    of its rows was freed since it was looked at or made."""
+    last = seen[k]
+    if last is None:
+        return True
+    changed = stamp > last
+    return bool(changed.any()) and len(near.of(np.flatnonzero(found.labels == k), changed)) > 0
+
+
+def _replacement(
+    k: int,
+    own: NDArray[np.int64],
+    found: Found,
+    terms: ScoreTerms,
+    neighbourhood: Neighbourhood,
+    initiate: Callable[[NDArray[np.int64]], Found],
+) -> tuple[NDArray[np.int64], Found, list[int]] | None:
+    """The initiation around track ``k`` (rows ``own``) and its tracks that replace it, as
+    ``(rows, result over rows, replacing tracks)``, or None when they do not (module doc)."""
+    if not len(own):
+        return None
+    free = found.labels < 0
+    rows = np.union1d(own, neighbourhood.of(own, free))
+    local = initiate(rows)
+    mine = found.labels[rows] == k
+    touching = [j for j in range(len(local.alive)) if np.any(mine & (local.labels == j))]
+    if not touching:
+        return None
+    gain = sum(terms.score(rows[local.labels == j], local.chi2[j]) for j in touching)
+    gain -= terms.score(own, found.chi2[k])
+    if gain <= MARGIN:
+        return None
+    # The free rows they take may hold tracks of their own: what those score is lost.
+    taken = np.zeros(len(found.labels), dtype=bool)
+    for j in touching:
+        taken[rows[local.labels == j]] = True
+    others = np.setdiff1d(rows, own)
+    alone = initiate(others)
+    lost = sum(
+        terms.score(others[alone.labels == i], alone.chi2[i])
+        for i in range(len(alone.alive))
+        if np.any(taken[others[alone.labels == i]])
+    )
+    if gain - lost <= MARGIN:
+        return None
+    return rows, local, touching
