@@ -134,3 +134,18 @@ def test_regroup_refuses_a_planar_network() -> None:
         FuzzyTrackInitiator(regroup=True).initiate(scenario.measurements, scenario.sensors, progress=False)
     with pytest.raises(TypeError, match="regroup"):
         FuzzyTrackInitiator(regroup="yes")  # type: ignore[arg-type]
+
+
+def test_regroup_gives_the_same_tracks_on_any_number_of_threads() -> None:
+    half = 20e3 * math.sqrt(50 / 20)
+    scenario = pa.ring_scenario(0, n_sensors=3, n_targets=50, half_width=half, radius=1.5 * half)
+    runs = [
+        FuzzyTrackInitiator(regroup=True, n_threads=n).initiate(
+            scenario.measurements, scenario.sensors, t0=scenario.t0, progress=False
+        )
+        for n in (1, 2)
+    ]
+    assert runs[0].diagnostics.regrouped > 0  # it replaced tracks here
+    assert runs[0].diagnostics.regrouped == runs[1].diagnostics.regrouped
+    np.testing.assert_array_equal(runs[0].labels, runs[1].labels)
+    np.testing.assert_array_equal(runs[0].states, runs[1].states)
