@@ -29,12 +29,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..data import MeasurementTable, SensorNetwork
 from .score import ScoreTerms
+
+if TYPE_CHECKING:
+    from .._core import InitiationOutput
 
 #: How much more (natural log) the replacing tracks' summed score must be than the track's:
 #: a margin over a refit's noise. Measured with 5 (docs/methods.md §1, *Regrouping*).
@@ -59,15 +63,15 @@ class Found:
     alive: list[bool]
 
     @classmethod
-    def of(cls, out: object) -> Found:
+    def of(cls, out: InitiationOutput) -> Found:
         """From the core's initiation result."""
-        n = len(out.chi2)  # type: ignore[attr-defined]
+        n = len(out.chi2)
         return cls(
-            np.array(out.labels, dtype=np.int64),  # type: ignore[attr-defined]
-            [np.asarray(out.estimates[k]) for k in range(n)],  # type: ignore[attr-defined]
-            [np.asarray(out.covariances[k]) for k in range(n)],  # type: ignore[attr-defined]
-            [float(x) for x in out.closeness],  # type: ignore[attr-defined]
-            [float(x) for x in out.chi2],  # type: ignore[attr-defined]
+            np.array(out.labels, dtype=np.int64),
+            [np.asarray(out.estimates[k]) for k in range(n)],
+            [np.asarray(out.covariances[k]) for k in range(n)],
+            [float(x) for x in out.closeness],
+            [float(x) for x in out.chi2],
             [True] * n,
         )
 
