@@ -86,7 +86,7 @@ class InitiationDiagnostics:
         ``chi2_gate``, ``supported`` (kept by the support gate), ``optima`` (descents run: as
         ``supported`` unless a pass searched in stages, ``search_stage``), ``merged`` (optima
         after merging) and ``detected`` (targets detection accepted; the final tests may
-        dissolve some, so ``len(tracks)`` can be smaller).
+        dissolve some and regrouping replace some, so ``len(tracks)`` can differ).
     descent_iterations : ndarray of int
         Iterations of each descent, in candidate order.
     stage_seconds : dict of str to float
@@ -392,7 +392,8 @@ class FuzzyTrackInitiator(Configurable):
             it on a terminal once the call has run 2 s, True always, False never. A callable
             gets the reports instead, ``progress(stage, fraction)`` (stages ``"candidates"``
             and ``"search"``, once per pass, each from 0 to 1; at most one every 0.2 s within
-            a stage), on one of the call's threads; raising in it stops the call, and is raised.
+            a stage; then ``"regroup"`` with ``regroup=True``, once a track), on one of the
+            call's threads; raising in it stops the call, and is raised.
 
         Returns
         -------
