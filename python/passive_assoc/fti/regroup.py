@@ -182,9 +182,9 @@ def regroup(
 
     Up to :data:`MAX_PASSES` passes: the first looks at every track; each later one at the
     tracks with a row meeting a row freed since they were looked at or made (a replacement
-    can free what another track's replacement needed). Every
-    replacement raises the summed score of the partition by more than :data:`MARGIN`, so the
-    passes cannot undo one another."""
+    can free what another track's replacement needed). Every replacement raises the summed
+    score of the partition by more than :data:`MARGIN`, so the passes cannot undo one
+    another."""
     replaced, step = 0, 0
     # The step at which each row was last freed, and at which each track was looked at.
     stamp = np.zeros(len(found.labels), dtype=np.int64)
@@ -257,14 +257,15 @@ def _replacement(
     gain -= terms.score(own, found.chi2[k])
     if gain <= MARGIN:
         return None
-    # The free rows they take may hold tracks of their own: what those score is lost.
+    # The free rows they take may hold tracks of their own: what those score is lost (a track
+    # scoring below 0 is worth less than its rows left free).
     taken = np.zeros(len(found.labels), dtype=bool)
     for j in touching:
         taken[rows[local.labels == j]] = True
     others = np.setdiff1d(rows, own)
     alone = initiate(others)
     lost = sum(
-        terms.score(others[alone.labels == i], alone.chi2[i])
+        max(terms.score(others[alone.labels == i], alone.chi2[i]), 0.0)
         for i in range(len(alone.alive))
         if np.any(taken[others[alone.labels == i]])
     )
