@@ -69,16 +69,39 @@ def test_neighbourhood_reads_a_moving_sensors_position() -> None:
     assert Neighbourhood(fixed, sensors, 5.0, 500.0).of(np.array([0]), free).tolist() == []
 
 
-def test_score_terms_give_each_track_its_track_score() -> None:
+def test_score_terms_follow_the_documented_formula() -> None:
+    """The score of `passive_assoc.fti.score`'s doc, worked by hand on seven rows."""
+    sensors = pa.SensorNetwork(np.array([[0.0, 0.0, 0.0], [1e3, 0.0, 0.0]]), np.full(2, 0.01), np.full(2, 0.01))
+    table = pa.MeasurementTable.from_arrays(
+        np.array([0, 0, 0, 0, 1, 1, 1]),
+        np.array([0.0, 0.0, 1.0, 2.0, 0.0, 1.0, 1.0]),
+        np.array([0.0, 0.2, 0.1, 0.4, 1.0, 1.5, 1.1]),
+        np.array([0.1, 0.3, 0.2, 0.1, 0.0, 0.5, 0.2]),
+    )
+    labels = np.array([0, -1, 0, -1, 0, 1, -1])
+    chi2 = np.array([2.0, 0.5])
+    norm, hit, miss = 2 * math.pi * 0.01 * 0.01, math.log(0.9), math.log(0.1)
+    # Sensor 0: 3 scans, azimuth arc 0.4 × elevation 0.2, 2 free rows; sensor 1: 2 scans,
+    # 0.5 × 0.5, 1 free row.
+    row0 = hit - math.log(2 / (3 * 0.4 * 0.2)) - math.log(norm)
+    row1 = hit - math.log(1 / (2 * 0.5 * 0.5)) - math.log(norm)
+    want = [2 * row0 + row1 + 2 * miss - 1.0, row1 + 4 * miss - 0.25]
+    np.testing.assert_allclose(track_scores(labels, chi2, table, sensors, 0.9), want, rtol=1e-12)
+    terms = ScoreTerms.of(labels, table, sensors, 0.9)
+    np.testing.assert_allclose(terms.scores(labels, chi2), want, rtol=1e-12)
+    one_by_one = [terms.score(np.flatnonzero(labels == k), chi2[k]) for k in (0, 1)]
+    np.testing.assert_allclose(one_by_one, want, rtol=1e-12)
+
+
+def test_score_terms_score_a_scene_track_by_track_as_the_initiator_does() -> None:
     scenario = pa.ring_scenario(3, n_sensors=3, n_targets=10)
     result = FuzzyTrackInitiator(min_score=None).initiate(
         scenario.measurements, scenario.sensors, t0=scenario.t0, progress=False
     )
     chi2 = np.array([t.chi2 for t in result.tracks])
     assert len(chi2) >= 8
-    scores = track_scores(result.labels, chi2, scenario.measurements, scenario.sensors, 0.9)
     terms = ScoreTerms.of(result.labels, scenario.measurements, scenario.sensors, 0.9)
-    np.testing.assert_allclose(terms.scores(result.labels, chi2), scores, rtol=1e-12)
+    scores = terms.scores(result.labels, chi2)
     one_by_one = [terms.score(t.measurements, t.chi2) for t in result.tracks]
     np.testing.assert_allclose(one_by_one, scores, rtol=1e-12)
     np.testing.assert_allclose([t.score for t in result.tracks], scores, rtol=1e-12)
