@@ -205,11 +205,10 @@ def regroup(
             if taken is None:
                 continue
             replaced += 1
-            rows, local, touching = taken
+            local, held = taken
             found.labels[own] = -1
             found.alive[k] = False
-            for j in touching:
-                mine = rows[local.labels == j]
+            for j, mine in held.items():
                 found.labels[mine] = len(found.alive)
                 found.states.append(local.states[j])
                 found.covariances.append(local.covariances[j])
@@ -241,27 +240,26 @@ def _replacement(
     terms: ScoreTerms,
     neighbourhood: Neighbourhood,
     initiate: Callable[[NDArray[np.int64]], Found],
-) -> tuple[NDArray[np.int64], Found, list[int]] | None:
-    """The initiation around track ``k`` (rows ``own``) and its tracks that replace it, as
-    ``(rows, result over rows, replacing tracks)``, or None when they do not (module doc)."""
+) -> tuple[Found, dict[int, NDArray[np.int64]]] | None:
+    """The initiation around track ``k`` (rows ``own``) and its tracks that replace it, each
+    with the table's rows it holds, or None when they do not (module doc)."""
     if not len(own):
         return None
     free = found.labels < 0
     rows = np.union1d(own, neighbourhood.of(own, free))
     local = initiate(rows)
     mine = found.labels[rows] == k
-    touching = [j for j in range(len(local.alive)) if np.any(mine & (local.labels == j))]
-    if not touching:
+    held = {j: rows[local.labels == j] for j in range(len(local.alive)) if np.any(mine & (local.labels == j))}
+    if not held:
         return None
-    gain = sum(terms.score(rows[local.labels == j], local.chi2[j]) for j in touching)
+    gain = sum(terms.score(held_j, local.chi2[j]) for j, held_j in held.items())
     gain -= terms.score(own, found.chi2[k])
     if gain <= MARGIN:
         return None
     # The free rows they take may hold tracks of their own: what those score is lost (a track
     # scoring below 0 is worth less than its rows left free).
     taken = np.zeros(len(found.labels), dtype=bool)
-    for j in touching:
-        taken[rows[local.labels == j]] = True
+    taken[np.concatenate(list(held.values()))] = True
     others = np.setdiff1d(rows, own)
     alone = initiate(others)
     lost = sum(
@@ -271,4 +269,4 @@ def _replacement(
     )
     if gain - lost <= MARGIN:
         return None
-    return rows, local, touching
+    return local, held
