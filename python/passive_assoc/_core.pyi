@@ -32,6 +32,7 @@ __all__ = [
     "InitiationOutput",
     "IntensityLevel",
     "IntensityResult",
+    "RayNeighbourhood",
     "ScanPairs",
     "SdResult",
     "StageCounts",
@@ -277,6 +278,13 @@ def initiate(
     settings: FuzzyTrackInitiator,
     progress: Callable[[str, float], object] | None = None,
 ) -> InitiationOutput: ...
+@final
+class RayNeighbourhood:
+    def __new__(
+        cls, measurements: MeasurementTable, sensors: SensorNetwork, ray_gate_sigmas: float | None, v_max: float | None
+    ) -> RayNeighbourhood: ...
+    def of(self, rows: NDArray[np.int64], free: NDArray[np.bool_]) -> NDArray[np.int64]: ...
+
 def closeness(
     measurements: MeasurementTable,
     sensors: SensorNetwork,

@@ -5,8 +5,8 @@ use numpy::{PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
 use super::convert::{
-    count, owned, parse, row_major, slice1, slice2, threads, to_numpy, F64Array, I64Array,
-    MeasurementsArg, SensorsArg,
+    count, owned, parse, row_major, slice1, slice2, threads, to_numpy, to_usize, F64Array,
+    I64Array, MeasurementsArg, SensorsArg,
 };
 use super::errors::{value_error, BindError, BindResult};
 use super::interrupt;
@@ -15,7 +15,7 @@ use passive_assoc_core::data::Sensors;
 use passive_assoc_core::error::ensure_finite;
 use passive_assoc_core::fti::{
     closeness_batch, descend_from, initiate_reporting, DescentOptions, Initiation,
-    InitiationOptions, Precomputed, Spreads, StageCounts as CoreCounts,
+    InitiationOptions, Neighbourhood, Precomputed, Spreads, StageCounts as CoreCounts,
     StageSeconds as CoreSeconds,
 };
 use passive_assoc_core::parallel::with_threads;
@@ -247,6 +247,50 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
             },
         )?,
     })
+}
+
+/// Regrouping's neighbourhood (core `fti::Neighbourhood`): a 3-D table's rows as lines of
+/// sight with the ray gate's settings, built once; `of(rows, free)` gives the free rows
+/// meeting any of `rows`, ascending.
+#[pyclass(frozen, module = "passive_assoc._core")]
+pub struct RayNeighbourhood {
+    inner: Neighbourhood,
+}
+
+#[pymethods]
+impl RayNeighbourhood {
+    #[new]
+    #[pyo3(signature = (measurements, sensors, ray_gate_sigmas, v_max))]
+    fn new(
+        py: Python<'_>,
+        measurements: MeasurementsArg<'_>,
+        sensors: SensorsArg<'_>,
+        ray_gate_sigmas: Option<f64>,
+        v_max: Option<f64>,
+    ) -> BindResult<Self> {
+        let network = sensors.view()?;
+        let columns = measurements.columns(network.space())?;
+        let table = columns.view(&network)?;
+        let options = InitiationOptions::default()
+            .with_ray_gate_sigmas(ray_gate_sigmas)?
+            .with_v_max(v_max)?;
+        let inner = interrupt::detach(py, || Neighbourhood::new(&network, &table, &options))??;
+        Ok(Self { inner })
+    }
+
+    /// The free rows (`free`: one flag per row) meeting any of `rows`, ascending.
+    fn of(
+        &self,
+        py: Python<'_>,
+        rows: PyReadonlyArray1<'_, i64>,
+        free: PyReadonlyArray1<'_, bool>,
+    ) -> BindResult<Py<PyArrayDyn<i64>>> {
+        let rows = to_usize("rows", slice1("rows", &rows)?)?;
+        let free = slice1("free", &free)?.to_vec();
+        let inner = &self.inner;
+        let met = interrupt::detach(py, || inner.of(&rows, &free))??;
+        owned(py, met.into_iter().map(|m| m as i64).collect())
+    }
 }
 
 /// R and ∂R/∂X0 (METHODS §1 eq. 17–18) at each row of `states` (P, 4 or 6); returns

@@ -53,6 +53,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fti::InitiationOutput>()?;
     m.add_class::<fti::StageCounts>()?;
     m.add_class::<fti::StageSeconds>()?;
+    m.add_class::<fti::RayNeighbourhood>()?;
     m.add_class::<static_los::Candidates>()?;
     m.add_class::<static_los::EnumerationStages>()?;
     m.add_class::<static_los::IntensityResult>()?;

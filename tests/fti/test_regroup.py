@@ -69,6 +69,29 @@ def test_neighbourhood_reads_a_moving_sensors_position() -> None:
     assert Neighbourhood(fixed, sensors, 5.0, 500.0).of(np.array([0]), free).tolist() == []
 
 
+def test_neighbourhood_names_what_it_refuses() -> None:
+    sensors = pa.SensorNetwork(np.array([[0.0, 0.0, 0.0], [30e3, 0.0, 100.0]]), np.full(2, 4e-3), np.full(2, 4e-3))
+    table = pa.MeasurementTable.from_arrays(
+        np.array([0, 1]), np.array([0.0, 1.0]), np.array([0.5, 2.0]), np.array([0.1, 0.1])
+    )
+    near = Neighbourhood(table, sensors, 5.0, 500.0)
+    free = np.ones(2, dtype=bool)
+    with pytest.raises(ValueError, match="rows"):
+        near.of(np.array([2]), free)
+    with pytest.raises(ValueError, match="rows"):
+        near.of(np.array([-1]), free)
+    with pytest.raises(ValueError, match="free"):
+        near.of(np.array([0]), free[:1])
+    with pytest.raises(ValueError, match="ray_gate_sigmas"):
+        Neighbourhood(table, sensors, -1.0, 500.0)
+    with pytest.raises(ValueError, match="v_max"):
+        Neighbourhood(table, sensors, 5.0, 0.0)
+    planar = pa.SensorNetwork.planar(np.array([[0.0, 0.0], [30e3, 0.0]]), np.full(2, 4e-3))
+    flat = pa.MeasurementTable.from_arrays(np.array([0, 1]), np.array([0.0, 1.0]), np.array([0.5, 2.0]))
+    with pytest.raises(ValueError, match="sensors"):
+        Neighbourhood(flat, planar, 5.0, 500.0)
+
+
 def test_score_terms_follow_the_documented_formula() -> None:
     """The score of `passive_assoc.fti.score`'s doc, worked by hand on seven rows."""
     sensors = pa.SensorNetwork(np.array([[0.0, 0.0, 0.0], [1e3, 0.0, 0.0]]), np.full(2, 0.01), np.full(2, 0.01))

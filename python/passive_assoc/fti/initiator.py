@@ -304,7 +304,7 @@ class FuzzyTrackInitiator(Configurable):
         Where many targets share three or four sensors' sky, a ghost made of several targets'
         rows can be accepted first and leave those targets unfound; this finds them
         (docs/methods.md §1, *Regrouping*, has the measurements), at the cost of an
-        initiation per track and pass: two to seven times the time of the call. Default False.
+        initiation per track and pass: two to five times the time of the call. Default False.
     score_pd : float
         Detection probability the track score assumes (each of a sensor's scans without the
         track's measurement costs ``log(1 - score_pd)``). Default 0.9.

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import _core
 from ..data import MeasurementTable, SensorNetwork
 from .score import ScoreTerms
 
@@ -91,7 +92,8 @@ class Found:
 
 
 class Neighbourhood:
-    """The free rows whose lines of sight meet a set of rows' (module doc)."""
+    """The free rows whose lines of sight meet a set of rows' (module doc), by the core's ray
+    gate: the candidate formation's own test."""
 
     def __init__(
         self,
@@ -100,73 +102,11 @@ class Neighbourhood:
         gate_sigmas: float | None,
         v_max: float | None,
     ) -> None:
-        self.sensor = np.asarray(measurements.sensor, dtype=np.int64)
-        self.time = np.asarray(measurements.time, dtype=float)
-        az, el = np.asarray(measurements.azimuth), np.asarray(measurements.elevation)
-        self.direction = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
-        # Each report's own sensor position where the table has one (moving platforms).
-        self.origin = np.asarray(sensors.position_at(self.sensor, self.time), dtype=float)
-        if measurements.sensor_position is not None:
-            own = np.asarray(measurements.sensor_position, dtype=float)
-            self.origin = np.where(np.isnan(own), self.origin, own)
-        sigma_az, sigma_el = measurements.report_sigmas(sensors)
-        self.sigma = np.maximum(sigma_az, sigma_el)
-        self.gate, self.v_max = gate_sigmas, v_max
-        # Per sensor: its scan times, ascending, and the rows of each scan.
-        self.scans: list[NDArray[np.float64]] = []
-        self.rows: list[list[NDArray[np.int64]]] = []
-        for j in range(sensors.n_sensors):
-            mine = np.flatnonzero(self.sensor == j)
-            times, scan = np.unique(self.time[mine], return_inverse=True)
-            self.scans.append(times)
-            self.rows.append([mine[scan == s] for s in range(len(times))])
-
-    def around(self, sensor: int, time: float) -> list[NDArray[np.int64]]:
-        """The rows of every other sensor's two scans around ``time`` (one at the ends)."""
-        out: list[NDArray[np.int64]] = []
-        for j, times in enumerate(self.scans):
-            if j == sensor or not len(times):
-                continue
-            at = int(np.searchsorted(times, time))
-            out.extend(self.rows[j][s] for s in (at - 1, at) if 0 <= s < len(times))
-        return out
+        self._rays = _core.RayNeighbourhood(measurements, sensors, gate_sigmas, v_max)
 
     def of(self, rows: NDArray[np.int64], free: NDArray[np.bool_]) -> NDArray[np.int64]:
         """The free rows meeting any of ``rows``, ascending."""
-        met = np.zeros(len(free), dtype=bool)
-        for a in rows:
-            near = [r[free[r]] for r in self.around(int(self.sensor[a]), float(self.time[a]))]
-            b = np.concatenate(near) if near else np.empty(0, dtype=np.int64)
-            if not len(b):
-                continue
-            met[b[self._meets(a, b)]] = True
-        return np.flatnonzero(met)
-
-    def _meets(self, a: int, b: NDArray[np.int64]) -> NDArray[np.bool_]:
-        """Which rows of ``b`` meet row ``a`` within the gate, in front of both sensors."""
-        ua, ub = self.direction[a], self.direction[b]
-        offset = self.origin[b] - self.origin[a]
-        cos = ub @ ua
-        sin2 = 1.0 - cos * cos
-        crossing = sin2 > 1e-12  # parallel lines of sight meet nowhere in particular
-        along_a, along_b = offset @ ua, np.einsum("ij,ij->i", offset, ub)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            range_a = (along_a - cos * along_b) / sin2
-            range_b = (cos * along_a - along_b) / sin2
-        gap = offset + range_b[:, None] * ub - range_a[:, None] * ua
-        distance = np.linalg.norm(gap, axis=1)
-        ok: NDArray[np.bool_] = crossing & (range_a > 0.0) & (range_b > 0.0)
-        dt = np.abs(self.time[b] - self.time[a])
-        if self.v_max is None:
-            # Unbounded motion: rows at another time always pass, as in the ray gate.
-            if self.gate is not None:
-                noise = np.hypot(self.sigma[a] * range_a, self.sigma[b] * range_b)
-                ok &= (dt > 0.0) | (distance <= self.gate * noise)
-            return ok
-        if self.gate is not None:
-            noise = np.hypot(self.sigma[a] * range_a, self.sigma[b] * range_b)
-            ok &= distance <= self.gate * noise + self.v_max * dt
-        return ok
+        return self._rays.of(np.asarray(rows, dtype=np.int64), np.asarray(free, dtype=bool))
 
 
 def regroup(

@@ -87,7 +87,7 @@ fn normal(space: Space, [oa, ob]: &[Observation; 2]) -> Option<([f64; 3], f64)> 
 }
 
 /// Meeting of the lines of sight of two observations (of different sensors).
-fn meet(space: Space, oa: &Observation, ob: &Observation) -> Option<Meeting> {
+pub(super) fn meet(space: Space, oa: &Observation, ob: &Observation) -> Option<Meeting> {
     let time = 0.5 * (oa.time + ob.time);
     match space {
         Space::Planar => {
@@ -184,17 +184,33 @@ pub(super) fn ray_pairs(
 
 fn ray_gate_passes(
     problem: &Problem<'_>,
-    [oa, ob]: [&Observation; 2],
+    observations: [&Observation; 2],
     meeting: Option<&Meeting>,
     options: &InitiationOptions,
 ) -> bool {
-    let Some(gate) = options.ray_gate_sigmas() else {
+    let (gate, v_max) = (options.ray_gate_sigmas(), options.v_max());
+    ray_gate(problem.layout.space, gate, v_max, observations, meeting)
+}
+
+/// The ray gate (module `candidates`) of two observations and their `meeting`, with
+/// `ray_gate_sigmas` = `gate` and `v_max`: the closest-point distance within `gate` standard
+/// deviations of the crossing plus how far `v_max` moves the target between the samples.
+/// Vacuous in 2-D, with no `gate`, and between samples at different times with no `v_max`;
+/// parallel rays (no meeting) fail it otherwise.
+pub(super) fn ray_gate(
+    space: Space,
+    gate: Option<f64>,
+    v_max: Option<f64>,
+    [oa, ob]: [&Observation; 2],
+    meeting: Option<&Meeting>,
+) -> bool {
+    let Some(gate) = gate else {
         return true;
     };
-    if problem.layout.space == Space::Planar {
+    if space == Space::Planar {
         return true; // lines in the plane always meet: the rule is vacuous
     }
-    let motion = match options.v_max() {
+    let motion = match v_max {
         Some(v) => v * (oa.time - ob.time).abs(),
         None if oa.time != ob.time => return true, // unbounded motion between the samples
         None => 0.0,
