@@ -79,7 +79,8 @@ impl Neighbourhood {
     }
 
     /// The rows with `free` set (one flag per row) that meet any of `rows` (module doc),
-    /// ascending. Runs on the current rayon pool; the answer does not depend on it.
+    /// ascending. Runs on the current rayon pool; the answer does not depend on it. Asked to
+    /// stop (Ctrl-C), it stops between rows with [`CoreError::Interrupted`].
     pub fn of(&self, rows: &[usize], free: &[bool]) -> CoreResult<Vec<usize>> {
         let n = self.len();
         if free.len() != n {
@@ -94,7 +95,15 @@ impl Neighbourhood {
                 format!("row {bad} is past the table's {n} rows"),
             ));
         }
-        let met: Vec<Vec<usize>> = rows.par_iter().map(|&a| self.meeting(a, free)).collect();
+        let met: Vec<Vec<usize>> = (rows.par_iter())
+            .map(|&a| match crate::parallel::interrupted() {
+                true => Vec::new(),
+                false => self.meeting(a, free),
+            })
+            .collect();
+        if crate::parallel::interrupted() {
+            return Err(CoreError::Interrupted);
+        }
         let mut out: Vec<usize> = met.into_iter().flatten().collect();
         out.sort_unstable();
         out.dedup();
