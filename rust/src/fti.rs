@@ -286,9 +286,9 @@ impl RayNeighbourhood {
         free: PyReadonlyArray1<'_, bool>,
     ) -> BindResult<Py<PyArrayDyn<i64>>> {
         let rows = to_usize("rows", slice1("rows", &rows)?)?;
-        let free = slice1("free", &free)?.to_vec();
+        let free = slice1("free", &free)?;
         let inner = &self.inner;
-        let met = interrupt::detach(py, || inner.of(&rows, &free))??;
+        let met = interrupt::detach(py, || inner.of(&rows, free))??;
         owned(py, met.into_iter().map(|m| m as i64).collect())
     }
 }

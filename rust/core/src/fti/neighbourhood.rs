@@ -24,8 +24,8 @@ use crate::geometry::model::{Observation, Space};
 pub struct Neighbourhood {
     observations: Vec<Observation>,
     sensor: Vec<usize>,
-    /// Per sensor, its scans in time order: the time and the rows, ascending.
-    scans: Vec<Vec<(f64, Vec<usize>)>>,
+    /// The rows by sensor and scan, each sensor's scans in time order.
+    scans: Scans,
     gate: Option<f64>,
     v_max: Option<f64>,
 }
@@ -45,24 +45,12 @@ impl Neighbourhood {
             ));
         }
         let n = measurements.len();
-        let table = Scans::new(measurements, sensors.len());
-        let scans = (table.per_sensor.iter())
-            .map(|own| {
-                own.iter()
-                    .map(|&k| {
-                        let mut rows = table.scan(k).to_vec();
-                        rows.sort_unstable();
-                        (measurements.time(rows[0]), rows)
-                    })
-                    .collect()
-            })
-            .collect();
         Ok(Self {
             observations: (0..n)
                 .map(|m| measurements.observation(sensors, m))
                 .collect(),
             sensor: (0..n).map(|m| measurements.sensor(m)).collect(),
-            scans,
+            scans: Scans::new(measurements, sensors.len()),
             gate: options.ray_gate_sigmas(),
             v_max: options.v_max(),
         })
@@ -114,14 +102,16 @@ impl Neighbourhood {
     fn meeting(&self, a: usize, free: &[bool]) -> Vec<usize> {
         let oa = &self.observations[a];
         let mut out = Vec::new();
-        for (j, scans) in self.scans.iter().enumerate() {
+        // A scan's time is its first row's (its rows share one).
+        let time = |k: usize| self.observations[self.scans.scan(k)[0]].time;
+        for (j, own) in self.scans.per_sensor.iter().enumerate() {
             if j == self.sensor[a] {
                 continue;
             }
-            let at = scans.partition_point(|(time, _)| *time < oa.time);
-            let around = at.saturating_sub(1)..(at + 1).min(scans.len());
-            for (_, scan) in &scans[around] {
-                for &b in scan.iter().filter(|&&b| free[b]) {
+            let at = own.partition_point(|&k| time(k) < oa.time);
+            let around = at.saturating_sub(1)..(at + 1).min(own.len());
+            for &k in &own[around] {
+                for &b in self.scans.scan(k).iter().filter(|&&b| free[b]) {
                     if self.meets(oa, &self.observations[b]) {
                         out.push(b);
                     }
