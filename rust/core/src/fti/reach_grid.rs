@@ -2,13 +2,17 @@
 //! `v_max · max(t_last − t_first)` (the *reach*) around a first pair's meeting: the last pairs
 //! that may pass `v_max` with it (module `combine`).
 //!
-//! Cells are cubes at least a reach wide, so a ball meets only the 3 × 3 (× 3) cells around its
-//! centre's; each of those cells' meetings is tested against the ball. The cell is widened past
-//! the reach where the scene would need more than [`MAX_CELLS_PER_AXIS`] of them along an axis
-//! (a tiny reach in a large scene), which only puts more meetings in each tested cell. A grid
-//! visits about six meetings per meeting in the ball (the ball fills a sixth of its 27 cells):
-//! plain arithmetic, where an R*-tree's walk cost more per meeting found, and the visits need no
-//! sorting (the survivors of a visit are sorted instead, and they are few).
+//! Cells are cubes half a reach wide ([`CELLS_PER_REACH`]). A query looks only at the cells the
+//! ball may reach: along x and y those within a reach of the centre, and in each such column of
+//! cells only the z range the ball spans at the column's nearest point. Each of those cells'
+//! meetings is tested against the ball, reading only its position (a compact array of its
+//! own); the record the tests read is fetched for the meetings in the ball. On the ring
+//! 5 × 100 scene this tests three and a half meetings per meeting in the ball, where cells a
+//! reach wide (the 3 × 3 × 3 around the centre's) tested six and a half (CHANGELOG.md). The
+//! cell is widened where the scene would need more than [`MAX_CELLS_PER_AXIS`] of them along
+//! an axis (a tiny reach in a large scene), which only puts more meetings in each tested cell.
+//! Plain arithmetic, where an R*-tree's walk cost more per meeting found, and the visits need
+//! no sorting (the survivors of a visit are sorted instead, and they are few).
 
 use rayon::prelude::*;
 
@@ -19,17 +23,27 @@ use crate::geometry::model::Space;
 /// Below this many reaches along the scene's longest side the grid prunes too little to pay.
 const MIN_CELLS_ACROSS: f64 = 4.0;
 
+/// Cells per reach along an axis (where [`MAX_CELLS_PER_AXIS`] allows).
+const CELLS_PER_REACH: f64 = 2.0;
+
 /// Cells along one axis at most: 64³ cells of offsets in 3-D (2 MB) at the very worst.
 const MAX_CELLS_PER_AXIS: usize = 64;
+
+/// A hair of slack on the ball's extent when choosing cells, so that rounding never leaves
+/// out a cell holding a meeting at the ball's edge (the exact test decides those).
+const SLACK: f64 = 1e-9;
 
 pub(super) struct Grid {
     reach2: f64,
     origin: [f64; 3],
-    /// Cells per unit of length (one over the cell's side).
+    /// A cell's side, and cells per unit of length (one over it).
+    side: f64,
     scale: f64,
     cells: [usize; 3],
     /// The meetings of cell `c` are `entries[starts[c]..starts[c + 1]]`.
     starts: Vec<usize>,
+    /// The meetings' points, in `entries` order: all a test against the ball reads.
+    points: Vec<[f64; 3]>,
     /// Last pair index and what the tests read of it, by cell, ascending within a cell: a
     /// visit reads the cells' records in memory order.
     entries: Vec<(usize, Motion)>,
@@ -61,7 +75,7 @@ impl Grid {
         if !across.is_finite() || across < MIN_CELLS_ACROSS {
             return None;
         }
-        let side = reach.max(longest / (MAX_CELLS_PER_AXIS - 1) as f64);
+        let side = (reach / CELLS_PER_REACH).max(longest / (MAX_CELLS_PER_AXIS - 1) as f64);
         let scale = 1.0 / side;
         let cells: [usize; 3] =
             std::array::from_fn(|k| ((hi[k] - lo[k]) * scale).floor() as usize + 1);
@@ -69,9 +83,11 @@ impl Grid {
             // A hair wider than the reach: the speed test decides the pairs at its edge.
             reach2: (reach * (1.0 + 1e-9)).powi(2),
             origin: lo,
+            side,
             scale,
             cells,
             starts: Vec::new(),
+            points: Vec::new(),
             entries: Vec::new(),
         };
         let located: Vec<Option<(usize, Motion)>> = (lasts.par_iter())
@@ -98,6 +114,7 @@ impl Grid {
         grid.entries = (order.into_iter())
             .filter_map(|l| Some((l, located[l]?.1)))
             .collect();
+        grid.points = grid.entries.iter().map(|(_, m)| m.point).collect();
         Some(grid)
     }
 
@@ -105,32 +122,58 @@ impl Grid {
     /// side of each other in the same or neighbouring cells, so the meetings outside the bulk
     /// (far meetings of nearly parallel rays) are still found: in the edge cells.
     fn cell_of(&self, point: &[f64; 3]) -> usize {
-        let [i, j, k] = self.index_of(point);
+        let [i, j, k] = std::array::from_fn(|a| self.index_on(a, point[a]));
         (i * self.cells[1] + j) * self.cells[2] + k
     }
 
-    fn index_of(&self, point: &[f64; 3]) -> [usize; 3] {
-        std::array::from_fn(|k| {
-            let at = ((point[k] - self.origin[k]) * self.scale).floor();
-            // NaN and negative cells go to 0, far ones to the last.
-            (at.max(0.0) as usize).min(self.cells[k] - 1)
-        })
+    /// The cell of coordinate `x` along axis `a`, clamped: NaN and negative cells go to 0,
+    /// far ones to the last. Monotone in `x`.
+    fn index_on(&self, a: usize, x: f64) -> usize {
+        let at = ((x - self.origin[a]) * self.scale).floor();
+        (at.max(0.0) as usize).min(self.cells[a] - 1)
+    }
+
+    /// The cells along axis `a` that hold coordinates within `half` of `x`.
+    fn cells_within(&self, a: usize, x: f64, half: f64) -> std::ops::RangeInclusive<usize> {
+        let half = half * (1.0 + SLACK) + SLACK * self.side;
+        self.index_on(a, x - half)..=self.index_on(a, x + half)
+    }
+
+    /// How far `x` lies outside cell `i` along axis `a` (0 inside it). The edge cells reach
+    /// to infinity: they hold the clamped meetings beyond the bulk.
+    fn outside(&self, a: usize, i: usize, x: f64) -> f64 {
+        let lo = match i {
+            0 => f64::NEG_INFINITY,
+            _ => self.origin[a] + i as f64 * self.side,
+        };
+        let hi = match i + 1 == self.cells[a] {
+            true => f64::INFINITY,
+            false => self.origin[a] + (i + 1) as f64 * self.side,
+        };
+        (lo - x).max(x - hi).max(0.0)
     }
 
     /// Calls `visit(l, motion)` for every last pair whose meeting lies within reach of
     /// `point` (a first pair's meeting), in no particular order.
     pub(super) fn for_each_near(&self, point: &[f64; 3], mut visit: impl FnMut(usize, &Motion)) {
-        let centre = self.index_of(point);
-        let span = |k: usize| centre[k].saturating_sub(1)..=(centre[k] + 1).min(self.cells[k] - 1);
-        for i in span(0) {
-            for j in span(1) {
+        let reach = self.reach2.sqrt();
+        // Columns nearer than this (squared) may hold a meeting in the ball.
+        let near2 = self.reach2 * (1.0 + SLACK);
+        for i in self.cells_within(0, point[0], reach) {
+            let dx = self.outside(0, i, point[0]);
+            for j in self.cells_within(1, point[1], reach) {
+                let dy = self.outside(1, j, point[1]);
+                let dxy2 = dx * dx + dy * dy;
+                if dxy2 > near2 {
+                    continue; // no cell of this column comes within reach
+                }
+                let ks = self.cells_within(2, point[2], (self.reach2 - dxy2).max(0.0).sqrt());
                 let row = (i * self.cells[1] + j) * self.cells[2];
-                let ks = span(2);
-                let (first, last) = (row + ks.start(), row + ks.end());
-                for (l, motion) in &self.entries[self.starts[first]..self.starts[last + 1]] {
-                    let p = &motion.point;
+                let cells = self.starts[row + ks.start()]..self.starts[row + ks.end() + 1];
+                for (at, p) in (cells.clone()).zip(&self.points[cells]) {
                     let d2 = (0..3).map(|k| (p[k] - point[k]).powi(2)).sum::<f64>();
                     if d2 <= self.reach2 {
+                        let (l, motion) = &self.entries[at];
                         visit(*l, motion);
                     }
                 }
