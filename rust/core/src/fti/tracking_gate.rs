@@ -36,6 +36,12 @@
 //! candidates a run that the count passes and no figure `reproduce fti` prints at Pd = 1
 //! changes; on the bench's 8-target 2-D scene it keeps about a tenth of the candidates the
 //! count passes (CHANGELOG.md, *Dense clutter*).
+//!
+//! **Pruning.** No row can add more than `ln(2·DENSITY_WIDTH) − ½·ln 2π` per angle to the
+//! score (`most_per_scan`), and a miss adds nothing or less. So a branch whose score, with
+//! that much for every scan left, stays below 0 is ended where it stands: it would end
+//! rejected. Before the branching the walk goes on regardless, since a crowded scan there
+//! keeps the candidate whatever its score.
 
 use std::f64::consts::PI;
 
@@ -263,8 +269,22 @@ pub fn score(problem: &Problem<'_>, gating: &Gate<'_>, c: &Candidate) -> Option<
         problem,
         gating,
         order: &order,
+        most_per_scan: most_per_scan(problem.layout.space),
     };
     walk.from(0, belief, own.len(), 0.0, false)
+}
+
+/// The most one scan's row can add to a walk's score, with a hair of slack for rounding: the
+/// row's log-likelihood ratio ([`Prediction::log_ratio`]) is at most its value at `d2 = 0`
+/// against a density of one row in the counting box, and with the box's half-widths
+/// `DENSITY_WIDTH·√v` per angle that is `ln(2·DENSITY_WIDTH) − ½·ln(2π)` per angle, whatever
+/// the variance `v` (the box's clamps to 2π and π only lower it). A miss adds at most 0.
+fn most_per_scan(space: Space) -> f64 {
+    let angles = match space {
+        Space::Spatial => 2.0,
+        Space::Planar => 1.0,
+    };
+    angles * ((2.0 * DENSITY_WIDTH).ln() - 0.5 * (2.0 * PI).ln()) + 1e-6
 }
 
 /// The fixed inputs of one candidate's walk over its ordered scans.
@@ -272,6 +292,8 @@ struct Walk<'a> {
     problem: &'a Problem<'a>,
     gating: &'a Gate<'a>,
     order: &'a [(f64, usize)],
+    /// The most one scan can add to the score ([`most_per_scan`]).
+    most_per_scan: f64,
 }
 
 impl Walk<'_> {
@@ -288,8 +310,15 @@ impl Walk<'_> {
     ) -> Option<f64> {
         let space = self.problem.layout.space;
         for (at, &(_, k)) in self.order.iter().enumerate().skip(start) {
-            if supported + (self.order.len() - at) <= self.gating.n_detect {
+            let left = self.order.len() - at;
+            if supported + left <= self.gating.n_detect {
                 return None; // even every remaining scan would not be enough
+            }
+            // Nor can any score climb back: past the branching no scan keeps a candidate
+            // untested, so a branch whose score even the best rows could not raise to 0
+            // ends as it would have.
+            if branched && score + left as f64 * self.most_per_scan < 0.0 {
+                return None;
             }
             let scan = &self.gating.table.scans[k];
             let Some(pred) = belief.predict(self.problem, scan) else {
@@ -380,5 +409,52 @@ mod tests {
         assert!(true_ones >= 8, "{true_ones} true candidates");
         assert!(tracked < fixed, "kept {tracked} of {fixed}");
         assert!(priced < tracked, "priced kept {priced} of {tracked}");
+    }
+
+    /// No row's log-likelihood ratio exceeds [`most_per_scan`], the bound the walk prunes
+    /// with: predictions at variances from 10⁻¹⁴ to 10 rad² (boxes clamped to the whole sky
+    /// at the top), rows exactly on the prediction, on scans of one to 300 rows, in 2-D and
+    /// 3-D; and the bound is nearly reached (one row, on the prediction, an unclamped box).
+    #[test]
+    fn no_row_adds_more_than_the_walks_bound() {
+        use crate::fti::angle_index::Azimuths;
+        use crate::fti::support::ScanAngles;
+        use crate::geometry::model::Observation;
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let mut nearest: f64 = f64::NEG_INFINITY;
+        for case in 0..3_000 {
+            let space = if case % 2 == 0 {
+                Space::Spatial
+            } else {
+                Space::Planar
+            };
+            let n = 1 + case % 300;
+            let rows: Vec<[f64; 2]> = (0..n)
+                .map(|_| [rng.random_range(-PI..=PI), rng.random_range(-0.5..0.5)])
+                .collect();
+            let scan = ScanAngles {
+                probe: Observation::new([0.0; 3], 0.0, [0.0; 2], [1.0; 2]),
+                sigma: [1e-3; 2],
+                angles: Azimuths::new(rows.clone()),
+            };
+            let variance: [f64; 2] =
+                std::array::from_fn(|_| 10f64.powf(rng.random_range(-14.0..1.0)));
+            let row = rows[case % n];
+            let pred = Prediction {
+                angles: row,
+                gradient: [[0.0; MAX_DIM]; 2],
+                variance,
+                spread: variance,
+                count: space.position_dim() - 1,
+            };
+            let most = most_per_scan(space);
+            for d2 in [0.0, 1e-9, 0.5, 3.0] {
+                let ratio = pred.log_ratio(d2, &scan, space);
+                assert!(ratio <= most, "case {case}: {ratio} > {most}");
+            }
+            nearest = nearest.max(pred.log_ratio(0.0, &scan, space) - most);
+        }
+        assert!(nearest > -1e-3, "the bound is {nearest} from the best row");
     }
 }
