@@ -29,9 +29,11 @@ const CELLS_PER_REACH: f64 = 2.0;
 /// Cells along one axis at most: 64³ cells of offsets in 3-D (2 MB) at the very worst.
 const MAX_CELLS_PER_AXIS: usize = 64;
 
-/// A hair of slack on the ball's extent when choosing cells, so that rounding never leaves
-/// out a cell holding a meeting at the ball's edge (the exact test decides those).
-const SLACK: f64 = 1e-9;
+/// Slack, in cells, on the ball's extent when choosing cells: a cell's bounds and a
+/// meeting's cell are each computed with rounding (of the coordinates, which may be large
+/// beside a cell: ECEF metres in a scene of metres), so a meeting at a cell's edge is never
+/// left out by it. The exact test against the ball decides those meetings.
+const SLACK: f64 = 1e-6;
 
 pub(super) struct Grid {
     reach2: f64,
@@ -133,14 +135,14 @@ impl Grid {
         (at.max(0.0) as usize).min(self.cells[a] - 1)
     }
 
-    /// The cells along axis `a` that hold coordinates within `half` of `x`.
+    /// The cells along axis `a` that hold coordinates within `half` of `x` (and [`SLACK`]).
     fn cells_within(&self, a: usize, x: f64, half: f64) -> std::ops::RangeInclusive<usize> {
-        let half = half * (1.0 + SLACK) + SLACK * self.side;
+        let half = half + SLACK * self.side;
         self.index_on(a, x - half)..=self.index_on(a, x + half)
     }
 
-    /// How far `x` lies outside cell `i` along axis `a` (0 inside it). The edge cells reach
-    /// to infinity: they hold the clamped meetings beyond the bulk.
+    /// How far `x` lies outside cell `i` along axis `a` (0 inside it), less [`SLACK`]. The
+    /// edge cells reach to infinity: they hold the clamped meetings beyond the bulk.
     fn outside(&self, a: usize, i: usize, x: f64) -> f64 {
         let lo = match i {
             0 => f64::NEG_INFINITY,
@@ -150,21 +152,19 @@ impl Grid {
             true => f64::INFINITY,
             false => self.origin[a] + (i + 1) as f64 * self.side,
         };
-        (lo - x).max(x - hi).max(0.0)
+        ((lo - x).max(x - hi) - SLACK * self.side).max(0.0)
     }
 
     /// Calls `visit(l, motion)` for every last pair whose meeting lies within reach of
     /// `point` (a first pair's meeting), in no particular order.
     pub(super) fn for_each_near(&self, point: &[f64; 3], mut visit: impl FnMut(usize, &Motion)) {
         let reach = self.reach2.sqrt();
-        // Columns nearer than this (squared) may hold a meeting in the ball.
-        let near2 = self.reach2 * (1.0 + SLACK);
         for i in self.cells_within(0, point[0], reach) {
             let dx = self.outside(0, i, point[0]);
             for j in self.cells_within(1, point[1], reach) {
                 let dy = self.outside(1, j, point[1]);
                 let dxy2 = dx * dx + dy * dy;
-                if dxy2 > near2 {
+                if dxy2 > self.reach2 {
                     continue; // no cell of this column comes within reach
                 }
                 let ks = self.cells_within(2, point[2], (self.reach2 - dxy2).max(0.0).sqrt());
@@ -222,7 +222,9 @@ mod tests {
     use crate::fti::tests::sim;
 
     /// Every first pair visits exactly the last pairs within reach, found by brute force, in
-    /// 2-D and 3-D, with far meetings (nearly parallel rays) among both firsts and lasts.
+    /// 2-D and 3-D, with far meetings (nearly parallel rays) among both firsts and lasts,
+    /// meetings at the ball's edge, and all of them again in coordinates far larger than the
+    /// scene.
     #[test]
     fn the_grid_visits_exactly_the_meetings_within_reach() {
         for (seed, planar) in [(1, true), (3, false)] {
@@ -263,28 +265,140 @@ mod tests {
             }
             firsts.push(far_first);
             let v_max = Some(60.0);
-            let grid = Grid::new(sc.space, &firsts, &lasts, v_max).expect("prunes");
-            let mut visited_all = 0;
-            for f in &firsts {
-                let mut visited = Vec::new();
-                let m = f.meeting.expect("met");
-                grid.for_each_near(&m.point, |l, _| visited.push(l));
-                visited.sort_unstable();
-                let brute: Vec<usize> = (lasts.iter().enumerate())
-                    .filter(|(_, l)| {
-                        l.meeting.is_some_and(|q| {
-                            (0..3)
-                                .map(|k| (q.point[k] - m.point[k]).powi(2))
-                                .sum::<f64>()
-                                <= grid.reach2
-                        })
-                    })
-                    .map(|(l, _)| l)
-                    .collect();
-                assert_eq!(visited, brute, "seed {seed}");
-                visited_all += visited.len();
+            // Meetings at the ball's edge of a first one: a reach away along each axis and
+            // on a diagonal (a column's corner), the reach known from a first grid.
+            let reach = Grid::new(sc.space, &firsts, &lasts, v_max)
+                .expect("prunes")
+                .reach2
+                .sqrt();
+            let centre = firsts[1].meeting.expect("met").point;
+            let diagonal = reach / 3f64.sqrt();
+            let edges = [[reach, 0.0, 0.0], [0.0, -reach, 0.0], [0.0, 0.0, reach]];
+            for offset in edges.into_iter().chain([[diagonal, diagonal, -diagonal]]) {
+                let mut pair = lasts[0];
+                if let Some(m) = pair.meeting.as_mut() {
+                    m.point = std::array::from_fn(|k| centre[k] + offset[k] * (1.0 - 1e-12));
+                }
+                lasts.push(pair);
             }
-            assert!(visited_all > 0 && visited_all < firsts.len() * lasts.len() / 2);
+            // The same meetings in coordinates far larger than the scene (ECEF-like metres).
+            for shift in [[0.0; 3], [6.4e6, -3.1e6, 2.2e6]] {
+                let moved = |pairs: &[RayPair]| -> Vec<RayPair> {
+                    (pairs.iter())
+                        .map(|p| {
+                            let mut p = *p;
+                            if let Some(m) = p.meeting.as_mut() {
+                                m.point = std::array::from_fn(|k| m.point[k] + shift[k]);
+                            }
+                            p
+                        })
+                        .collect()
+                };
+                let (firsts, lasts) = (moved(&firsts), moved(&lasts));
+                let grid = Grid::new(sc.space, &firsts, &lasts, v_max).expect("prunes");
+                let mut visited_all = 0;
+                for f in &firsts {
+                    let mut visited = Vec::new();
+                    let m = f.meeting.expect("met");
+                    grid.for_each_near(&m.point, |l, _| visited.push(l));
+                    visited.sort_unstable();
+                    let brute: Vec<usize> = (lasts.iter().enumerate())
+                        .filter(|(_, l)| {
+                            l.meeting.is_some_and(|q| {
+                                (0..3)
+                                    .map(|k| (q.point[k] - m.point[k]).powi(2))
+                                    .sum::<f64>()
+                                    <= grid.reach2
+                            })
+                        })
+                        .map(|(l, _)| l)
+                        .collect();
+                    assert_eq!(visited, brute, "seed {seed}, shift {shift:?}");
+                    visited_all += visited.len();
+                }
+                assert!(visited_all > 0 && visited_all < firsts.len() * lasts.len() / 2);
+            }
         }
+    }
+
+    /// The columns and z ranges a query leaves out never hold a meeting within reach, at the
+    /// worst place for rounding: each meeting moved onto the lowest coordinate of its cell
+    /// (as the grid assigns cells) along an axis, and queried from just under the reach
+    /// below it, in a scene's own coordinates and shifted far out.
+    #[test]
+    fn meetings_on_cell_faces_are_found_from_a_reach_away() {
+        let sc = sim::paper(3, true, 16, 8);
+        let sensors = sc.sensors();
+        let table = sc.measurements(&sensors);
+        let problem = sim::problem(sensors, table);
+        let scans = Scans::new(&table, sensors.len());
+        let options = InitiationOptions::default();
+        let ((a1, a2), (b1, b2)) = (
+            scans.first_last(0).expect("scans"),
+            scans.first_last(1).expect("scans"),
+        );
+        let pairs = |a: usize, b: usize| {
+            ray_pairs(&problem, scans.scan(a), scans.scan(b), &options)
+                .expect("fits")
+                .0
+        };
+        let (firsts, lasts) = (pairs(a1, b1), pairs(a2, b2));
+        let mut checked = 0;
+        for shift in [0.0, 6.4e6] {
+            let moved = |pairs: &[RayPair]| -> Vec<RayPair> {
+                (pairs.iter())
+                    .map(|p| {
+                        let mut p = *p;
+                        if let Some(m) = p.meeting.as_mut() {
+                            m.point = m.point.map(|x| x + shift);
+                        }
+                        p
+                    })
+                    .collect()
+            };
+            let (firsts, lasts) = (moved(&firsts), moved(&lasts));
+            let mut grid = Grid::new(sc.space, &firsts, &lasts, Some(60.0)).expect("prunes");
+            let reach = grid.reach2.sqrt();
+            for at in 0..grid.points.len() {
+                for axis in 0..3 {
+                    let q = grid.points[at];
+                    let cell = grid.index_on(axis, q[axis]);
+                    if cell == 0 {
+                        continue; // the first cell has no lower face
+                    }
+                    // The lowest coordinate the grid puts in this cell.
+                    let (mut below, mut face) = (q[axis] - 2.0 * grid.side, q[axis]);
+                    while below.next_up() < face {
+                        let mid = below + (face - below) / 2.0;
+                        let mid = if mid <= below || mid >= face {
+                            below.next_up()
+                        } else {
+                            mid
+                        };
+                        if grid.index_on(axis, mid) == cell {
+                            face = mid;
+                        } else {
+                            below = mid;
+                        }
+                    }
+                    let mut on_face = q;
+                    on_face[axis] = face;
+                    grid.points[at] = on_face;
+                    grid.entries[at].1.point = on_face;
+                    let mut from = on_face;
+                    from[axis] = face - reach;
+                    while (on_face[axis] - from[axis]).powi(2) > grid.reach2 {
+                        from[axis] = from[axis].next_up();
+                    }
+                    let mut found = false;
+                    grid.for_each_near(&from, |l, _| found |= l == grid.entries[at].0);
+                    assert!(found, "shift {shift}, meeting {at}, axis {axis}");
+                    grid.points[at] = q;
+                    grid.entries[at].1.point = q;
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100, "{checked} faces checked");
     }
 }
