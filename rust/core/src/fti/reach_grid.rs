@@ -6,12 +6,12 @@
 //! ball may reach: along x and y those within a reach of the centre, and in each such column of
 //! cells only the z range the ball spans at the column's nearest point. Each of those cells'
 //! meetings is tested against the ball, reading only its position (a compact array of its
-//! own); the record the tests read is fetched for the meetings in the ball. On the ring
-//! 5 × 100 scene this tests three and a half meetings per meeting in the ball, where cells a
-//! reach wide (the 3 × 3 × 3 around the centre's) tested six and a half (CHANGELOG.md). The
-//! cell is widened where the scene would need more than [`MAX_CELLS_PER_AXIS`] of them along
-//! an axis (a tiny reach in a large scene), which only puts more meetings in each tested cell.
-//! Plain arithmetic, where an R*-tree's walk cost more per meeting found, and the visits need
+//! own); the record the tests read is fetched for the meetings in the ball. That tests about
+//! half the meetings that cells a reach wide (the 3 × 3 × 3 around the centre's) did
+//! (CHANGELOG.md, *The reach grid*, has the count on the ring 5 × 100 scene). The cell is
+//! widened where the scene would need more than [`MAX_CELLS_PER_AXIS`] of them along an axis
+//! (a tiny reach in a large scene), which only puts more meetings in each tested cell. Plain
+//! arithmetic, where an R*-tree's walk cost more per meeting found, and the visits need
 //! no sorting (the survivors of a visit are sorted instead, and they are few).
 
 use rayon::prelude::*;
@@ -221,6 +221,43 @@ mod tests {
     use crate::fti::scans::Scans;
     use crate::fti::tests::sim;
 
+    /// The first and last ray pairs of the outer scans of sensors 0 and 1 in a cluttered
+    /// 2-D (`planar`) or 3-D simulated scene, and the scene's space.
+    fn outer_pairs(seed: u64, planar: bool) -> (Space, Vec<RayPair>, Vec<RayPair>) {
+        let sc = match planar {
+            true => sim::planar(seed, true, 20, 8),
+            false => sim::paper(seed, true, 16, 8),
+        };
+        let sensors = sc.sensors();
+        let table = sc.measurements(&sensors);
+        let problem = sim::problem(sensors, table);
+        let scans = Scans::new(&table, sensors.len());
+        let options = InitiationOptions::default();
+        let ((a1, a2), (b1, b2)) = (
+            scans.first_last(0).expect("scans"),
+            scans.first_last(1).expect("scans"),
+        );
+        let pairs = |a: usize, b: usize| {
+            ray_pairs(&problem, scans.scan(a), scans.scan(b), &options)
+                .expect("fits")
+                .0
+        };
+        (sc.space, pairs(a1, b1), pairs(a2, b2))
+    }
+
+    /// `pairs` with their meetings moved by `shift`.
+    fn shifted(pairs: &[RayPair], shift: [f64; 3]) -> Vec<RayPair> {
+        (pairs.iter())
+            .map(|p| {
+                let mut p = *p;
+                if let Some(m) = p.meeting.as_mut() {
+                    m.point = std::array::from_fn(|k| m.point[k] + shift[k]);
+                }
+                p
+            })
+            .collect()
+    }
+
     /// Every first pair visits exactly the last pairs within reach, found by brute force, in
     /// 2-D and 3-D, with far meetings (nearly parallel rays) among both firsts and lasts,
     /// meetings at the ball's edge, and all of them again in coordinates far larger than the
@@ -228,25 +265,7 @@ mod tests {
     #[test]
     fn the_grid_visits_exactly_the_meetings_within_reach() {
         for (seed, planar) in [(1, true), (3, false)] {
-            let sc = match planar {
-                true => sim::planar(seed, true, 20, 8),
-                false => sim::paper(seed, true, 16, 8),
-            };
-            let sensors = sc.sensors();
-            let table = sc.measurements(&sensors);
-            let problem = sim::problem(sensors, table);
-            let scans = Scans::new(&table, sensors.len());
-            let options = InitiationOptions::default();
-            let ((a1, a2), (b1, b2)) = (
-                scans.first_last(0).expect("scans"),
-                scans.first_last(1).expect("scans"),
-            );
-            let pairs = |a: usize, b: usize| {
-                ray_pairs(&problem, scans.scan(a), scans.scan(b), &options)
-                    .expect("fits")
-                    .0
-            };
-            let (mut firsts, mut lasts) = (pairs(a1, b1), pairs(a2, b2));
+            let (space, mut firsts, mut lasts) = outer_pairs(seed, planar);
             // Far meetings: one far out in each direction, and one near another far one.
             for (k, far) in [[1e7, 0.0, 0.0], [-1e7, -3e6, 0.0], [1e7, 5.0, 0.0]]
                 .iter()
@@ -267,7 +286,7 @@ mod tests {
             let v_max = Some(60.0);
             // Meetings at the ball's edge of a first one: a reach away along each axis and
             // on a diagonal (a column's corner), the reach known from a first grid.
-            let reach = Grid::new(sc.space, &firsts, &lasts, v_max)
+            let reach = Grid::new(space, &firsts, &lasts, v_max)
                 .expect("prunes")
                 .reach2
                 .sqrt();
@@ -283,19 +302,8 @@ mod tests {
             }
             // The same meetings in coordinates far larger than the scene (ECEF-like metres).
             for shift in [[0.0; 3], [6.4e6, -3.1e6, 2.2e6]] {
-                let moved = |pairs: &[RayPair]| -> Vec<RayPair> {
-                    (pairs.iter())
-                        .map(|p| {
-                            let mut p = *p;
-                            if let Some(m) = p.meeting.as_mut() {
-                                m.point = std::array::from_fn(|k| m.point[k] + shift[k]);
-                            }
-                            p
-                        })
-                        .collect()
-                };
-                let (firsts, lasts) = (moved(&firsts), moved(&lasts));
-                let grid = Grid::new(sc.space, &firsts, &lasts, v_max).expect("prunes");
+                let (firsts, lasts) = (shifted(&firsts, shift), shifted(&lasts, shift));
+                let grid = Grid::new(space, &firsts, &lasts, v_max).expect("prunes");
                 let mut visited_all = 0;
                 for f in &firsts {
                     let mut visited = Vec::new();
@@ -327,37 +335,11 @@ mod tests {
     /// below it, in a scene's own coordinates and shifted far out.
     #[test]
     fn meetings_on_cell_faces_are_found_from_a_reach_away() {
-        let sc = sim::paper(3, true, 16, 8);
-        let sensors = sc.sensors();
-        let table = sc.measurements(&sensors);
-        let problem = sim::problem(sensors, table);
-        let scans = Scans::new(&table, sensors.len());
-        let options = InitiationOptions::default();
-        let ((a1, a2), (b1, b2)) = (
-            scans.first_last(0).expect("scans"),
-            scans.first_last(1).expect("scans"),
-        );
-        let pairs = |a: usize, b: usize| {
-            ray_pairs(&problem, scans.scan(a), scans.scan(b), &options)
-                .expect("fits")
-                .0
-        };
-        let (firsts, lasts) = (pairs(a1, b1), pairs(a2, b2));
+        let (space, firsts, lasts) = outer_pairs(3, false);
         let mut checked = 0;
-        for shift in [0.0, 6.4e6] {
-            let moved = |pairs: &[RayPair]| -> Vec<RayPair> {
-                (pairs.iter())
-                    .map(|p| {
-                        let mut p = *p;
-                        if let Some(m) = p.meeting.as_mut() {
-                            m.point = m.point.map(|x| x + shift);
-                        }
-                        p
-                    })
-                    .collect()
-            };
-            let (firsts, lasts) = (moved(&firsts), moved(&lasts));
-            let mut grid = Grid::new(sc.space, &firsts, &lasts, Some(60.0)).expect("prunes");
+        for shift in [[0.0; 3], [6.4e6; 3]] {
+            let (firsts, lasts) = (shifted(&firsts, shift), shifted(&lasts, shift));
+            let mut grid = Grid::new(space, &firsts, &lasts, Some(60.0)).expect("prunes");
             let reach = grid.reach2.sqrt();
             for at in 0..grid.points.len() {
                 for axis in 0..3 {
@@ -392,7 +374,7 @@ mod tests {
                     }
                     let mut found = false;
                     grid.for_each_near(&from, |l, _| found |= l == grid.entries[at].0);
-                    assert!(found, "shift {shift}, meeting {at}, axis {axis}");
+                    assert!(found, "shift {shift:?}, meeting {at}, axis {axis}");
                     grid.points[at] = q;
                     grid.entries[at].1.point = q;
                     checked += 1;
