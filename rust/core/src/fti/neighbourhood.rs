@@ -124,7 +124,7 @@ impl Neighbourhood {
     /// Whether two lines of sight meet in front of both sensors within the ray gate.
     fn meets(&self, oa: &Observation, ob: &Observation) -> bool {
         let meeting = meet(Space::Spatial, oa, ob);
-        meeting.is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0)
+        meeting.is_some_and(|m| m.in_front())
             && ray_gate(
                 Space::Spatial,
                 self.gate,

@@ -22,6 +22,13 @@ pub(super) struct Meeting {
     pub(super) distance: f64,
 }
 
+impl Meeting {
+    /// Whether the meeting lies in front of both sensors (the behind-sensor rule's test).
+    pub(super) fn in_front(&self) -> bool {
+        self.range_a > 0.0 && self.range_b > 0.0
+    }
+}
+
 /// Two rows of one scan pair, as the model sees them, and their meeting (`None` for
 /// parallel rays). The observations are built once here: each costs a sine and a cosine per
 /// angle, and every candidate and motion-gate test of the pair reads them.
@@ -152,8 +159,7 @@ pub(super) fn ray_pairs(
                         continue;
                     }
                     passed += 1;
-                    let behind = options.reject_behind()
-                        && !meeting.is_some_and(|m| m.range_a > 0.0 && m.range_b > 0.0);
+                    let behind = options.reject_behind() && !meeting.is_some_and(|m| m.in_front());
                     if !behind {
                         kept.push(RayPair::with_meeting(space, [ra, rb], [oa, *ob], meeting));
                     }
