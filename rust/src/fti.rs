@@ -144,6 +144,9 @@ pub struct InitiationOutput {
     formation: &'static str,
     /// The limit that ended the formation early, or `None`.
     limit: Option<String>,
+    /// With `limit`: the formation's scan slots formed in full before it stopped, and all of
+    /// its slots.
+    limit_slots: Option<(usize, usize)>,
 }
 
 /// Fuzzy track initiation. `pairs` is (K, 2) sensor indices; an empty (0, 2) array means every
@@ -213,7 +216,8 @@ fn initiation_output(py: Python<'_>, result: Initiation) -> BindResult<Initiatio
     } = result.stage_seconds;
     Ok(InitiationOutput {
         formation: result.formation.name(),
-        limit: result.limit,
+        limit_slots: (result.limit.as_ref()).map(|l| (l.slots_formed, l.slots)),
+        limit: result.limit.map(|l| l.reached),
         estimates: to_numpy(py, estimates, &[t, d])?.unbind(),
         covariances: to_numpy(py, covariances, &[t, d, d])?.unbind(),
         closeness: owned(py, result.tracks.iter().map(|r| r.closeness).collect())?,

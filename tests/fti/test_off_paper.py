@@ -139,9 +139,12 @@ def test_a_scene_where_no_candidate_survives_warns_and_says_why() -> None:
     columns = scenario.measurements.to_arrays()
     columns["time"] = columns["time"] / 1000.0
     table = pa.MeasurementTable.from_columns(columns)
-    with pytest.warns(UserWarning, match=r"no candidate survived the 'v_max' stage .*raise v_max, or check the times"):
+    with pytest.warns(
+        UserWarning, match=r"no candidate survived the 'v_max' stage .*raise v_max, or check the times"
+    ) as caught:
         result = FuzzyTrackInitiator().initiate(table, scenario.sensors)
     assert result.tracks == []
+    assert [w.filename for w in caught] == [__file__]  # the caller's line, not the package's
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # the paper's own scene does not warn
         assert len(FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors).tracks) == 4

@@ -11,6 +11,7 @@ import passive_assoc as pa
 import pytest
 from passive_assoc.evaluation import track_targets
 from passive_assoc.fti import FuzzyTrackInitiator, InitiationResult, track_scores
+from passive_assoc.fti.diagnostics import PRICED_FROM, limit_message
 
 PartitionCheck = Callable[[InitiationResult, int], None]
 
@@ -84,6 +85,7 @@ def test_four_asynchronous_sensors_in_2d(assert_partition: PartitionCheck) -> No
     result = FuzzyTrackInitiator().initiate(table, scenario.sensors, t0=scenario.t0, progress=False)
     assert result.diagnostics.candidates == "witnessed"
     assert result.termination == "completed" and result.diagnostics.limit is None
+    assert result.diagnostics.limit_slots is None
     assert sorted(track_targets(result.labels, truth).tolist()) == list(range(8))
     assert_partition(result, len(table))
 
@@ -138,18 +140,40 @@ def test_a_sweep_that_finds_nothing_changes_nothing(seed: int) -> None:
 
 
 def test_a_reached_limit_returns_the_tracks_found_with_a_warning(assert_partition: PartitionCheck) -> None:
+    """The limit stops the formation partway, and the message says in seconds and slots how
+    far it got and what a candidate cost."""
     scenario = pa.ring_scenario(1, n_targets=8)
     table = scenario.measurements
-    with pytest.warns(pa.LimitWarning, match="max_candidates"):
-        result = FuzzyTrackInitiator(max_candidates=30).initiate(table, scenario.sensors, progress=False)
+    with pytest.warns(pa.LimitWarning, match="max_candidates") as caught:
+        result = FuzzyTrackInitiator(max_candidates=40).initiate(table, scenario.sensors, progress=False)
+    assert [w.filename for w in caught] == [__file__]  # the caller's line, not the package's
     assert result.termination == "candidate_limit"
     assert not result.success
     assert result.diagnostics.limit is not None and "max_candidates" in result.message
+    assert result.diagnostics.limit_slots is not None
+    formed, slots = result.diagnostics.limit_slots
+    assert 0 < formed < slots  # partway: a slot formed in full, not all of them
+    assert f"{formed} of its {slots} scan slots" in result.message
+    # Ten candidates fitted: too few to price one (the call's fixed costs would dominate).
+    assert 0 < result.diagnostics.stage_counts["fitted"] < PRICED_FROM and "µs" not in result.message
     assert_partition(result, len(table))
     full = FuzzyTrackInitiator().initiate(table, scenario.sensors, progress=False)
     assert len(result.tracks) < len(full.tracks)
     with pytest.raises(ValueError, match="max_candidates"):
         FuzzyTrackInitiator(max_candidates=30, on_limit="raise").initiate(table, scenario.sensors, progress=False)
+
+
+def test_the_limit_message_prices_a_candidate_from_enough_of_them() -> None:
+    """Seconds and slots always; the cost of a candidate, and of 100 000 more, once enough
+    were fitted for the call's fixed costs not to dominate it."""
+    seconds = {"candidates": 1.0, "fit": 0.5, "support": 1.5, "descent": 9.0}
+    counts = {"fitted": PRICED_FROM}
+    message = limit_message("the cap", (3, 40), seconds, counts, 7)
+    assert message.startswith("the candidate formation stopped at its limit after 3.0 s and 3 of its 40 scan slots")
+    assert "300.0 µs a fitted candidate" in message and "(30 s per 100 000 more)" in message
+    assert message.endswith(": the cap; 7 track(s) from the candidates formed until then")
+    few = limit_message("the cap", None, seconds, {"fitted": PRICED_FROM - 1}, 0)
+    assert "µs" not in few and "slots" not in few and "after 3.0 s: the cap" in few
 
 
 def test_tracks_below_min_score_return_their_rows_to_clutter(assert_partition: PartitionCheck) -> None:

@@ -1,11 +1,12 @@
 """What the initiation reports about its own run: the names of its stages' counts and times,
-and the warning when pruning leaves no candidate (a scene that usually has a fixable cause)."""
+the warning when pruning leaves no candidate (a scene that usually has a fixable cause), and
+the message when the formation stops at ``max_candidates``, in seconds and scan slots."""
 
 from __future__ import annotations
 
 import warnings
 
-__all__ = ["STAGE_COUNT_NAMES", "STAGE_SECOND_NAMES", "empty_stage", "warn_if_no_candidate"]
+__all__ = ["STAGE_COUNT_NAMES", "STAGE_SECOND_NAMES", "empty_stage", "limit_message", "warn_if_no_candidate"]
 
 #: The stages of :class:`InitiationDiagnostics` ``stage_counts``, in pipeline order.
 STAGE_COUNT_NAMES = (
@@ -49,4 +50,33 @@ def empty_stage(counts: dict[str, int]) -> str | None:
 def warn_if_no_candidate(message: str) -> None:
     """A scene where no candidate survives pruning gives no track for a reason the user can
     usually fix: say so (``message`` from :func:`empty_stage`)."""
-    warnings.warn(message, UserWarning, stacklevel=3)
+    warnings.warn(message, UserWarning, stacklevel=4)  # past `initiate` and `checked`: the caller
+
+
+#: Fitted candidates from which :func:`limit_message` prices a candidate: with fewer, the
+#: call's fixed costs (tables, indexes) would dominate the figure.
+PRICED_FROM = 10_000
+
+
+def limit_message(
+    limit: str, slots: tuple[int, int] | None, seconds: dict[str, float], counts: dict[str, int], n_tracks: int
+) -> str:
+    """The result's message when the formation stopped at its limit (``limit``, the core's
+    words): how long the formation ran and how far through its scan ``slots`` it got, what a
+    fitted candidate cost this call with its tests and gates (so what a larger
+    ``max_candidates`` would cost; from :data:`PRICED_FROM` candidates on), and the tracks
+    found. ``seconds`` and ``counts`` are the diagnostics' ``stage_seconds`` and
+    ``stage_counts``."""
+    spent = seconds["candidates"] + seconds["fit"] + seconds["support"]
+    where = f"after {spent:.1f} s" + ("" if slots is None else f" and {slots[0]} of its {slots[1]} scan slots")
+    fitted = counts["fitted"]
+    cost = ""
+    if fitted >= PRICED_FROM:
+        each = spent / fitted
+        cost = (
+            f", {each * 1e6:.1f} µs a fitted candidate with its tests and gates ({each * 1e5:.2g} s per 100 000 more)"
+        )
+    return (
+        f"the candidate formation stopped at its limit {where}{cost}: {limit}; "
+        f"{n_tracks} track(s) from the candidates formed until then"
+    )

@@ -28,7 +28,7 @@ from .._progress import ProgressArg, reporting
 from .._validation import as_int_array
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
-from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, empty_stage, warn_if_no_candidate
+from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, empty_stage, limit_message, warn_if_no_candidate
 from .regroup import Found, Neighbourhood, regroup
 from .score import MIN_SCORE, ScoreTerms, track_scores
 
@@ -105,6 +105,9 @@ class InitiationDiagnostics:
         clutter in the result.
     regrouped : int
         Tracks that regrouping (``regroup``) replaced; 0 without it.
+    limit_slots : tuple of (int, int) or None
+        With ``limit``: the formation's scan slots (sensor pair and scan quadruple) formed in
+        full before it stopped, and all of its slots; None without a limit.
     """
 
     stage_counts: dict[str, int]
@@ -114,6 +117,7 @@ class InitiationDiagnostics:
     limit: str | None
     below_min_score: int
     regrouped: int = 0
+    limit_slots: tuple[int, int] | None = None
 
 
 @dataclass(frozen=True)
@@ -283,13 +287,20 @@ class FuzzyTrackInitiator(Configurable):
         coverage test), and the second candidate pass may reuse the measurements of first-pass
         tracks the test dissolves (docs/methods.md §1). Default 1e-6.
     max_candidates : int
-        Stop the candidate formation (``on_limit``) rather than run for long (and, with
-        ``support_gate=False``, which stores every fitted candidate, exhaust memory) when more
-        candidates than this reach
-        the fitting stage, or rather than run for minutes when pairing one scan pair's
-        first-scan and last-scan ray pairs would take more than 200 times this many tests
-        (the count is known before any test is made). At 5 sensors × 100 targets the default
-        leaves room for 30 times the candidates the formation fits.
+        Stop the candidate formation (``on_limit``) rather than run for long when more
+        candidates than this reach the fitting stage in one pass, or rather than run for
+        minutes when pairing one scan pair's first-scan and last-scan ray pairs would take
+        more than 200 times this many tests (the count is known before any test is made).
+        A count, so that the answer does not depend on the machine or its load; in time, a
+        candidate that reaches the fits costs the call about 5–10 µs on two cores with the
+        tests that formed it and its gates (the 200-target scenes of docs/performance.md),
+        so the default is a few seconds of candidate formation, and a limit reached reports
+        this call's own seconds, µs a candidate and how far through its scan slots the
+        formation got. Memory does not grow with it (the support gate keeps a few candidates
+        in a thousand, past ``search_stage`` at 48 bytes each), except with
+        ``support_gate=False``, which keeps every fitted candidate at about 0.45 kB (225 MB
+        at the default). At 5 sensors × 100 targets the default leaves room for 30 times the
+        candidates the formation fits.
     on_limit : {"warn", "raise"}
         What reaching ``max_candidates`` does. ``"warn"`` (default): the formation stops
         there, the search runs on the candidates fitted so far, and the result returns the
@@ -433,17 +444,14 @@ class FuzzyTrackInitiator(Configurable):
         seconds["regroup"] = time.perf_counter() - started if self.regroup else 0.0
         below = int(len(kept) - kept.sum())
         diagnostics = InitiationDiagnostics(
-            counts, out.descent_iterations, seconds, out.formation, out.limit, below, regrouped
+            counts, out.descent_iterations, seconds, out.formation, out.limit, below, regrouped, out.limit_slots
         )
         emptied = empty_stage(counts)
         success = True
         if out.limit is not None:
             termination, success = "candidate_limit", False
-            message = (
-                f"the candidate formation stopped at its limit: {out.limit}; "
-                f"{len(tracks)} track(s) from the candidates formed until then"
-            )
-            warnings.warn(message, LimitWarning, stacklevel=2)
+            message = limit_message(out.limit, out.limit_slots, seconds, counts, len(tracks))
+            warnings.warn(message, LimitWarning, stacklevel=3)  # past `checked`: the caller
         elif emptied is not None:
             termination, message = "no_candidates", emptied
             warn_if_no_candidate(emptied)

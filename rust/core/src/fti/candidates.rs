@@ -90,7 +90,7 @@ pub(super) fn generate_at_once(
     };
     let tally = Tally::new(problem.progress, "candidates", slots.len() as u64);
     let gate = batch.support();
-    let mut limit = None;
+    let (mut limit, mut slots_formed) = (None, slots.len());
     'slots: for (window, group) in slots.chunks(at_once).enumerate() {
         // A slot alone reports its own progress; slots tested together report as each is
         // queued (their fractions, interleaved, would make the bar jump about).
@@ -111,7 +111,7 @@ pub(super) fn generate_at_once(
             };
             match queue_slot(&slot_problem, formed, options, &mut batch, &mut set) {
                 Err(reached @ CoreError::CapExceeded { .. }) if options.stop_at_limit() => {
-                    limit = Some(reached.to_string());
+                    (limit, slots_formed) = (Some(reached.to_string()), index);
                     break 'slots;
                 }
                 other => other?,
@@ -119,7 +119,7 @@ pub(super) fn generate_at_once(
             tally.within(index as u64, 1.0);
         }
     }
-    set.limit = limit;
+    (set.limit, set.slots_formed) = (limit, slots_formed);
     if !problem.stopped() {
         batch.flush(&mut set)?;
     }

@@ -82,7 +82,7 @@ pub use descent::{descend, descend_from};
 pub use descent_options::{DescentOptions, Scaling};
 pub use neighbourhood::Neighbourhood;
 pub use options::{DetectionOrder, Formation, InitiationOptions, CHI2_2DOF_999, TRACK_TEST};
-pub use output::{Initiation, StageCounts, StageSeconds, Track};
+pub use output::{FormationLimit, Initiation, StageCounts, StageSeconds, Track};
 pub use pipeline::{initiate, initiate_reporting};
 pub use pool::{CandidateSet, Pool};
 pub use problem::Problem;

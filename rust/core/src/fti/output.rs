@@ -104,16 +104,27 @@ pub struct Track {
     pub measurements: Vec<usize>,
 }
 
+/// Where the candidate formation stopped at its limit (`stop_at_limit`): what was reached, and
+/// how far through its scan slots the formation had got.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FormationLimit {
+    /// The limit reached, as the error it would otherwise have been.
+    pub reached: String,
+    /// The formation's scan slots formed in full before it stopped, and all its slots (those
+    /// of every pass it could have run; the rounds formation may end before its last).
+    pub slots_formed: usize,
+    pub slots: usize,
+}
+
 /// The result of [`initiate`](super::initiate).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Initiation {
     pub dim: usize,
     /// The formation that ran: `Auto` resolved to `Paper` or `Rounds`.
     pub formation: Formation,
-    /// What ended the formation early (`stop_at_limit`): the limit reached, as the error it
-    /// would otherwise have been; `None` when every slot was formed. The tracks are those the
-    /// candidates formed until then found.
-    pub limit: Option<String>,
+    /// What ended the formation early (`stop_at_limit`); `None` when it ran to its end. The
+    /// tracks are those the candidates formed until then found.
+    pub limit: Option<FormationLimit>,
     /// Tracks in the order detection accepted their optima (see `detection_order`).
     pub tracks: Vec<Track>,
     /// Per measurement row: its track index, or −1 for clutter.

@@ -10,7 +10,7 @@ use super::candidates;
 use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
 use super::options::{Formation, InitiationOptions};
-use super::output::{Initiation, StageCounts, StageSeconds, Track};
+use super::output::{FormationLimit, Initiation, StageCounts, StageSeconds, Track};
 use super::problem::Problem;
 use super::refit::{padded, refit};
 use super::scans::{resolve_pairs, Scans, Slot};
@@ -163,8 +163,9 @@ fn paper_passes(
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
     let outer = paper_slots(scans, pairs, 1, false, witnessed);
-    let mut states = run.pass(problem, pre, scans, &outer, None, options, available, 1)?;
     let inner = paper_slots(scans, pairs, options.candidate_scans(), true, witnessed);
+    run.slots = outer.len() + inner.len();
+    let mut states = run.pass(problem, pre, scans, &outer, None, options, available, 1)?;
     if !inner.is_empty() && run.limit.is_none() {
         free_dissolved(problem, pre, scans, &states, options, true, available)?;
         let mask = available.to_vec();
@@ -271,6 +272,7 @@ fn round_passes(
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
     let slots = ranked_rounds(problem, scans, pairs, options);
+    run.slots = slots.len();
     // Several slots at once only while the tests before the fits keep their survivors few.
     let at_once = match options.prefit_gates() {
         true => candidates::SLOTS_AT_ONCE,
@@ -386,7 +388,11 @@ fn sweep(
 struct Run {
     support: Option<SupportTable>,
     /// The limit that ended the formation (`stop_at_limit`).
-    limit: Option<String>,
+    limit: Option<FormationLimit>,
+    /// The formation's scan slots (those of every pass it may run), and those its passes
+    /// have formed so far.
+    slots: usize,
+    slots_formed: usize,
     /// The end of the pipeline ([`finished`]) of the states the formation returns, when a
     /// pass has already run it on exactly those states (the sweep that found nothing).
     end: Option<(Vec<Track>, Vec<i64>)>,
@@ -429,7 +435,14 @@ impl Run {
         let set =
             candidates::generate_at_once(problem, scans, slots, mask, options, batch, at_once)?;
         stop_if_stopped(problem)?;
-        self.limit = self.limit.take().or(set.limit);
+        self.slots_formed += set.slots_formed;
+        if let (None, Some(reached)) = (&self.limit, set.limit) {
+            self.limit = Some(FormationLimit {
+                reached,
+                slots_formed: self.slots_formed,
+                slots: self.slots.max(self.slots_formed),
+            });
+        }
         let mut counts = set.counts;
         self.seconds.candidates += set.seconds_enumerate;
         self.seconds.fit += set.seconds_fit;

@@ -32,6 +32,8 @@ pub struct CandidateSet {
     /// The limit that ended the formation early, as the error it would have been
     /// (`stop_at_limit`); `None` when every slot was formed.
     pub limit: Option<String>,
+    /// The slots formed in full: all of them unless the limit stopped the formation.
+    pub slots_formed: usize,
 }
 
 /// A candidate as kept past the limit: what refits it, and its support-gate score.

@@ -75,11 +75,19 @@ fn slots_tested_together_find_the_same_candidates() {
                 one.counts
             );
             assert_eq!(one.limit.is_some(), reaches, "{:?}", one.limit);
+            // The limit stops it within a slot: those before it formed in full, not the rest.
+            let formed = if reaches {
+                1..slots.len()
+            } else {
+                slots.len()..slots.len() + 1
+            };
+            assert!(formed.contains(&one.slots_formed), "{}", one.slots_formed);
             for at_once in [2, 3, 4, 64] {
                 let together = run(at_once);
                 assert_eq!(one.counts, together.counts, "{at_once} at once");
                 assert_eq!(one.candidates, together.candidates, "{at_once} at once");
                 assert_eq!(one.limit, together.limit, "{at_once} at once");
+                assert_eq!(one.slots_formed, together.slots_formed, "{at_once} at once");
             }
         }
         assert!(whole.limit.is_none());

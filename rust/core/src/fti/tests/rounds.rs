@@ -117,7 +117,12 @@ fn a_reached_limit_stops_with_what_was_found_or_refuses() {
         .expect("valid");
     let result = run(&sc, &capped).expect("stops at the limit");
     let limit = result.limit.clone().expect("the limit is reported");
-    assert!(limit.contains("max_candidates"), "{limit}");
+    assert!(limit.reached.contains("max_candidates"), "{limit:?}");
+    // Stopped within the formation: some slots formed in full, not all of them.
+    assert!(
+        limit.slots_formed < limit.slots && limit.slots > 1,
+        "{limit:?}"
+    );
     assert_partition(&sc, &result);
     assert!(result.tracks.len() < 8);
     let strict = capped.with_stop_at_limit(false);
