@@ -153,7 +153,7 @@ def test_a_reached_limit_returns_the_tracks_found_with_a_warning(assert_partitio
     assert result.diagnostics.limit_slots is not None
     formed, slots = result.diagnostics.limit_slots
     assert 0 < formed < slots  # partway: a slot formed in full, not all of them
-    assert f"{formed} of its {slots} scan slots" in result.message
+    assert f"{formed} of its {slots} scan slots formed in full" in result.message
     # Ten candidates fitted: too few to price one (the call's fixed costs would dominate).
     assert 0 < result.diagnostics.stage_counts["fitted"] < PRICED_FROM and "µs" not in result.message
     assert_partition(result, len(table))
@@ -169,7 +169,7 @@ def test_the_limit_message_prices_a_candidate_from_enough_of_them() -> None:
     seconds = {"candidates": 1.0, "fit": 0.5, "support": 1.5, "descent": 9.0}
     counts = {"fitted": PRICED_FROM}
     message = limit_message("the cap", (3, 40), seconds, counts, 7)
-    assert message.startswith("the candidate formation stopped at its limit after 3.0 s and 3 of its 40 scan slots")
+    assert message.startswith("the candidate formation stopped at its limit after 3.0 s, 3 of its 40 scan slots formed")
     assert "300.0 µs a fitted candidate" in message and "(30 s per 100 000 more)" in message
     assert message.endswith(": the cap; 7 track(s) from the candidates formed until then")
     few = limit_message("the cap", None, seconds, {"fitted": PRICED_FROM - 1}, 0)

@@ -68,7 +68,9 @@ def limit_message(
     found. ``seconds`` and ``counts`` are the diagnostics' ``stage_seconds`` and
     ``stage_counts``."""
     spent = seconds["candidates"] + seconds["fit"] + seconds["support"]
-    where = f"after {spent:.1f} s" + ("" if slots is None else f" and {slots[0]} of its {slots[1]} scan slots")
+    where = f"after {spent:.1f} s"
+    if slots is not None:
+        where += f", {slots[0]} of its {slots[1]} scan slots formed in full"
     fitted = counts["fitted"]
     cost = ""
     if fitted >= PRICED_FROM:
