@@ -27,12 +27,12 @@ from __future__ import annotations
 
 import datetime as dt
 import os
-import warnings
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .._warn import warn_at_caller
 from ._io import is_numeric, parse_column, read_csv_text, zip_columns
 from .angles import AngleUnit
 
@@ -152,11 +152,9 @@ def _finish(
 ) -> dict[str, NDArray[Any]]:
     """Warns of the ignored columns: the last step of both readers."""
     if ignored:
-        warnings.warn(
+        warn_at_caller(
             f"{os.fspath(path)!r}: ignoring non-numeric column(s) {ignored}; numeric extra columns are kept as "
-            "attributes",
-            UserWarning,
-            stacklevel=4,
+            "attributes"
         )
     return columns
 

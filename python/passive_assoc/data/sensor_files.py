@@ -36,13 +36,13 @@ from what :func:`network_arguments` returns.
 from __future__ import annotations
 
 import os
-import warnings
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .._warn import warn_at_caller
 from ._io import parse_column, read_csv_text, write_csv, zip_columns
 from .geodetic import LocalFrame, place_columns
 
@@ -132,7 +132,7 @@ def network_arguments(
     columns = _renamed(columns, source)
     extra = list(ignored or []) + [name for name in columns if name not in _KNOWN]
     if extra:
-        warnings.warn(f"{source}: ignoring column(s) {extra} (not part of a sensor file)", UserWarning, stacklevel=3)
+        warn_at_caller(f"{source}: ignoring column(s) {extra} (not part of a sensor file)")
     sigma_el = _angle_column(columns, "sigma_elevation", source)
     geodetic = any(name in columns for name in _GEODETIC)
     if not geodetic and frame is not None:

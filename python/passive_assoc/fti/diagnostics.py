@@ -4,7 +4,7 @@ the message when the formation stops at ``max_candidates``, in seconds and scan 
 
 from __future__ import annotations
 
-import warnings
+from .._warn import warn_at_caller
 
 __all__ = ["STAGE_COUNT_NAMES", "STAGE_SECOND_NAMES", "empty_stage", "limit_message", "warn_if_no_candidate"]
 
@@ -50,7 +50,7 @@ def empty_stage(counts: dict[str, int]) -> str | None:
 def warn_if_no_candidate(message: str) -> None:
     """A scene where no candidate survives pruning gives no track for a reason the user can
     usually fix: say so (``message`` from :func:`empty_stage`)."""
-    warnings.warn(message, UserWarning, stacklevel=4)  # past `initiate` and `checked`: the caller
+    warn_at_caller(message, UserWarning)
 
 
 #: Fitted candidates from which :func:`limit_message` prices a candidate: with fewer, the

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import dataclasses
 import time
-import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
@@ -26,6 +25,7 @@ from .._inputs import check_pair
 from .._params import Boolean, Configurable, Epoch, Interval, Options, checked
 from .._progress import ProgressArg, reporting
 from .._validation import as_int_array
+from .._warn import warn_at_caller
 from ..data import MeasurementTable, SensorNetwork
 from ..outcome import COMPLETED, Outcome
 from .diagnostics import STAGE_COUNT_NAMES, STAGE_SECOND_NAMES, empty_stage, limit_message, warn_if_no_candidate
@@ -452,7 +452,7 @@ class FuzzyTrackInitiator(Configurable):
         if out.limit is not None:
             termination, success = "candidate_limit", False
             message = limit_message(out.limit, out.limit_slots, seconds, counts, len(tracks))
-            warnings.warn(message, LimitWarning, stacklevel=3)  # past `checked`: the caller
+            warn_at_caller(message, LimitWarning)
         elif emptied is not None:
             termination, message = "no_candidates", emptied
             warn_if_no_candidate(emptied)

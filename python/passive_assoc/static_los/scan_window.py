@@ -23,11 +23,10 @@ the gates and costs allow that motion; without them nothing is widened.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 from numpy.typing import NDArray
 
+from .._warn import warn_at_caller
 from ..data import MeasurementTable, SensorNetwork
 
 __all__ = ["check_one_scan", "motion_inflated", "window_scans"]
@@ -65,12 +64,10 @@ def check_one_scan(measurements: MeasurementTable, scan_window: float | None) ->
     if scan_window is None:
         if span > 0.0:
             n_times = len(np.unique(measurements.time))
-            warnings.warn(
+            warn_at_caller(
                 f"measurements: {n_times} distinct times over {span:g} s are associated as one scan; "
                 "declare the clock's jitter with scan_window= (seconds), or split the table into scans "
-                "(associate_scans groups them)",
-                UserWarning,
-                stacklevel=3,
+                "(associate_scans groups them)"
             )
     elif span > scan_window:
         raise ValueError(
