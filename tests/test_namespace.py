@@ -83,7 +83,7 @@ def test_subpackage_all_resolves(name: str) -> None:
 #: experiments draw their figures with it (a deferred import, matplotlib being optional).
 LAYERS = [
     # cli's `from . import __version__` is _core's; evidence (Dempster-Shafer) is pure Python.
-    ["_core", "_validation", "_settings", "_params", "_progress", "__version__", "evidence", "outcome"],
+    ["_core", "_validation", "_settings", "_params", "_progress", "_warn", "__version__", "evidence", "outcome"],
     ["data"],
     ["_inputs"],
     ["estimation"],
