@@ -26,7 +26,8 @@
 //!    `merge` merges the optima, and `stages` searches in stages when there are many.
 //! 6. `detection` and `detection_order`: detection (eq. 23) and ambiguity resolution
 //!    (eq. 24).
-//! 7. `pipeline` ([`initiate`]): the driver; the end of the pipeline is the Gauss-Newton
+//! 7. `pipeline` ([`initiate`]): the driver, forming candidates in passes over the slots of
+//!    `formation_slots`; the end of the pipeline is the Gauss-Newton
 //!    refit of each track (`refit`), the join of split tracks (`track_join`), the exchange of
 //!    rows between tangled tracks (`track_swap`) and the track test (`track_quality`, with
 //!    the coverage test of `coverage`; its levels come from `quantiles`).
@@ -48,6 +49,7 @@ mod descent;
 mod descent_options;
 mod detection;
 mod detection_order;
+mod formation_slots;
 mod meeting;
 mod merge;
 mod motion_gate;

@@ -9,6 +9,7 @@ use super::batch::Batch;
 use super::candidates;
 use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
+use super::formation_slots::{paper_slots, ranked_rounds};
 use super::options::{Formation, InitiationOptions};
 use super::output::{FormationLimit, Initiation, StageCounts, StageSeconds, Track};
 use super::problem::Problem;
@@ -150,7 +151,7 @@ pub fn initiate_reporting(
 /// pass 2 (candidate_scans > 1) on the next-outermost scans, over the rows pass 1 left. Their
 /// targets are missed in an outer scan; the rows already taken cannot be reused, so pass 1's
 /// targets cannot be found twice. `witnessed`: each slot's candidates are tested against the
-/// other sensors' scans before their fit ([`paper_slots`]).
+/// other sensors' scans before their fit (module `formation_slots`).
 #[allow(clippy::too_many_arguments)] // the pipeline's state, as round_passes takes it
 fn paper_passes(
     run: &mut Run,
@@ -182,81 +183,6 @@ fn paper_passes(
         states.extend(inner_pass?);
     }
     Ok(states)
-}
-
-/// The paper's slots of every pair ([`Scans::scan_slots`]), pair by pair: untested, or
-/// `witnessed` by every scan of the sensors outside the pair, more than half of which must
-/// see a candidate before its fit (module `witness_gate`). A ghost of two sensors' bearings
-/// passes one scan of a third often in a cluttered plane, but seldom most of them, while a
-/// target at Pd 0.9 is seen in 5 of 8 with probability 0.995 (the choice against 4 and 6 of 8
-/// is measured in CHANGELOG.md).
-fn paper_slots(
-    scans: &Scans,
-    pairs: &[[usize; 2]],
-    depth: usize,
-    inner: bool,
-    witnessed: bool,
-) -> Vec<Slot> {
-    let mut slots = Vec::new();
-    for &[a, b] in pairs {
-        let witnesses: Vec<usize> = (scans.per_sensor.iter().enumerate())
-            .filter(|&(j, _)| witnessed && j != a && j != b)
-            .flat_map(|(_, own)| own.iter().copied())
-            .collect();
-        slots.extend(
-            scans
-                .scan_slots([a, b], depth, inner)
-                .into_iter()
-                .map(|s| Slot {
-                    witnesses: witnesses.clone(),
-                    majority: witnessed,
-                    ..Slot::untested(s)
-                }),
-        );
-    }
-    slots
-}
-
-/// Each scan's time (its rows share one).
-fn scan_times(problem: &Problem<'_>, scans: &Scans) -> Vec<f64> {
-    (0..scans.len())
-        .map(|k| problem.measurements.time(scans.scan(k)[0]))
-        .collect()
-}
-
-/// Every (pair, round) slot, best first: each pair's most nearly synchronous rounds nearest the
-/// middle first; then the pairs' best slots, their second best, and so on.
-fn ranked_rounds(
-    problem: &Problem<'_>,
-    scans: &Scans,
-    pairs: &[[usize; 2]],
-    options: &InitiationOptions,
-) -> Vec<Slot> {
-    let times = scan_times(problem, scans);
-    // Each pair's slots best first; then the pairs' best slots, their second best, and so on.
-    let mut ranked: Vec<((usize, f64), Slot)> = Vec::new();
-    for &pair in pairs {
-        let mut round = scans.round_slots(pair, &times);
-        if !options.prefit_gates() {
-            round = round.into_iter().map(|s| Slot::untested(s.scans)).collect();
-        }
-        let middle = round.len() as f64 / 2.0;
-        let mut scored: Vec<(f64, Slot)> = (round.into_iter().enumerate())
-            .map(|(k, slot)| {
-                let [a0, b0, a1, b1] = slot.scans;
-                let skew = (times[a0] - times[b0]).abs() + (times[a1] - times[b1]).abs();
-                let span = (times[a1] - times[a0]).abs().max(1e-9);
-                let off_middle = ((k as f64 + 0.5) - middle).abs() / middle.max(1.0);
-                (skew / span + 0.25 * off_middle, slot)
-            })
-            .collect();
-        scored.sort_by(|a, b| a.0.total_cmp(&b.0));
-        ranked.extend(
-            (scored.into_iter().enumerate()).map(|(rank, (score, slot))| ((rank, score), slot)),
-        );
-    }
-    ranked.sort_by(|a, b| (a.0 .0).cmp(&b.0 .0).then(a.0 .1.total_cmp(&b.0 .1)));
-    ranked.into_iter().map(|(_, slot)| slot).collect()
 }
 
 /// The rounds formation: every (pair, round) slot, best first (the most nearly synchronous,
