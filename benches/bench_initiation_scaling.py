@@ -5,7 +5,8 @@ formation). The box grows with √N (``--density``, the default: the targets' de
 paper scale's) or stays 40 × 40 km (``--fixed-box``: denser with N). The exponent is the slope
 of log median time against log N between the smallest and largest N of at least 20, by least
 squares, and the same up to 100 targets; *limit reached* counts the seeds whose formation
-stopped at `max_candidates`.
+stopped at `max_candidates`, and each such run's message (its seconds, scan slots and cost
+a candidate) follows the table.
 
     python3 benches/bench_initiation_scaling.py                       # 10 -> 200 targets, 3/4/5 sensors
     python3 benches/bench_initiation_scaling.py --sensors 5 --targets 20 50 100 200 --seeds 3
@@ -50,7 +51,7 @@ for seed in range(seeds):
     rows.append({
         "seconds": seconds, "found": len(set(held.tolist()) - {-1}), "false": int(np.sum(held < 0)),
         "stages": r.diagnostics.stage_seconds, "fitted": r.diagnostics.stage_counts.get("fitted", 0),
-        "limit": r.termination == "candidate_limit",
+        "limit": r.termination == "candidate_limit", "message": r.message,
     })
 print(json.dumps({"rows": rows, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
@@ -102,6 +103,7 @@ def main() -> None:
         + "other s | fitted | limit reached | peak RSS MB |"
     )
     print("|---" * (9 + len(stages)) + "|")
+    reached = []  # the limit's messages, printed after the table
     for s in args.sensors:
         ns, medians = [], []
         for n in args.targets:
@@ -113,6 +115,7 @@ def main() -> None:
                 )
                 break
             rows = r["rows"]
+            reached += [f"{s} x {n}, seed {seed}: {x['message']}" for seed, x in enumerate(rows) if x["limit"]]
             med = statistics.median(x["seconds"] for x in rows)
             ns.append(n)
             medians.append(med)
@@ -133,6 +136,9 @@ def main() -> None:
             f"N^{exponent(ns, medians, 100):.2f} over 20 <= N <= 100 -->",
             flush=True,
         )
+
+    for line in reached:
+        print(f"\nlimit reached, {line}")
 
 
 if __name__ == "__main__":

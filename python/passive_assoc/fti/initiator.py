@@ -292,8 +292,9 @@ class FuzzyTrackInitiator(Configurable):
         minutes when pairing one scan pair's first-scan and last-scan ray pairs would take
         more than 200 times this many tests (the count is known before any test is made).
         A count, so that the answer does not depend on the machine or its load; in time, a
-        candidate that reaches the fits costs the call about 5–10 µs on two cores with the
-        tests that formed it and its gates (the 200-target scenes of docs/performance.md),
+        candidate that reaches the fits costs the call about 4–10 µs on two cores with the
+        tests that formed it and its gates (the 200-target scenes of docs/performance.md;
+        ``benches/bench_initiation_scaling.py`` prints the limit's message for each),
         so the default is a few seconds of candidate formation, and a limit reached reports
         this call's own seconds, µs a candidate and how far through its scan slots the
         formation got. In memory, it grows slowly: the support gate keeps a few candidates in

@@ -366,7 +366,7 @@ impl Run {
             self.limit = Some(FormationLimit {
                 reached,
                 slots_formed: self.slots_formed,
-                slots: self.slots.max(self.slots_formed),
+                slots: self.slots,
             });
         }
         let mut counts = set.counts;
