@@ -94,19 +94,32 @@ def test_paper_run_with_clutter_finds_the_four_targets(assert_partition: Partiti
     assert all(s >= 0.0 for s in seconds.values())
 
 
-@pytest.mark.parametrize("scene", ["paper", "ring", "planar"])
-def test_thread_count_does_not_change_the_result(scene: str) -> None:
-    """The paper's formation, the rounds with their sweep (ring seed 2: the sweep finds a
-    target there) and the witnessed formation (2-D, 8 targets, Pd 0.9)."""
+@pytest.mark.parametrize(
+    ("scene", "candidates", "formation"),
+    [
+        ("paper", "paper", "paper"),
+        ("paper", "auto", "witnessed"),
+        ("ring", "auto", "rounds"),
+        ("planar", "auto", "witnessed"),
+    ],
+)
+def test_thread_count_does_not_change_the_result(scene: str, candidates: str, formation: str) -> None:
+    """The paper's formation, the witnessed at two sensors (the pair's own scans witness), the
+    rounds with their sweep (ring seed 2: the sweep finds a target there) and the witnessed
+    formation in 2-D (8 targets, Pd 0.9)."""
     if scene == "paper":
         scenario = pa.paper_fti_scenario(seed=12, clutter_ratio=4.0)
     elif scene == "ring":
         scenario = pa.ring_scenario(2, n_sensors=3, n_targets=20)
     else:
         scenario = pa.bearing_only_2d_scenario(1, n_targets=8, pd=0.9)
-    one = FuzzyTrackInitiator(n_threads=1).initiate(scenario.measurements, scenario.sensors, t0=scenario.t0)
-    two = FuzzyTrackInitiator(n_threads=2).initiate(scenario.measurements, scenario.sensors, t0=scenario.t0)
-    assert one.diagnostics.candidates == {"paper": "paper", "ring": "rounds", "planar": "witnessed"}[scene]
+    one, two = (
+        FuzzyTrackInitiator(n_threads=n, candidates=candidates).initiate(
+            scenario.measurements, scenario.sensors, t0=scenario.t0
+        )
+        for n in (1, 2)
+    )
+    assert one.diagnostics.candidates == formation
     assert np.array_equal(one.labels, two.labels)
     np.testing.assert_array_equal(one.states, two.states)
 

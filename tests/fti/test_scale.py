@@ -16,12 +16,12 @@ from passive_assoc.fti.diagnostics import PRICED_FROM, limit_message
 PartitionCheck = Callable[[InitiationResult, int], None]
 
 
-def test_auto_picks_by_space_with_three_sensors_and_the_paper_otherwise() -> None:
+def test_auto_picks_by_space_with_three_sensors_and_the_witnessed_with_two() -> None:
     ring = pa.ring_scenario(0, n_targets=4)
     paper = pa.paper_fti_scenario(0)
     planar = pa.bearing_only_2d_scenario(0, n_targets=3)
     two_planar = pa.bearing_only_2d_scenario(0, n_targets=3, n_sensors=2)
-    cases = ((ring, "rounds"), (paper, "paper"), (planar, "witnessed"), (two_planar, "paper"))
+    cases = ((ring, "rounds"), (paper, "witnessed"), (planar, "witnessed"), (two_planar, "witnessed"))
     for scenario, expected in cases:
         result = FuzzyTrackInitiator().initiate(scenario.measurements, scenario.sensors, progress=False)
         assert result.diagnostics.candidates == expected
@@ -53,6 +53,31 @@ def test_the_witnessed_formation_finds_the_papers_targets_from_fewer_fits(
     assert len(set(held["auto"].tolist()) - {-1}) >= 6
     fitted = {c: r.diagnostics.stage_counts["fitted"] for c, r in runs.items()}
     assert fitted["auto"] * 8 <= fitted["paper"], fitted
+    assert_partition(runs["auto"], len(table))
+
+
+@pytest.mark.parametrize(("seed", "pd"), [(0, 1.0), (1, 0.9), (4, 0.9)])
+def test_two_sensors_witnessed_by_their_own_scans_find_the_papers_targets(
+    seed: int, pd: float, assert_partition: PartitionCheck
+) -> None:
+    """The paper's scene (two sensors, 8 scans, clutter twice the targets): the default asks
+    each candidate of the pair's own scans outside its slot, as many as detection will need,
+    so it holds the targets the paper's formation holds, with as many tracks holding none,
+    from a fifth of its fits or fewer."""
+    scenario = pa.paper_fti_scenario(seed, pd=pd)
+    table, truth = scenario.measurements, scenario.measurements.truth
+    assert truth is not None
+    runs = {
+        c: FuzzyTrackInitiator(candidates=c).initiate(table, scenario.sensors, t0=scenario.t0, progress=False)
+        for c in ("auto", "paper")
+    }
+    assert runs["auto"].diagnostics.candidates == "witnessed"
+    held = {c: track_targets(r.labels, truth) for c, r in runs.items()}
+    assert set(held["auto"].tolist()) - {-1} == set(held["paper"].tolist()) - {-1}
+    assert len(set(held["auto"].tolist()) - {-1}) >= 3
+    assert np.sum(held["auto"] < 0) == np.sum(held["paper"] < 0)
+    fitted = {c: r.diagnostics.stage_counts["fitted"] for c, r in runs.items()}
+    assert 0 < fitted["auto"] * 5 <= fitted["paper"], fitted
     assert_partition(runs["auto"], len(table))
 
 

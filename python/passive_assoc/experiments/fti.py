@@ -233,7 +233,8 @@ def print_report(summary: dict[str, Any], settings: dict[str, Any]) -> None:
     n = summary["runs"]
     print(
         f"fti — paper 000, {n} runs, seed {settings['seed']}, Pd {settings['pd']}, "
-        f"clutter {settings['clutter_ratio']}x true measurements per sensor and scan"
+        f"clutter {settings['clutter_ratio']}x true measurements per sensor and scan, "
+        f"candidates {settings['candidates']}"
     )
     print(
         f"all 4 targets found in {summary['all_found_runs']}/{n} runs; "
@@ -359,6 +360,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="clutter points per true measurement, per sensor and scan (paper: 2)",
     )
     parser.add_argument(
+        "--candidates",
+        choices=_choices("candidates"),
+        default="paper",
+        help="candidate formation (default %(default)s: the paper's first and last scans; "
+        "auto = the initiator's default, witnessed by the pair's own scans at two sensors)",
+    )
+    parser.add_argument(
         "--refine-passes",
         type=nonnegative_int,
         default=_default("refine_passes"),
@@ -400,7 +408,7 @@ def main(args: argparse.Namespace) -> int:
         raise SystemExit("--runs must be at least 1")
     initiator = FuzzyTrackInitiator(
         n_threads=1 if args.workers > 1 else None,
-        candidates="paper",
+        candidates=args.candidates,
         refine_passes=args.refine_passes,
         candidate_scans=args.candidate_scans,
         descent_scaling=args.descent_scaling,
@@ -418,6 +426,7 @@ def main(args: argparse.Namespace) -> int:
         "pd": args.pd,
         "clutter_ratio": args.clutter_ratio,
         "workers": args.workers,
+        "candidates": args.candidates,
         "refine_passes": args.refine_passes,
         "candidate_scans": args.candidate_scans,
         "descent_scaling": args.descent_scaling,

@@ -184,7 +184,7 @@ fn form_slot<'t>(
             false => None,
             true => {
                 let table = gate.map_or(&[][..], |g| &g.table.scans[..]);
-                let witnesses = Witnesses::new(table, &slot.witnesses, slot.majority);
+                let witnesses = Witnesses::new(table, &slot.witnesses, slot.witness_need);
                 // Witnesses, where there are any, decide alone (module `round_gate`): the
                 // pair's other rounds are then never read, so they are not built.
                 let mut rounds = Vec::with_capacity(slot.tested.len());

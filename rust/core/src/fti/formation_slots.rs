@@ -5,35 +5,54 @@
 
 use super::options::InitiationOptions;
 use super::problem::Problem;
-use super::scans::{Scans, Slot};
+use super::scans::{Scans, Slot, WitnessNeed};
 
 /// The paper's slots of every pair ([`Scans::scan_slots`]), pair by pair: untested, or
-/// `witnessed` by every scan of the sensors outside the pair, more than half of which must
-/// see a candidate before its fit (module `witness_gate`). A ghost of two sensors' bearings
-/// passes one scan of a third often in a cluttered plane, but seldom most of them, while a
-/// target at Pd 0.9 is seen in 5 of 8 with probability 0.995 (the choice against 4 and 6 of 8
-/// is measured in CHANGELOG.md).
+/// `witnessed` before their fit (module `witness_gate`):
+/// - by every scan of the sensors outside the pair, more than half of which must see a
+///   candidate. A ghost of two sensors' bearings passes one scan of a third often in a
+///   cluttered plane, but seldom most of them, while a target at Pd 0.9 is seen in 5 of 8
+///   with probability 0.995 (the choice against 4 and 6 of 8 is measured in CHANGELOG.md);
+/// - where no other sensor has scans, by the pair's own scans outside the slot, of which a
+///   candidate needs what detection will: more than `n_detect` rows with its own four, so at
+///   least `n_detect − 3` (and at least one). A candidate seen in fewer could not become a
+///   target; the support gate would drop it after its fit, and this drops it before.
 pub(super) fn paper_slots(
     scans: &Scans,
     pairs: &[[usize; 2]],
     depth: usize,
     inner: bool,
     witnessed: bool,
+    n_detect: usize,
 ) -> Vec<Slot> {
     let mut slots = Vec::new();
     for &[a, b] in pairs {
-        let witnesses: Vec<usize> = (scans.per_sensor.iter().enumerate())
+        let others: Vec<usize> = (scans.per_sensor.iter().enumerate())
             .filter(|&(j, _)| witnessed && j != a && j != b)
             .flat_map(|(_, own)| own.iter().copied())
             .collect();
+        let own = witnessed && others.is_empty();
+        let pair_scans = || {
+            scans.per_sensor[a]
+                .iter()
+                .chain(&scans.per_sensor[b])
+                .copied()
+        };
         slots.extend(
             scans
                 .scan_slots([a, b], depth, inner)
                 .into_iter()
-                .map(|s| Slot {
-                    witnesses: witnesses.clone(),
-                    majority: witnessed,
-                    ..Slot::untested(s)
+                .map(|s| match own {
+                    false => Slot {
+                        witnesses: others.clone(),
+                        witness_need: WitnessNeed::Majority,
+                        ..Slot::untested(s)
+                    },
+                    true => Slot {
+                        witnesses: pair_scans().filter(|k| !s.contains(k)).collect(),
+                        witness_need: WitnessNeed::AtLeast(n_detect.saturating_sub(3)),
+                        ..Slot::untested(s)
+                    },
                 }),
         );
     }

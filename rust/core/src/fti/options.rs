@@ -23,7 +23,8 @@ pub(super) const OOM_HINT: &str =
 pub enum Formation {
     /// With three or more sensors that have two scans or more, [`Formation::Rounds`] in 3-D
     /// and [`Formation::Witnessed`] in 2-D (where any two bearings meet, so the short-baseline
-    /// rounds give poor candidates); [`Formation::Paper`] otherwise.
+    /// rounds give poor candidates); [`Formation::Witnessed`] with fewer (its slots are the
+    /// paper's, witnessed by the pair's own other scans).
     Auto,
     /// The paper's (eq. 20–22): the first and last scans of each sensor pair.
     Paper,
@@ -32,9 +33,11 @@ pub enum Formation {
     /// nearest in time, tested against the pair's neighbouring rounds (module `round_gate`)
     /// and the other sensors' scans (module `witness_gate`) before their fit.
     Rounds,
-    /// The paper's slots (a project extension): each candidate tested against every scan of
-    /// the sensors outside its pair (module `witness_gate`) before its fit; the paper's with
-    /// fewer than three sensors or without `prefit_gates`.
+    /// The paper's slots (a project extension): each candidate tested before its fit (module
+    /// `witness_gate`) against every scan of the sensors outside its pair, or, where no other
+    /// sensor has scans, against the pair's own scans outside the slot, as many of which must
+    /// see it as detection will need (module `formation_slots`); the paper's without
+    /// `prefit_gates` or the support gate.
     Witnessed,
 }
 
@@ -47,7 +50,7 @@ impl Formation {
                 Space::Spatial => Self::Rounds,
                 Space::Planar => Self::Witnessed,
             },
-            Self::Auto => Self::Paper,
+            Self::Auto => Self::Witnessed,
             other => other,
         }
     }
@@ -108,7 +111,7 @@ impl std::str::FromStr for DetectionOrder {
 ///
 /// | field | recommended | why |
 /// |---|---|---|
-/// | `candidates` | auto | where a third sensor can reject ghosts (≥ 3 sensors), the rounds formation in 3-D and the witnessed in 2-D; the paper's elsewhere; see [`Formation`] |
+/// | `candidates` | auto | where a third sensor can reject ghosts (≥ 3 sensors), the rounds formation in 3-D and the witnessed in 2-D; with two, the witnessed on the pair's own scans; see [`Formation`] |
 /// | `prefit_gates` | on | the rounds and witnessed formations test their candidates before fitting them; see [`with_prefit_gates`](Self::with_prefit_gates) |
 /// | `sweep` | on | after the rounds, the paper's formation on the rows left as clutter, under a budget; see [`with_sweep`](Self::with_sweep) |
 /// | `stop_at_limit` | on | reaching `max_candidates` ends the formation with the tracks it found, and says so; see [`with_stop_at_limit`](Self::with_stop_at_limit) |

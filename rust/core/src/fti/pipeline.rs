@@ -163,8 +163,10 @@ fn paper_passes(
     witnessed: bool,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let outer = paper_slots(scans, pairs, 1, false, witnessed);
-    let inner = paper_slots(scans, pairs, options.candidate_scans(), true, witnessed);
+    let n_detect = options.n_detect_for(scans.len());
+    let outer = paper_slots(scans, pairs, 1, false, witnessed, n_detect);
+    let depth = options.candidate_scans();
+    let inner = paper_slots(scans, pairs, depth, true, witnessed, n_detect);
     run.slots = outer.len() + inner.len();
     let mut states = run.pass(problem, pre, scans, &outer, None, options, available, 1)?;
     if !inner.is_empty() && run.limit.is_none() {
@@ -263,14 +265,9 @@ fn sweep(
     states: Vec<[f64; MAX_DIM]>,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let mut slots = paper_slots(scans, pairs, 1, false, false);
-    slots.extend(paper_slots(
-        scans,
-        pairs,
-        options.candidate_scans(),
-        true,
-        false,
-    ));
+    let (depth, n_detect) = (options.candidate_scans(), options.n_detect_for(scans.len()));
+    let mut slots = paper_slots(scans, pairs, 1, false, false, n_detect);
+    slots.extend(paper_slots(scans, pairs, depth, true, false, n_detect));
     if slots.is_empty() {
         return Ok(states);
     }

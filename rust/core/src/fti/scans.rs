@@ -119,15 +119,38 @@ impl Scans {
 /// One slot: the scans `[a-first, b-first, a-last, b-last]` of a sensor pair; the pair's
 /// other rounds (`[a, b]` scans) its candidates are tested against before their fit, and how
 /// many of those must support a candidate (module `round_gate`); and the other sensors' scans
-/// that must witness it (module `witness_gate`): at least half of them, or more than half
-/// where `majority`.
+/// that must witness it (module `witness_gate`), and how many of those must
+/// (`WitnessNeed`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Slot {
     pub scans: [usize; 4],
     pub tested: Vec<[usize; 2]>,
     pub need: usize,
     pub witnesses: Vec<usize>,
-    pub majority: bool,
+    pub witness_need: WitnessNeed,
+}
+
+/// How many of a slot's witness scans must see a candidate before its fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WitnessNeed {
+    /// At least half of them (rounded up).
+    Half,
+    /// More than half.
+    Majority,
+    /// At least this many (all of them if there are fewer).
+    AtLeast(usize),
+}
+
+impl WitnessNeed {
+    /// The count of `n` witness scans this rule needs: 0 when there are none.
+    pub fn of(self, n: usize) -> usize {
+        match self {
+            _ if n == 0 => 0,
+            Self::Half => n.div_ceil(2),
+            Self::Majority => n / 2 + 1,
+            Self::AtLeast(k) => k.clamp(1, n),
+        }
+    }
 }
 
 impl Slot {
@@ -139,7 +162,7 @@ impl Slot {
             tested: Vec::new(),
             need: 0,
             witnesses: Vec::new(),
-            majority: false,
+            witness_need: WitnessNeed::Half,
         }
     }
 
@@ -176,7 +199,7 @@ impl Scans {
                         tested: before.into_iter().chain(round(k + 2)).collect(),
                         need: 1,
                         witnesses: self.witnesses([a, b], scans, times),
-                        majority: false,
+                        witness_need: WitnessNeed::Half,
                     });
                 }
             }

@@ -15,10 +15,12 @@
 //! 99 % ellipse of that prediction supports the candidate; at least half the witness scans
 //! (rounded up) must, so a target missed once by another sensor still passes. The witnessed
 //! formation's slots (the paper's first × last scans, every scan of the other sensors as
-//! witnesses) need more than half.
+//! witnesses) need more than half; with two sensors its witnesses are the pair's own scans
+//! outside the slot, of which it needs what detection will (module `formation_slots`).
 
 use super::meeting::{Located3, Matrix};
 use super::ray_pairs::RayPair;
+use super::scans::WitnessNeed;
 use super::support::{in_elevation, ScanAngles};
 use crate::geometry::angles::wrap;
 use crate::geometry::fastmath::{atan2, atan2_any};
@@ -39,16 +41,12 @@ pub(super) struct Witnesses<'t> {
 }
 
 impl<'t> Witnesses<'t> {
-    /// The scans of `table` numbered `witnesses`, half of them needed (rounded up), or more
-    /// than half with `majority`; none when `table` holds none of them (the support gate off:
-    /// there is then nothing to ask).
-    pub(super) fn new(table: &'t [ScanAngles], witnesses: &[usize], majority: bool) -> Self {
+    /// The scans of `table` numbered `witnesses`, as many of them needed as `need` says; none
+    /// when `table` holds none of them (the support gate off: there is then nothing to ask).
+    pub(super) fn new(table: &'t [ScanAngles], witnesses: &[usize], need: WitnessNeed) -> Self {
         let scans: Vec<&ScanAngles> = witnesses.iter().filter_map(|&k| table.get(k)).collect();
         Self {
-            need: match majority && !scans.is_empty() {
-                true => scans.len() / 2 + 1,
-                false => scans.len().div_ceil(2),
-            },
+            need: need.of(scans.len()),
             scans,
             gate: CHI2_2DOF_99,
         }

@@ -3,6 +3,7 @@
 
 mod candidates;
 mod missed;
+mod own_witnesses;
 mod progress;
 mod reference;
 mod rounds;

@@ -43,12 +43,18 @@ fn auto_resolves_by_space_with_three_scanning_sensors() {
         Formation::Auto.resolve(Space::Spatial, 3),
         Formation::Rounds
     );
-    assert_eq!(Formation::Auto.resolve(Space::Spatial, 2), Formation::Paper);
+    assert_eq!(
+        Formation::Auto.resolve(Space::Spatial, 2),
+        Formation::Witnessed
+    );
     assert_eq!(
         Formation::Auto.resolve(Space::Planar, 5),
         Formation::Witnessed
     );
-    assert_eq!(Formation::Auto.resolve(Space::Planar, 2), Formation::Paper);
+    assert_eq!(
+        Formation::Auto.resolve(Space::Planar, 2),
+        Formation::Witnessed
+    );
     assert_eq!(
         Formation::Paper.resolve(Space::Spatial, 5),
         Formation::Paper
