@@ -185,12 +185,12 @@ class FuzzyTrackInitiator(Configurable):
         candidate tested against the pair's neighbouring scans and the other sensors' scans
         before its fit, so that the fits grow as the square of the targets. ``"witnessed"``
         (a project extension): the paper's scans, each candidate tested before its fit
-        against every scan of the sensors outside its pair, or, with two sensors, against the
-        pair's own other scans, as many of which must see it as detection will need (on the
-        paper's scene and its grown forms it finds the paper formation's targets from an
-        eighth to a fiftieth of the fits). ``"auto"``
-        (default): with three or more sensors, ``"rounds"`` in 3-D and ``"witnessed"`` in
-        2-D, where a third sensor's rays reject the pair's ghosts; ``"witnessed"`` with two.
+        against every scan of the sensors outside its pair, or, with fewer than three sensors
+        that scan twice or more, against the pair's own other scans, as many of which must see
+        it as detection will need (on the paper's scene and its grown forms it finds the paper
+        formation's targets from an eighth to a fiftieth of the fits). ``"auto"`` (default):
+        with three or more sensors, ``"rounds"`` in 3-D and ``"witnessed"`` in 2-D, where a
+        third sensor's rays reject the pair's ghosts; ``"witnessed"`` with fewer.
         The result's diagnostics say which ran (docs/methods.md §1, *Candidate formation*).
     prefit_gates : bool
         The rounds and witnessed formations' tests before each fit (the pair's neighbouring

@@ -7,31 +7,59 @@ use super::options::InitiationOptions;
 use super::problem::Problem;
 use super::scans::{Scans, Slot, WitnessNeed};
 
-/// The paper's slots of every pair ([`Scans::scan_slots`]), pair by pair: untested, or
-/// `witnessed` before their fit (module `witness_gate`):
-/// - by every scan of the sensors outside the pair, more than half of which must see a
-///   candidate. A ghost of two sensors' bearings passes one scan of a third often in a
-///   cluttered plane, but seldom most of them, while a target at Pd 0.9 is seen in 5 of 8
-///   with probability 0.995 (the choice against 4 and 6 of 8 is measured in CHANGELOG.md);
-/// - where no other sensor has scans, by the pair's own scans outside the slot, of which a
-///   candidate needs what detection will: more than `n_detect` rows with its own four, so at
-///   least `n_detect − 3` (and at least one). A candidate seen in fewer could not become a
-///   target; the support gate would drop it after its fit, and this drops it before.
+/// Which scans test the candidates of the paper's slots before their fit (module
+/// `witness_gate`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum SlotWitnesses {
+    /// None: the paper's formation.
+    Untested,
+    /// Every scan of the sensors outside the pair, more than half of which must see a
+    /// candidate. A ghost of two sensors' bearings passes one scan of a third often in a
+    /// cluttered plane, but seldom most of them, while a target at Pd 0.9 is seen in 5 of 8
+    /// with probability 0.995 (the choice against 4 and 6 of 8 is measured in CHANGELOG.md).
+    OtherSensors,
+    /// The pair's own scans outside the slot, of which a candidate needs what detection will:
+    /// more than `n_detect` rows with its own four, so at least `n_detect − 3` (and at least
+    /// one). A candidate seen in fewer could not become a target; the support gate would drop
+    /// it after its fit, and this drops it before. For fewer than three sensors that scan
+    /// twice or more, where a third sensor's one scan (if any) is too little to ask.
+    OwnScans { n_detect: usize },
+}
+
+impl SlotWitnesses {
+    /// The witnesses of the witnessed formation, or of the paper's (`witnessed` false), in a
+    /// table where `sensors_with_scans` sensors scan twice or more.
+    pub(super) fn choose(
+        witnessed: bool,
+        sensors_with_scans: usize,
+        options: &InitiationOptions,
+        scans: &Scans,
+    ) -> Self {
+        match witnessed {
+            false => Self::Untested,
+            true if sensors_with_scans >= 3 => Self::OtherSensors,
+            true => Self::OwnScans {
+                n_detect: options.n_detect_for(scans.len()),
+            },
+        }
+    }
+}
+
+/// The paper's slots of every pair ([`Scans::scan_slots`]), pair by pair, with the
+/// `witnesses` their candidates are tested against.
 pub(super) fn paper_slots(
     scans: &Scans,
     pairs: &[[usize; 2]],
     depth: usize,
     inner: bool,
-    witnessed: bool,
-    n_detect: usize,
+    witnesses: SlotWitnesses,
 ) -> Vec<Slot> {
     let mut slots = Vec::new();
     for &[a, b] in pairs {
         let others: Vec<usize> = (scans.per_sensor.iter().enumerate())
-            .filter(|&(j, _)| witnessed && j != a && j != b)
+            .filter(|&(j, _)| witnesses == SlotWitnesses::OtherSensors && j != a && j != b)
             .flat_map(|(_, own)| own.iter().copied())
             .collect();
-        let own = witnessed && others.is_empty();
         let pair_scans = || {
             scans.per_sensor[a]
                 .iter()
@@ -42,13 +70,14 @@ pub(super) fn paper_slots(
             scans
                 .scan_slots([a, b], depth, inner)
                 .into_iter()
-                .map(|s| match own {
-                    false => Slot {
+                .map(|s| match witnesses {
+                    SlotWitnesses::Untested => Slot::untested(s),
+                    SlotWitnesses::OtherSensors => Slot {
                         witnesses: others.clone(),
                         witness_need: WitnessNeed::Majority,
                         ..Slot::untested(s)
                     },
-                    true => Slot {
+                    SlotWitnesses::OwnScans { n_detect } => Slot {
                         witnesses: pair_scans().filter(|k| !s.contains(k)).collect(),
                         witness_need: WitnessNeed::AtLeast(n_detect.saturating_sub(3)),
                         ..Slot::untested(s)

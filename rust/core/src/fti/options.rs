@@ -34,10 +34,10 @@ pub enum Formation {
     /// and the other sensors' scans (module `witness_gate`) before their fit.
     Rounds,
     /// The paper's slots (a project extension): each candidate tested before its fit (module
-    /// `witness_gate`) against every scan of the sensors outside its pair, or, where no other
-    /// sensor has scans, against the pair's own scans outside the slot, as many of which must
-    /// see it as detection will need (module `formation_slots`); the paper's without
-    /// `prefit_gates` or the support gate.
+    /// `witness_gate`) against every scan of the sensors outside its pair, or, with fewer than
+    /// three sensors that scan twice or more, against the pair's own scans outside the slot,
+    /// as many of which must see it as detection will need (module `formation_slots`); the
+    /// paper's without `prefit_gates` or the support gate.
     Witnessed,
 }
 

@@ -9,7 +9,7 @@ use super::batch::Batch;
 use super::candidates;
 use super::closeness::{Precomputed, Spreads};
 use super::detection::classify;
-use super::formation_slots::{paper_slots, ranked_rounds};
+use super::formation_slots::{paper_slots, ranked_rounds, SlotWitnesses};
 use super::options::{Formation, InitiationOptions};
 use super::output::{FormationLimit, Initiation, StageCounts, StageSeconds, Track};
 use super::problem::Problem;
@@ -84,7 +84,12 @@ pub fn initiate_reporting(
             &scans,
             &pairs,
             options,
-            formation == Formation::Witnessed,
+            SlotWitnesses::choose(
+                formation == Formation::Witnessed,
+                with_scans,
+                options,
+                &scans,
+            ),
             &mut available,
         )?,
         Formation::Rounds => {
@@ -150,8 +155,8 @@ pub fn initiate_reporting(
 /// The paper's formation: pass 1 on the first and last scans of every pair, over every row;
 /// pass 2 (candidate_scans > 1) on the next-outermost scans, over the rows pass 1 left. Their
 /// targets are missed in an outer scan; the rows already taken cannot be reused, so pass 1's
-/// targets cannot be found twice. `witnessed`: each slot's candidates are tested against the
-/// other sensors' scans before their fit (module `formation_slots`).
+/// targets cannot be found twice. `witnesses`: the scans each slot's candidates are tested
+/// against before their fit (module `formation_slots`).
 #[allow(clippy::too_many_arguments)] // the pipeline's state, as round_passes takes it
 fn paper_passes(
     run: &mut Run,
@@ -160,13 +165,12 @@ fn paper_passes(
     scans: &Scans,
     pairs: &[[usize; 2]],
     options: &InitiationOptions,
-    witnessed: bool,
+    witnesses: SlotWitnesses,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let n_detect = options.n_detect_for(scans.len());
-    let outer = paper_slots(scans, pairs, 1, false, witnessed, n_detect);
+    let outer = paper_slots(scans, pairs, 1, false, witnesses);
     let depth = options.candidate_scans();
-    let inner = paper_slots(scans, pairs, depth, true, witnessed, n_detect);
+    let inner = paper_slots(scans, pairs, depth, true, witnesses);
     run.slots = outer.len() + inner.len();
     let mut states = run.pass(problem, pre, scans, &outer, None, options, available, 1)?;
     if !inner.is_empty() && run.limit.is_none() {
@@ -265,9 +269,15 @@ fn sweep(
     states: Vec<[f64; MAX_DIM]>,
     available: &mut [bool],
 ) -> CoreResult<Vec<[f64; MAX_DIM]>> {
-    let (depth, n_detect) = (options.candidate_scans(), options.n_detect_for(scans.len()));
-    let mut slots = paper_slots(scans, pairs, 1, false, false, n_detect);
-    slots.extend(paper_slots(scans, pairs, depth, true, false, n_detect));
+    let depth = options.candidate_scans();
+    let mut slots = paper_slots(scans, pairs, 1, false, SlotWitnesses::Untested);
+    slots.extend(paper_slots(
+        scans,
+        pairs,
+        depth,
+        true,
+        SlotWitnesses::Untested,
+    ));
     if slots.is_empty() {
         return Ok(states);
     }

@@ -3,7 +3,7 @@
 //! as detection will need.
 
 use super::{assert_partition, run, sim};
-use crate::fti::formation_slots::paper_slots;
+use crate::fti::formation_slots::{paper_slots, SlotWitnesses};
 use crate::fti::scans::{Scans, WitnessNeed};
 use crate::fti::{Formation, InitiationOptions};
 
@@ -34,9 +34,10 @@ fn two_sensor_slots_ask_the_pairs_other_scans_for_what_detection_needs() {
     let sensors = sc.sensors();
     let scans = Scans::new(&sc.measurements(&sensors), 2);
     assert_eq!(scans.len(), 16);
-    let n_detect = InitiationOptions::default().n_detect_for(scans.len());
-    assert_eq!(n_detect, 9);
-    let slots = paper_slots(&scans, &[[0, 1]], 2, false, true, n_detect);
+    let options = InitiationOptions::default();
+    let witnesses = SlotWitnesses::choose(true, 2, &options, &scans);
+    assert_eq!(witnesses, SlotWitnesses::OwnScans { n_detect: 9 });
+    let slots = paper_slots(&scans, &[[0, 1]], 2, false, witnesses);
     assert_eq!(slots.len(), 4, "first and second × last and second-last");
     for slot in &slots {
         let mut all: Vec<usize> = slot.witnesses.iter().chain(&slot.scans).copied().collect();
@@ -46,8 +47,43 @@ fn two_sensor_slots_ask_the_pairs_other_scans_for_what_detection_needs() {
         assert_eq!(slot.witness_need, WitnessNeed::AtLeast(6));
         assert_eq!(slot.witness_need.of(slot.witnesses.len()), 6);
     }
-    let untested = paper_slots(&scans, &[[0, 1]], 2, false, false, n_detect);
+    let paper = SlotWitnesses::choose(false, 2, &options, &scans);
+    assert_eq!(paper, SlotWitnesses::Untested);
+    let untested = paper_slots(&scans, &[[0, 1]], 2, false, paper);
     assert!(untested.iter().all(|s| !s.is_tested()));
+    let three = SlotWitnesses::choose(true, 3, &options, &scans);
+    assert_eq!(three, SlotWitnesses::OtherSensors);
+}
+
+/// A third sensor that scans once is too little to ask (a target it missed would be lost):
+/// with fewer than three sensors scanning twice or more, the pair's own scans witness. (Such
+/// a sensor can form no pair, so the pairs are given.)
+#[test]
+fn a_third_sensor_with_one_scan_leaves_the_pairs_own_scans_to_witness() {
+    let mut sc = sim::ring(4, 6, 1.0, 8, 8);
+    let first_of_third = (0..sc.truth.len())
+        .filter(|&m| sc.sensor[m] == 2)
+        .map(|m| sc.time[m])
+        .fold(f64::INFINITY, f64::min);
+    let keep: Vec<bool> = (0..sc.truth.len())
+        .map(|m| sc.sensor[m] != 2 || sc.time[m] == first_of_third)
+        .collect();
+    sc.keep_rows(&keep);
+    // The one scan left of sensor 2 misses every target: asked, it would reject them all.
+    let keep: Vec<bool> = (0..sc.truth.len())
+        .map(|m| sc.sensor[m] != 2 || sc.truth[m] < 0)
+        .collect();
+    sc.keep_rows(&keep);
+    assert!(sc.sensor.contains(&2));
+    let options = InitiationOptions::default().with_pairs(Some(vec![[0, 1]]));
+    let result = run(&sc, &options).expect("runs");
+    assert_eq!(result.formation, Formation::Witnessed);
+    assert_eq!(result.tracks.len(), 6, "{:?}", result.stage_counts);
+    assert_partition(&result, sc.truth.len());
+    let paper_options = options.with_candidates(Formation::Paper);
+    let paper = run(&sc, &paper_options).expect("runs");
+    assert_eq!(result.labels, paper.labels);
+    assert!(result.stage_counts.fitted < paper.stage_counts.fitted);
 }
 
 /// The default at two sensors finds the paper's formation's tracks (with the support gate,
