@@ -36,6 +36,25 @@ def test_reproduce_fti_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     assert out_png.stat().st_size > 10_000
 
 
+def test_reproduce_fti_runs_the_papers_formation_unless_told(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`reproduce fti` forms the paper's candidates by default; `--candidates auto` runs the
+    library's default (at two sensors, the witnessed formation) on the same runs, and the
+    printed header and the JSON settings say which ran. The witnessed formation fits fewer
+    candidates a run (the stage counts are in the JSON)."""
+    fitted = {}
+    for candidates in ("paper", "auto"):
+        out_json = tmp_path / f"{candidates}.json"
+        extra = [] if candidates == "paper" else ["--candidates", candidates]
+        assert cli_main(["reproduce", "fti", "--runs", "2", "--json", str(out_json), *extra]) == 0
+        assert f"candidates {candidates}" in capsys.readouterr().out
+        record = json.loads(out_json.read_text())
+        assert record["settings"]["candidates"] == candidates
+        fitted[candidates] = record["mean_stage_counts"]["fitted"]
+    assert 0 < fitted["auto"] < fitted["paper"], fitted
+
+
 def test_reproduce_intensity_smoke(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out_json, out_png = tmp_path / "intensity.json", tmp_path / "intensity.png"
     argv = [

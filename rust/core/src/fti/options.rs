@@ -111,7 +111,7 @@ impl std::str::FromStr for DetectionOrder {
 ///
 /// | field | recommended | why |
 /// |---|---|---|
-/// | `candidates` | auto | where a third sensor can reject ghosts (≥ 3 sensors), the rounds formation in 3-D and the witnessed in 2-D; with two, the witnessed on the pair's own scans; see [`Formation`] |
+/// | `candidates` | auto | where a third sensor can reject ghosts (≥ 3 sensors), the rounds formation in 3-D and the witnessed in 2-D; with fewer, the witnessed on the pair's own scans; see [`Formation`] |
 /// | `prefit_gates` | on | the rounds and witnessed formations test their candidates before fitting them; see [`with_prefit_gates`](Self::with_prefit_gates) |
 /// | `sweep` | on | after the rounds, the paper's formation on the rows left as clutter, under a budget; see [`with_sweep`](Self::with_sweep) |
 /// | `stop_at_limit` | on | reaching `max_candidates` ends the formation with the tracks it found, and says so; see [`with_stop_at_limit`](Self::with_stop_at_limit) |
