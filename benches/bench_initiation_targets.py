@@ -14,7 +14,8 @@ Other 2-D scenes, run only when named (``--scenes``), for the formations' compar
 the targets: ``2d_10`` (10 targets), ``2d_8_4s`` and ``2d_8_5s`` (8 targets, Pd 0.9, 4 and 5
 sensors), ``2d_8_async`` (the same, 3 sensors scanning 3 s apart: ``offset=3.0``),
 ``2d_8_pd08`` (Pd 0.8) and ``2d_5_pd07`` (5 targets, Pd 0.7), all of
-`bearing_only_2d_scenario`.
+`bearing_only_2d_scenario`; and two sensors of the ring, ``2x20``, ``2x50`` and ``2x100``
+(`ring_scenario(seed, n_sensors=2, n_targets=N)`).
 
 A target is found when a track holds it (`track_targets`, 2/3 of the track's rows); a false
 track holds no target. Each scene runs in a process of its own (peak RSS is that process's),
@@ -58,6 +59,9 @@ OTHER_SCENES = {
     "2d_8_pd08": 10,
     "2d_5_pd07": 10,
     "paper4_pd1": 10,
+    "2x20": 20,
+    "2x50": 12,
+    "2x100": 2,
 }
 
 CASE = r"""
