@@ -81,6 +81,27 @@ def test_two_sensors_witnessed_by_their_own_scans_find_the_papers_targets(
     assert_partition(runs["auto"], len(table))
 
 
+@pytest.mark.parametrize("seed", [4, 14, 28])
+def test_two_sensors_that_scan_unequally_keep_the_papers_targets(seed: int) -> None:
+    """Sensor 2 keeps every other scan of 16 (Pd 0.9): the paper's slots pair the two
+    sensors' scans by index, so a slot's rounds are up to a minute apart, and the witness
+    gate's trajectory corrects its meetings for that motion twice. With one correction these
+    seeds each lost a target the paper's formation holds."""
+    scenario = pa.paper_fti_scenario(seed, pd=0.9, n_scans=16)
+    table = scenario.measurements
+    times, sensor = np.asarray(table.time), np.asarray(table.sensor)
+    kept = (sensor == 0) | np.isin(times, np.unique(times[sensor == 1])[::2])
+    table = table.select(np.flatnonzero(kept))
+    assert table.truth is not None
+    held = {}
+    for candidates in ("auto", "paper"):
+        result = FuzzyTrackInitiator(candidates=candidates).initiate(
+            table, scenario.sensors, t0=scenario.t0, progress=False
+        )
+        held[candidates] = set(track_targets(result.labels, table.truth).tolist()) - {-1}
+    assert held["auto"] == held["paper"] == {0, 1, 2, 3}
+
+
 def test_without_the_support_gate_the_witnessed_formation_is_the_papers() -> None:
     """The witness test reads the support gate's tables: with the gate off there is nothing to
     ask, every candidate goes to its fit as in the paper's formation (not none of them), and

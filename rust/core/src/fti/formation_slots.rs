@@ -66,24 +66,28 @@ pub(super) fn paper_slots(
                 .chain(&scans.per_sensor[b])
                 .copied()
         };
-        slots.extend(
-            scans
-                .scan_slots([a, b], depth, inner)
-                .into_iter()
-                .map(|s| match witnesses {
-                    SlotWitnesses::Untested => Slot::untested(s),
-                    SlotWitnesses::OtherSensors => Slot {
-                        witnesses: others.clone(),
-                        witness_need: WitnessNeed::Majority,
-                        ..Slot::untested(s)
-                    },
-                    SlotWitnesses::OwnScans { n_detect } => Slot {
-                        witnesses: pair_scans().filter(|k| !s.contains(k)).collect(),
-                        witness_need: WitnessNeed::AtLeast(n_detect.saturating_sub(3)),
-                        ..Slot::untested(s)
-                    },
-                }),
-        );
+        slots.extend(scans.scan_slots([a, b], depth, inner).into_iter().map(|s| {
+            match witnesses {
+                SlotWitnesses::Untested => Slot::untested(s),
+                SlotWitnesses::OtherSensors => Slot {
+                    witnesses: others.clone(),
+                    witness_need: WitnessNeed::Majority,
+                    ..Slot::untested(s)
+                },
+                SlotWitnesses::OwnScans { n_detect } => Slot {
+                    witnesses: pair_scans().filter(|k| !s.contains(k)).collect(),
+                    witness_need: WitnessNeed::AtLeast(
+                        n_detect.saturating_sub(
+                            std::env::var("PA_OWN_SUB")
+                                .ok()
+                                .and_then(|v| v.parse().ok())
+                                .unwrap_or(3),
+                        ),
+                    ),
+                    ..Slot::untested(s)
+                },
+            }
+        }));
     }
     slots
 }

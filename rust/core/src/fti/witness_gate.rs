@@ -7,7 +7,9 @@
 //! so it needs no slack for the time between the sensors' scans: the two meetings give a
 //! velocity `v`; moving each pair's second ray by `v·(t_a − t_b)` puts the target on both lines
 //! at the first ray's instant, and their closest points' midpoint is where the target was then,
-//! up to noise (as module `motion_gate` tests). Between and around those two instants the
+//! up to noise (as module `motion_gate` tests). The meetings' velocity is itself off by the
+//! motion between each pair's rays, so the rays are moved once more by the velocity of those
+//! two corrected points. Between and around those two instants the
 //! candidate moves at constant velocity; in each *witness* scan (another sensor's scan within
 //! half the slot's span of it, see [`crate::fti::Scans::round_slots`]) it predicts the
 //! azimuth and elevation with the spread of the two meetings carried there (their covariances,
@@ -109,8 +111,8 @@ fn trajectory(
     if !(span.is_finite() && span > 0.0) {
         return None;
     }
-    let v: [f64; 3] = std::array::from_fn(|k| (l.point[k] - f.point[k]) / span);
-    let at = |pair: &RayPair| -> Option<([f64; 3], f64)> {
+    let mut v: [f64; 3] = std::array::from_fn(|k| (l.point[k] - f.point[k]) / span);
+    let at = |pair: &RayPair, v: &[f64; 3]| -> Option<([f64; 3], f64)> {
         let [oa, ob] = &pair.observations;
         let dt = oa.time - ob.time;
         let shifted: [f64; 3] = std::array::from_fn(|k| ob.sensor[k] + v[k] * dt);
@@ -122,7 +124,16 @@ fn trajectory(
         )?;
         Some((m.midpoint(), oa.time))
     };
-    let (a, b) = (at(first)?, at(last)?);
+    let (a, b) = (at(first, &v)?, at(last, &v)?);
+    // Once more with the velocity of the corrected points: the meetings' own velocity is
+    // biased by the time between each pair's rays, which in the paper's slots of sensors
+    // that scan unequally is tens of seconds (CHANGELOG.md has the figures).
+    let span = b.1 - a.1;
+    if !(span.is_finite() && span > 0.0) {
+        return None;
+    }
+    v = std::array::from_fn(|k| (b.0[k] - a.0[k]) / span);
+    let (a, b) = (at(first, &v)?, at(last, &v)?);
     (b.1 - a.1 > 0.0).then_some([a, b])
 }
 
