@@ -1,7 +1,7 @@
 //! What an initiation returns ([`Initiation`]): the tracks, the label of every row, and the
 //! candidates left and seconds spent after each stage.
 
-use super::options::Formation;
+use super::formation_choice::Formation;
 
 /// Candidates (4-tuples) left after each stage, for diagnostics. A 4-tuple survives a
 /// ray-pair rule when both its first-scan and its last-scan ray pairs survive it.

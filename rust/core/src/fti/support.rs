@@ -208,9 +208,10 @@ pub struct Gate<'a> {
 #[cfg(test)]
 mod tests {
     use super::{Azimuths, Neighbours};
-    use crate::fti::options::{Formation, InitiationOptions};
+    use crate::fti::options::InitiationOptions;
     use crate::fti::tests::run;
     use crate::fti::tests::sim;
+    use crate::fti::Formation;
     use std::f64::consts::PI;
 
     /// The one-search test agrees with the window it replaces, around and across ±π, on
